@@ -1,0 +1,49 @@
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+/**
+ * @file
+ * The project's exceptions. Each carries a single line that says what is wrong and where
+ * (file and line, column, cell, entry), so that a program can print it as it is and exit
+ * with a non-zero status.
+ */
+namespace warpchol
+{
+  /** Base class of every error the project reports to a user. */
+  class Error : public std::runtime_error
+  {
+  public:
+    explicit Error(const std::string &one_line_message);
+  };
+
+  /** An input file or a parameter that cannot be used: names the file, line and entry. */
+  class InputError : public Error
+  {
+  public:
+    explicit InputError(const std::string &one_line_message);
+  };
+
+  /** A matrix that the solver cannot factor (not square, not symmetric, NaN, ...). */
+  class MatrixError : public Error
+  {
+  public:
+    explicit MatrixError(const std::string &one_line_message);
+  };
+
+  /**
+   * A non-positive pivot met during a Cholesky factorization: the matrix is not positive
+   * definite. Carries the column (in the user's numbering) and the pivot value.
+   */
+  class NotPositiveDefinite : public MatrixError
+  {
+  public:
+    NotPositiveDefinite(long long column, double pivot);
+
+    /** The column of the input matrix (user numbering) whose pivot failed. */
+    long long column;
+    /** The value of the pivot, A(j,j) minus the updates, before the square root. */
+    double pivot;
+  };
+} // namespace warpchol

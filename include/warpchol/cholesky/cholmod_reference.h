@@ -1,0 +1,58 @@
+#pragma once
+
+#include <warpchol/base/types.h>
+#include <warpchol/sparse/csc_matrix.h>
+
+#include <cstddef>
+#include <memory>
+#include <vector>
+
+/**
+ * @file
+ * CHOLMOD (SuiteSparse) as the reference the tests and benchmarks compare against: the
+ * same permutation, the same BLAS, in the same process.
+ */
+namespace warpchol::cholesky
+{
+  /**
+   * A thin wrapper of cholmod_l_analyze_p / cholmod_l_factorize / cholmod_l_solve with a
+   * permutation given by the caller (CHOLMOD_GIVEN, no postorder: CHOLMOD factors exactly
+   * P^T A P), simplicial LL^T or supernodal.
+   */
+  class CholmodReference
+  {
+  public:
+    explicit CholmodReference(bool supernodal);
+    ~CholmodReference();
+    CholmodReference(const CholmodReference &) = delete;
+    CholmodReference &operator=(const CholmodReference &) = delete;
+
+    /** Symbolic analysis of @p matrix (lower triangle used) with perm[k] = column of A. */
+    void analyze(const sparse::CSCMatrix &matrix, const std::vector<Index> &permutation);
+
+    /** Numeric factorization; throws NotPositiveDefinite if CHOLMOD reports one. */
+    void factorize(const sparse::CSCMatrix &matrix);
+
+    /** Solve A x = b. */
+    std::vector<double> solve(const std::vector<double> &b) const;
+
+    /** L of P^T A P as a CSC matrix (supernodal factors converted to simplicial LL^T). */
+    sparse::CSCMatrix factor() const;
+
+    /** Bytes CHOLMOD holds for the numeric factor (values, row indices, pointers). */
+    std::size_t factor_bytes() const;
+
+    /** Entries of L that CHOLMOD stores (with supernodal padding). */
+    double nnz_l() const;
+
+    /** CHOLMOD's flop count of the analysis. */
+    double flops() const;
+
+    double analyze_seconds   = 0;
+    double factorize_seconds = 0;
+
+  private:
+    struct Implementation;
+    std::unique_ptr<Implementation> implementation;
+  };
+} // namespace warpchol::cholesky

@@ -1,0 +1,62 @@
+#pragma once
+
+#include <warpchol/base/types.h>
+#include <warpchol/sparse/csc_matrix.h>
+
+#include <vector>
+
+/**
+ * @file
+ * The lower triangle of C = P^T A P that the factorizations read, kept in step with the
+ * user's matrix A.
+ */
+namespace warpchol::cholesky
+{
+  /**
+   * The permuted lower triangle C of a symmetric matrix A, and the map from A's stored
+   * entries to C's. Built once from A's pattern (analyze); load() then copies new values
+   * in O(nnz(A)), checking that A still has the analyzed pattern, holds no NaN or
+   * infinity and (with full storage) is symmetric, and reports which columns of C
+   * actually changed.
+   */
+  class PermutedMatrix
+  {
+  public:
+    /**
+     * Build the pattern of C from the pattern of @p matrix and the permutation
+     * (perm[k] = column of A that becomes column k of C). Throws MatrixError if A is not
+     * square or, with full storage, its pattern is not symmetric (naming an entry).
+     */
+    void setup(const sparse::CSCMatrix &matrix, const std::vector<Index> &permutation);
+
+    /**
+     * Copy the values of @p matrix into C. Throws MatrixError if the pattern differs from
+     * the one given to setup(), a value is not finite, or (full storage) A(i,j) differs
+     * from A(j,i) by more than 1e-10 sqrt(|A(i,i) A(j,j)|). Returns the columns of C
+     * (sorted) whose values differ from those of the previous load.
+     */
+    std::vector<Index> load(const sparse::CSCMatrix &matrix);
+
+    /** C, lower storage, permuted numbering. */
+    const sparse::CSCMatrix &lower() const;
+
+    /** Stored entries of the lower triangle of A (= nnz(C)). */
+    Index n_nonzeros() const;
+
+  private:
+    sparse::CSCMatrix  permuted_lower;
+    std::vector<Index> permutation;
+    std::vector<Index> inverse_permutation;
+    /** source[k]: position in A's storage of the value of C's entry k. */
+    std::vector<Index> source;
+    /** mirror[k]: position of the symmetric twin of entry k in A (full storage), or -1. */
+    std::vector<Index> mirror;
+    /** The analyzed pattern of A, to reject a matrix with another one. */
+    sparse::Storage    storage = sparse::Storage::lower;
+    std::vector<Index> analyzed_column_start;
+    std::vector<Index> analyzed_row_index;
+    /** Column of C of each entry, for reporting changed columns. */
+    std::vector<Index> entry_column;
+    bool               loaded = false;
+  };
+} // namespace warpchol::cholesky

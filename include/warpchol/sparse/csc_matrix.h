@@ -1,0 +1,58 @@
+#pragma once
+
+#include <warpchol/base/types.h>
+
+#include <vector>
+
+/**
+ * @file
+ * Compressed Sparse Column storage, the format the Cholesky solver works on.
+ */
+namespace warpchol::sparse
+{
+  /** Which entries of a matrix are stored. */
+  enum class Storage
+  {
+    /** Every nonzero entry is stored (symmetric or not). */
+    full,
+    /** A symmetric matrix of which only the lower triangle (i >= j) is stored. */
+    lower
+  };
+
+  /**
+   * A sparse matrix in Compressed Sparse Column form: the entries of column j are
+   * row_index[k], values[k] for k in [column_start[j], column_start[j+1]). Row indices
+   * are sorted and unique within a column (check_consistency() verifies it).
+   */
+  struct CSCMatrix
+  {
+    Index               n_rows = 0;
+    Index               n_cols = 0;
+    std::vector<Index>  column_start{0};
+    std::vector<Index>  row_index;
+    std::vector<double> values;
+    Storage             storage = Storage::full;
+
+    /** An empty matrix with the given size and no stored entry. */
+    static CSCMatrix zero(Index n_rows, Index n_cols, Storage storage = Storage::full);
+
+    /** Number of stored entries. */
+    Index n_nonzeros() const;
+
+    /** A(i,j), or 0 where the entry is not stored; honours lower storage. O(log nnz(col)). */
+    double operator()(Index i, Index j) const;
+
+    /** y = A x (a symmetric product when only the lower triangle is stored). */
+    void vmult(const double *x, double *y) const;
+
+    /** Frobenius norm of the represented (full) matrix. */
+    double frobenius_norm() const;
+
+    /**
+     * Throw MatrixError unless the arrays describe a valid matrix: sizes agree, column
+     * starts are non-decreasing, row indices are in range, sorted and unique, and with
+     * lower storage no entry lies above the diagonal.
+     */
+    void check_consistency() const;
+  };
+} // namespace warpchol::sparse

@@ -1,0 +1,31 @@
+#pragma once
+
+#include <warpchol/base/types.h>
+#include <warpchol/sparse/csc_matrix.h>
+
+#include <cstdint>
+#include <vector>
+
+/**
+ * @file
+ * Changing the values of chosen columns of an SPD matrix while keeping it SPD, as a mesh
+ * update would: the tool and the tests of partial refactorization use it.
+ */
+namespace warpchol::sparse
+{
+  /**
+   * Add to @p matrix a random symmetric, diagonally dominant (hence positive
+   * semidefinite) matrix E supported on the stored entries (i,j) with i and j both in
+   * @p columns: E(i,j) = eps r_ij sqrt(|A(i,i) A(j,j)|) with r_ij uniform in [-1,1], and
+   * E(j,j) = sum_i |E(i,j)| + eps |A(j,j)|. The pattern is unchanged, A + E stays SPD, and
+   * only the listed columns (and rows) change. Deterministic for a given @p seed.
+   */
+  void perturb_columns_spd(CSCMatrix &matrix, const std::vector<Index> &columns,
+                           std::uint64_t seed, double eps = 0.05);
+
+  /**
+   * @p count distinct columns of [0, n) drawn uniformly (sorted), deterministic for a
+   * given @p seed.
+   */
+  std::vector<Index> random_columns(Index n, Index count, std::uint64_t seed);
+} // namespace warpchol::sparse

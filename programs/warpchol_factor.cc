@@ -1,0 +1,156 @@
+/**
+ * warpchol-factor: factor a symmetric positive definite Matrix Market file, refactor it
+ * after changing a random fraction of its columns, solve, and print one line of
+ * key=value fields that scripts can read.
+ *
+ *   warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] [--method left|up]
+ *                              [--changed-fraction P] [--seed S]
+ */
+
+#include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+#include <warpchol/cholesky/sparse_cholesky.h>
+#include <warpchol/sparse/matrix_market.h>
+#include <warpchol/sparse/residual.h>
+#include <warpchol/sparse/spd_perturbation.h>
+
+#include <cmath>
+#include <iostream>
+#include <string>
+#include <vector>
+
+namespace
+{
+  using namespace warpchol;
+
+  struct Options
+  {
+    std::string                              matrix_file;
+    cholesky::SparseCholesky::Settings       solver;
+    double                                   changed_fraction = 0.1;
+    std::uint64_t                            seed             = 1;
+  };
+
+  const char *usage = "usage: warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] "
+                      "[--method left|up] [--changed-fraction P] [--seed S]";
+
+  double parse_number(const std::string &option, const std::string &text)
+  {
+    std::size_t  used  = 0;
+    double       value = 0;
+    try
+      {
+        value = std::stod(text, &used);
+      }
+    catch (...)
+      {
+        used = 0;
+      }
+    if (used != text.size() || !std::isfinite(value))
+      throw InputError(option + ": '" + text + "' is not a number");
+    return value;
+  }
+
+  Options parse_command_line(const int argc, char **argv)
+  {
+    Options options;
+    for (int a = 1; a < argc; ++a)
+      {
+        const std::string argument = argv[a];
+        auto              value    = [&]() -> std::string {
+          if (a + 1 >= argc)
+            throw InputError(argument + " needs a value");
+          return argv[++a];
+        };
+        if (argument == "--ordering")
+          options.solver.ordering.method = cholesky::parse_ordering_method(value());
+        else if (argument == "--method")
+          options.solver.method = cholesky::parse_factorization_method(value());
+        else if (argument == "--changed-fraction")
+          {
+            options.changed_fraction = parse_number(argument, value());
+            if (options.changed_fraction < 0 || options.changed_fraction > 1)
+              throw InputError("--changed-fraction must lie in [0, 1], got " +
+                               format_number(options.changed_fraction));
+          }
+        else if (argument == "--seed")
+          options.seed = static_cast<std::uint64_t>(parse_number(argument, value()));
+        else if (argument == "--help" || argument == "-h")
+          {
+            std::cout << usage << "\n";
+            std::exit(0);
+          }
+        else if (!argument.empty() && argument[0] == '-')
+          throw InputError("unknown option '" + argument + "'");
+        else if (options.matrix_file.empty())
+          options.matrix_file = argument;
+        else
+          throw InputError("more than one matrix file given ('" + options.matrix_file +
+                           "', '" + argument + "')");
+      }
+    if (options.matrix_file.empty())
+      throw InputError(std::string("no matrix file given; ") + usage);
+    return options;
+  }
+
+  void run(const Options &options)
+  {
+    sparse::CSCMatrix matrix = sparse::read_matrix_market(options.matrix_file);
+    cholesky::SparseCholesky solver(options.solver);
+    solver.analyze(matrix);
+    solver.factorize(matrix);
+    const double factor_seconds = solver.statistics().factorize_seconds;
+
+    // Change a random set of columns (and rows), keeping A symmetric positive definite.
+    const auto n_changed = static_cast<Index>(std::llround(options.changed_fraction * matrix.n_cols));
+    const std::vector<Index> changed = sparse::random_columns(matrix.n_cols, n_changed, options.seed);
+    sparse::perturb_columns_spd(matrix, changed, options.seed);
+    solver.refactorize(matrix, changed);
+
+    // b = A x_true with x_true = 1, solve with the updated factor.
+    const std::vector<double> ones(matrix.n_cols, 1.);
+    std::vector<double>       b(matrix.n_cols), x;
+    matrix.vmult(ones.data(), b.data());
+    solver.solve(b, x);
+
+    const auto  &stats = solver.statistics();
+    const double n     = static_cast<double>(stats.n);
+    std::cout << "n=" << stats.n << " nnz_a=" << stats.nnz_a << " nnz_l=" << stats.nnz_l
+              << " fill=" << format_number(stats.fill(), 6)
+              << " fill_full=" << format_number(static_cast<double>(stats.nnz_l) /
+                                                  (2. * stats.nnz_a - n), 6)
+              << " flops=" << format_number(stats.flops, 6)
+              << " ordering=" << cholesky::to_string(options.solver.ordering.method)
+              << " method=" << cholesky::to_string(options.solver.method)
+              << " vertex_block=" << stats.vertex_block_size
+              << " analyze_s=" << format_number(stats.analyze_seconds, 4)
+              << " factor_s=" << format_number(factor_seconds, 4)
+              << " refactor_s=" << format_number(stats.refactorize_seconds, 4)
+              << " solve_s=" << format_number(stats.solve_seconds, 4)
+              << " changed_cols=" << format_number(static_cast<double>(changed.size()) / n, 4)
+              << " cols_recomputed=" << format_number(stats.columns_recomputed / n, 4)
+              << " flops_recomputed=" << format_number(stats.flops_recomputed / stats.flops, 4)
+              << " residual=" << format_number(sparse::relative_residual(matrix, x, b), 3)
+              << " backward_error=" << format_number(sparse::backward_error(matrix, x, b), 3)
+              << "\n";
+  }
+} // namespace
+
+int main(int argc, char **argv)
+{
+  try
+    {
+      run(parse_command_line(argc, argv));
+    }
+  catch (const warpchol::InputError &error)
+    {
+      std::cerr << "warpchol-factor: " << error.what() << "\n";
+      return 2;
+    }
+  catch (const std::exception &error)
+    {
+      std::cerr << "warpchol-factor: " << error.what() << "\n";
+      return 1;
+    }
+  return 0;
+}

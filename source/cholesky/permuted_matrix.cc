@@ -1,0 +1,180 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+#include <warpchol/cholesky/ordering.h>
+#include <warpchol/cholesky/permuted_matrix.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+#include <string>
+
+namespace warpchol::cholesky
+{
+  namespace
+  {
+    std::string entry_name(const Index i, const Index j)
+    {
+      return "(" + std::to_string(i) + "," + std::to_string(j) + ")";
+    }
+
+    std::string asymmetry_message(const Index i, const Index j)
+    {
+      return "pattern is not symmetric: entry " + entry_name(i, j) + " is stored but " +
+             entry_name(j, i) + " is not";
+    }
+  } // namespace
+
+  void PermutedMatrix::setup(const sparse::CSCMatrix &matrix, const std::vector<Index> &permutation)
+  {
+    if (matrix.n_rows != matrix.n_cols)
+      throw MatrixError("matrix is not square: " + std::to_string(matrix.n_rows) + "x" +
+                        std::to_string(matrix.n_cols));
+    matrix.check_consistency();
+    const Index n = matrix.n_cols;
+    inverse_permutation = invert_permutation(permutation);
+    this->permutation   = permutation;
+    storage             = matrix.storage;
+    analyzed_column_start = matrix.column_start;
+    analyzed_row_index    = matrix.row_index;
+
+    // Entry (i,j) of A lands at (max, min) of its permuted indices in C. With full storage
+    // only the entry that lands in the lower triangle is a source; its twin is its mirror.
+    auto is_source = [&](const Index pi, const Index pj) {
+      return matrix.storage == sparse::Storage::lower || pi >= pj;
+    };
+    permuted_lower = sparse::CSCMatrix::zero(n, n, sparse::Storage::lower);
+    for (Index j = 0; j < n; ++j)
+      for (Index p = matrix.column_start[j]; p < matrix.column_start[j + 1]; ++p)
+        {
+          const Index pi = inverse_permutation[matrix.row_index[p]], pj = inverse_permutation[j];
+          if (is_source(pi, pj))
+            ++permuted_lower.column_start[std::min(pi, pj) + 1];
+        }
+    std::partial_sum(permuted_lower.column_start.begin(), permuted_lower.column_start.end(),
+                     permuted_lower.column_start.begin());
+    const Index nnz = permuted_lower.column_start[n];
+    permuted_lower.row_index.resize(nnz);
+    permuted_lower.values.assign(nnz, 0.);
+    source.resize(nnz);
+    std::vector<Index> next(permuted_lower.column_start.begin(), permuted_lower.column_start.end() - 1);
+    for (Index j = 0; j < n; ++j)
+      for (Index p = matrix.column_start[j]; p < matrix.column_start[j + 1]; ++p)
+        {
+          const Index pi = inverse_permutation[matrix.row_index[p]], pj = inverse_permutation[j];
+          if (is_source(pi, pj))
+            {
+              const Index position                = next[std::min(pi, pj)]++;
+              permuted_lower.row_index[position] = std::max(pi, pj);
+              source[position]                    = p;
+            }
+        }
+    // Sort each column by row, carrying the source positions along.
+    entry_column.resize(nnz);
+    std::vector<std::pair<Index, Index>> column_entries;
+    for (Index j = 0; j < n; ++j)
+      {
+        const Index begin = permuted_lower.column_start[j], end = permuted_lower.column_start[j + 1];
+        column_entries.clear();
+        for (Index k = begin; k < end; ++k)
+          column_entries.emplace_back(permuted_lower.row_index[k], source[k]);
+        std::sort(column_entries.begin(), column_entries.end());
+        for (Index k = begin; k < end; ++k)
+          {
+            permuted_lower.row_index[k] = column_entries[k - begin].first;
+            source[k]                   = column_entries[k - begin].second;
+            entry_column[k]             = j;
+          }
+      }
+
+    // Full storage: every off-diagonal entry needs its twin, (i,j) <-> (j,i).
+    mirror.assign(nnz, -1);
+    if (matrix.storage == sparse::Storage::full)
+      {
+        for (Index j = 0; j < n; ++j)
+          for (Index p = matrix.column_start[j]; p < matrix.column_start[j + 1]; ++p)
+            {
+              const Index i = matrix.row_index[p];
+              const Index pi = inverse_permutation[i], pj = inverse_permutation[j];
+              if (is_source(pi, pj))
+                continue;
+              // The twin (j,i) of this upper entry lands at row pj of column pi of C.
+              const auto first = permuted_lower.row_index.begin() + permuted_lower.column_start[pi];
+              const auto last = permuted_lower.row_index.begin() + permuted_lower.column_start[pi + 1];
+              const auto found = std::lower_bound(first, last, pj);
+              if (found == last || *found != pj)
+                throw MatrixError(asymmetry_message(i, j));
+              mirror[found - permuted_lower.row_index.begin()] = p;
+            }
+        for (Index k = 0; k < nnz; ++k)
+          if (mirror[k] == -1 && permuted_lower.row_index[k] != entry_column[k])
+            throw MatrixError(asymmetry_message(permutation[permuted_lower.row_index[k]],
+                                                permutation[entry_column[k]]));
+      }
+    loaded = false;
+  }
+
+  std::vector<Index> PermutedMatrix::load(const sparse::CSCMatrix &matrix)
+  {
+    if (matrix.n_rows != permuted_lower.n_rows || matrix.n_cols != permuted_lower.n_cols ||
+        matrix.storage != storage || matrix.column_start != analyzed_column_start ||
+        matrix.row_index != analyzed_row_index)
+      throw MatrixError("matrix pattern differs from the analyzed one (" +
+                        std::to_string(matrix.n_rows) + "x" + std::to_string(matrix.n_cols) + ", " +
+                        std::to_string(matrix.n_nonzeros()) + " entries; analyzed " +
+                        std::to_string(permuted_lower.n_rows) + "x" +
+                        std::to_string(permuted_lower.n_cols) + ", " +
+                        std::to_string(analyzed_row_index.size()) + " entries)");
+    if (static_cast<Index>(matrix.values.size()) != matrix.n_nonzeros())
+      throw MatrixError("matrix has " + std::to_string(matrix.values.size()) + " values for " +
+                        std::to_string(matrix.n_nonzeros()) + " entries");
+
+    const Index        nnz = permuted_lower.n_nonzeros();
+    std::vector<Index> changed_columns;
+    for (Index k = 0; k < nnz; ++k)
+      {
+        const double value = matrix.values[source[k]];
+        if (!std::isfinite(value))
+          throw MatrixError("value " + format_number(value) + " at entry " +
+                            entry_name(permutation[permuted_lower.row_index[k]],
+                                       permutation[entry_column[k]]) +
+                            " is not finite");
+        if (!loaded || value != permuted_lower.values[k])
+          if (changed_columns.empty() || changed_columns.back() != entry_column[k])
+            changed_columns.push_back(entry_column[k]);
+        permuted_lower.values[k] = value;
+      }
+    if (storage == sparse::Storage::full)
+      {
+        // Diagonal values first, to scale the symmetry tolerance of each pair.
+        std::vector<double> diagonal(permuted_lower.n_cols, 0.);
+        for (Index k = 0; k < nnz; ++k)
+          if (permuted_lower.row_index[k] == entry_column[k])
+            diagonal[entry_column[k]] = std::abs(permuted_lower.values[k]);
+        for (Index k = 0; k < nnz; ++k)
+          if (mirror[k] != -1)
+            {
+              const double value = permuted_lower.values[k], twin = matrix.values[mirror[k]];
+              const Index  r = permuted_lower.row_index[k], c = entry_column[k];
+              if (std::abs(value - twin) > 1e-10 * std::sqrt(diagonal[r] * diagonal[c]) ||
+                  !std::isfinite(twin))
+                throw MatrixError("matrix is not symmetric: A" +
+                                  entry_name(permutation[r], permutation[c]) + " = " +
+                                  format_number(value) + " but A" +
+                                  entry_name(permutation[c], permutation[r]) + " = " +
+                                  format_number(twin));
+            }
+      }
+    loaded = true;
+    return changed_columns;
+  }
+
+  const sparse::CSCMatrix &PermutedMatrix::lower() const
+  {
+    return permuted_lower;
+  }
+
+  Index PermutedMatrix::n_nonzeros() const
+  {
+    return permuted_lower.n_nonzeros();
+  }
+} // namespace warpchol::cholesky

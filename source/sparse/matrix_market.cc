@@ -1,0 +1,190 @@
+#include <warpchol/base/atomic_file.h>
+#include <warpchol/base/exceptions.h>
+#include <warpchol/sparse/matrix_market.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <tuple>
+
+namespace warpchol::sparse
+{
+  namespace
+  {
+    std::string lowercase(std::string text)
+    {
+      std::transform(text.begin(), text.end(), text.begin(),
+                     [](unsigned char c) { return std::tolower(c); });
+      return text;
+    }
+
+    /** Error prefix "FILE:LINE: ". */
+    std::string at(const std::string &name, const long line)
+    {
+      return name + ":" + std::to_string(line) + ": ";
+    }
+
+    /** True if @p line holds nothing but blanks. */
+    bool is_blank(const std::string &line)
+    {
+      return std::all_of(line.begin(), line.end(),
+                         [](unsigned char c) { return std::isspace(c) != 0; });
+    }
+
+    struct Triplet
+    {
+      Index  row;
+      Index  column;
+      double value;
+    };
+  } // namespace
+
+  CSCMatrix read_matrix_market(const std::string &filename)
+  {
+    std::ifstream stream(filename);
+    if (!stream)
+      throw InputError(filename + ": cannot open file");
+    return read_matrix_market(stream, filename);
+  }
+
+  CSCMatrix read_matrix_market(std::istream &stream, const std::string &name)
+  {
+    std::string line;
+    long        line_number = 0;
+
+    // Banner: %%MatrixMarket matrix coordinate <field> <symmetry>
+    if (!std::getline(stream, line))
+      throw InputError(at(name, 1) + "empty file, expected a %%MatrixMarket banner");
+    ++line_number;
+    {
+      std::istringstream banner(line);
+      std::string        tag, object, format, field, symmetry;
+      banner >> tag >> object >> format >> field >> symmetry;
+      if (tag != "%%MatrixMarket")
+        throw InputError(at(name, line_number) + "expected '%%MatrixMarket' banner, found '" +
+                         line.substr(0, 40) + "'");
+      object   = lowercase(object);
+      format   = lowercase(format);
+      field    = lowercase(field);
+      symmetry = lowercase(symmetry);
+      if (object != "matrix")
+        throw InputError(at(name, line_number) + "object '" + object +
+                         "' is not supported (only 'matrix')");
+      if (format != "coordinate")
+        throw InputError(at(name, line_number) + "format '" + format +
+                         "' is not supported (only 'coordinate')");
+      if (field != "real" && field != "integer" && field != "double")
+        throw InputError(at(name, line_number) + "field '" + field +
+                         "' is not supported (only 'real' or 'integer')");
+      if (symmetry != "general" && symmetry != "symmetric")
+        throw InputError(at(name, line_number) + "symmetry '" + symmetry +
+                         "' is not supported (only 'general' or 'symmetric')");
+      stream.clear();
+      const bool symmetric = symmetry == "symmetric";
+
+      // Size line, after comments and blank lines.
+      Index n_rows = -1, n_cols = -1, n_entries = -1;
+      while (std::getline(stream, line))
+        {
+          ++line_number;
+          if (line.empty() || line[0] == '%' || is_blank(line))
+            continue;
+          std::istringstream size_line(line);
+          std::string        rest;
+          if (!(size_line >> n_rows >> n_cols >> n_entries) || (size_line >> rest) ||
+              n_rows < 0 || n_cols < 0 || n_entries < 0)
+            throw InputError(at(name, line_number) +
+                             "expected 'ROWS COLUMNS ENTRIES' (three non-negative integers)");
+          break;
+        }
+      if (n_rows < 0)
+        throw InputError(at(name, line_number) + "missing size line");
+      if (symmetric && n_rows != n_cols)
+        throw InputError(at(name, line_number) + "a symmetric matrix must be square, got " +
+                         std::to_string(n_rows) + "x" + std::to_string(n_cols));
+
+      std::vector<Triplet> triplets;
+      triplets.reserve(n_entries);
+      while (static_cast<Index>(triplets.size()) < n_entries && std::getline(stream, line))
+        {
+          ++line_number;
+          if (line.empty() || line[0] == '%' || is_blank(line))
+            continue;
+          std::istringstream entry(line);
+          Index              i = 0, j = 0;
+          std::string        value_text, rest;
+          if (!(entry >> i >> j >> value_text) || (entry >> rest))
+            throw InputError(at(name, line_number) + "expected 'ROW COLUMN VALUE', found '" +
+                             line.substr(0, 60) + "'");
+          if (i < 1 || i > n_rows || j < 1 || j > n_cols)
+            throw InputError(at(name, line_number) + "entry (" + std::to_string(i) + "," +
+                             std::to_string(j) + ") outside the " + std::to_string(n_rows) +
+                             "x" + std::to_string(n_cols) + " matrix");
+          char        *end   = nullptr;
+          const double value = std::strtod(value_text.c_str(), &end);
+          if (end == value_text.c_str() || *end != '\0')
+            throw InputError(at(name, line_number) + "value '" + value_text +
+                             "' is not a number");
+          if (!std::isfinite(value))
+            throw InputError(at(name, line_number) + "value '" + value_text + "' is not finite");
+          --i;
+          --j;
+          if (symmetric && i < j)
+            std::swap(i, j); // mirror an upper entry into the lower triangle
+          triplets.push_back({i, j, value});
+        }
+      if (static_cast<Index>(triplets.size()) < n_entries)
+        throw InputError(at(name, line_number) + "file ends after " +
+                         std::to_string(triplets.size()) + " of " + std::to_string(n_entries) +
+                         " entries");
+      while (std::getline(stream, line))
+        {
+          ++line_number;
+          if (!(line.empty() || line[0] == '%' || is_blank(line)))
+            throw InputError(at(name, line_number) + "more entries than the " +
+                             std::to_string(n_entries) + " announced");
+        }
+
+      // Sort by (column, row) and sum repeated entries.
+      std::sort(triplets.begin(), triplets.end(), [](const Triplet &a, const Triplet &b) {
+        return std::tie(a.column, a.row) < std::tie(b.column, b.row);
+      });
+      CSCMatrix matrix =
+        CSCMatrix::zero(n_rows, n_cols, symmetric ? Storage::lower : Storage::full);
+      for (std::size_t t = 0; t < triplets.size(); ++t)
+        {
+          const Triplet &entry = triplets[t];
+          if (t > 0 && entry.column == triplets[t - 1].column && entry.row == triplets[t - 1].row)
+            {
+              matrix.values.back() += entry.value;
+              continue;
+            }
+          matrix.row_index.push_back(entry.row);
+          matrix.values.push_back(entry.value);
+          ++matrix.column_start[entry.column + 1];
+        }
+      for (Index j = 0; j < n_cols; ++j)
+        matrix.column_start[j + 1] += matrix.column_start[j];
+      return matrix;
+    }
+  }
+
+  void write_matrix_market(const CSCMatrix &matrix, const std::string &filename)
+  {
+    write_file_atomically(filename, [&](std::ostream &out) {
+      out << "%%MatrixMarket matrix coordinate real "
+          << (matrix.storage == Storage::lower ? "symmetric" : "general") << "\n"
+          << matrix.n_rows << ' ' << matrix.n_cols << ' ' << matrix.n_nonzeros() << "\n";
+      char buffer[64];
+      for (Index j = 0; j < matrix.n_cols; ++j)
+        for (Index k = matrix.column_start[j]; k < matrix.column_start[j + 1]; ++k)
+          {
+            std::snprintf(buffer, sizeof(buffer), "%.17g", matrix.values[k]);
+            out << matrix.row_index[k] + 1 << ' ' << j + 1 << ' ' << buffer << '\n';
+          }
+    });
+  }
+} // namespace warpchol::sparse

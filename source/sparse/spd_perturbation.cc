@@ -1,0 +1,91 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/sparse/spd_perturbation.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numeric>
+
+namespace warpchol::sparse
+{
+  namespace
+  {
+    /** splitmix64's finalizer: a portable, well-mixed 64-bit hash. */
+    std::uint64_t mix(std::uint64_t x)
+    {
+      x += 0x9e3779b97f4a7c15ULL;
+      x = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+      x = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+      return x ^ (x >> 31);
+    }
+
+    /** A hash mapped to [0, 1) with 53 random bits. */
+    double unit_interval(const std::uint64_t h)
+    {
+      return static_cast<double>(h >> 11) * 0x1.0p-53;
+    }
+  } // namespace
+
+  void perturb_columns_spd(CSCMatrix &matrix, const std::vector<Index> &columns,
+                           const std::uint64_t seed, const double eps)
+  {
+    const Index       n = matrix.n_cols;
+    std::vector<bool> in_set(n, false);
+    for (const Index j : columns)
+      {
+        if (j < 0 || j >= n)
+          throw InputError("column " + std::to_string(j) + " out of range [0, " +
+                           std::to_string(n) + ")");
+        in_set[j] = true;
+      }
+    std::vector<double> diagonal(n, 0.);
+    for (Index j = 0; j < n; ++j)
+      diagonal[j] = std::abs(matrix(j, j));
+
+    // The random value of pair {i,j} is a hash of (seed, max, min): both triangles of a
+    // full-storage matrix get the same value without a second pass.
+    auto pair_value = [seed](Index i, Index j) {
+      if (i < j)
+        std::swap(i, j);
+      const std::uint64_t h = mix(seed ^ mix(static_cast<std::uint64_t>(i) * 0x100000001b3ULL +
+                                              static_cast<std::uint64_t>(j)));
+      return 2. * unit_interval(h) - 1.;
+    };
+    std::vector<double> added_to_diagonal(n, 0.);
+    for (Index j = 0; j < n; ++j)
+      if (in_set[j])
+        for (Index k = matrix.column_start[j]; k < matrix.column_start[j + 1]; ++k)
+          {
+            const Index i = matrix.row_index[k];
+            if (i == j || !in_set[i])
+              continue;
+            const double e = eps * pair_value(i, j) * std::sqrt(diagonal[i] * diagonal[j]);
+            matrix.values[k] += e;
+            // Diagonal dominance of E, counted once per stored triangle entry.
+            added_to_diagonal[j] += std::abs(e);
+            if (matrix.storage == Storage::lower)
+              added_to_diagonal[i] += std::abs(e);
+          }
+    for (Index j = 0; j < n; ++j)
+      if (in_set[j])
+        for (Index k = matrix.column_start[j]; k < matrix.column_start[j + 1]; ++k)
+          if (matrix.row_index[k] == j)
+            matrix.values[k] += added_to_diagonal[j] + eps * diagonal[j];
+  }
+
+  std::vector<Index> random_columns(const Index n, const Index count, const std::uint64_t seed)
+  {
+    std::vector<Index> all(n);
+    std::iota(all.begin(), all.end(), Index(0));
+    // Partial Fisher-Yates with the portable hash: the same columns on every platform.
+    const Index selected = std::min(count, n);
+    for (Index k = 0; k < selected; ++k)
+      {
+        const auto h = mix(seed + static_cast<std::uint64_t>(k) * 0x9e3779b97f4a7c15ULL);
+        const Index pick = k + static_cast<Index>(unit_interval(h) * static_cast<double>(n - k));
+        std::swap(all[k], all[std::min(pick, n - 1)]);
+      }
+    all.resize(selected);
+    std::sort(all.begin(), all.end());
+    return all;
+  }
+} // namespace warpchol::sparse
