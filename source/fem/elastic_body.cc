@@ -71,6 +71,7 @@ namespace warpchol::fem
     for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
       if (!fixed_vertex[v])
         {
+          free_vertices.push_back(v);
           first_unknown_of_vertex[v] = unknown_count;
           unknown_count += 3;
         }
@@ -216,6 +217,11 @@ namespace warpchol::fem
   Index ElasticBody::first_unknown(const unsigned int v) const
   {
     return first_unknown_of_vertex[v];
+  }
+
+  unsigned int ElasticBody::vertex_of_unknown(const Index unknown) const
+  {
+    return free_vertices.at(unknown / 3);
   }
 
   bool ElasticBody::is_fixed(const unsigned int v) const
