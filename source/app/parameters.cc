@@ -52,7 +52,7 @@ namespace warpchol::app
       if (stack != std::string::npos)
         message.resize(stack);
       message = one_line(message);
-      const std::regex located(R"(^Line <(\d+)> of file <([^>]*)>: ?(.*)$)");
+      const std::regex located(R"(^Line <(\d+)> of file <([^>:]*)>?: ?(.*)$)");
       std::smatch      match;
       if (std::regex_match(message, match, located))
         message = match[2].str() + ":" + match[1].str() + ": " + match[3].str();

@@ -8,10 +8,10 @@
 #include <warpchol/fem/mesh_readers.h>
 
 #include <vtkCellType.h>
-#include <vtkCommand.h>
-#include <vtkDataSetReader.h>
 #include <vtkIdList.h>
+#include <vtkLogger.h>
 #include <vtkNew.h>
+#include <vtkOutputWindow.h>
 #include <vtkPoints.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
@@ -19,33 +19,69 @@
 #include <vtkXMLUnstructuredGridReader.h>
 
 #include <fstream>
+#include <sstream>
 
 namespace warpchol::fem
 {
   namespace
   {
-    /** Collects the first error (or warning) a VTK reader reports instead of printing it. */
-    class ReaderMessages : public vtkCommand
+    /**
+     * Catches what VTK would print while a file is read (the reader's errors, but also
+     * those of its XML parser and pipeline), and keeps the first message as one line
+     * without VTK's "ERROR: In FILE, line N" header and object address. Installed as VTK's
+     * output window for the duration of one read.
+     */
+    class CapturedMessages : public vtkOutputWindow
     {
     public:
-      static ReaderMessages *New()
+      static CapturedMessages *New()
       {
-        return new ReaderMessages;
+        return new CapturedMessages;
       }
 
-      void Execute(vtkObject *, unsigned long, void *call_data) override
+      void DisplayText(const char *text) override
       {
-        if (first.empty() && call_data != nullptr)
+        if (!first.empty() || text == nullptr)
+          return;
+        std::istringstream lines(text);
+        std::string        line;
+        while (std::getline(lines, line))
           {
-            first = static_cast<const char *>(call_data);
-            // VTK's messages end with a newline and may span lines: keep the first one.
-            const auto end = first.find_first_of("\r\n");
-            if (end != std::string::npos)
-              first.resize(end);
+            if (line.empty() || line.rfind("ERROR: In ", 0) == 0 || line.rfind("Warning: In ", 0) == 0)
+              continue;
+            // "vtkXMLDataParser (0x55cc61c56a40): Error parsing XML ...": drop the address.
+            const auto address = line.find("): ");
+            if (address != std::string::npos && line.find(" (0x") < address)
+              line = line.substr(address + 3);
+            first = line;
+            return;
           }
       }
 
       std::string first;
+    };
+
+    /** Route VTK's messages to a CapturedMessages while it lives. */
+    class MessageCapture
+    {
+    public:
+      MessageCapture()
+        : previous(vtkOutputWindow::GetInstance())
+      {
+        vtkOutputWindow::SetInstance(messages);
+      }
+      ~MessageCapture()
+      {
+        vtkOutputWindow::SetInstance(previous);
+      }
+      const std::string &first() const
+      {
+        return messages->first;
+      }
+
+    private:
+      vtkSmartPointer<vtkOutputWindow> previous;
+      vtkNew<CapturedMessages>         messages;
     };
 
     /** VTK cell types of dimension < 3, skipped like Gmsh's lines and triangles. */
@@ -78,13 +114,14 @@ namespace warpchol::fem
       throw InputError(filename + ": cannot open the mesh file");
     const bool xml = filename.size() >= 4 && filename.compare(filename.size() - 4, 4, ".vtu") == 0;
 
-    vtkNew<ReaderMessages>               messages;
+    // VTK 9 also logs its errors on standard error through vtkLogger: the program reports
+    // them itself, on one line. VTK serves no other purpose here, so its logging stays off.
+    vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
+    MessageCapture                       messages;
     vtkSmartPointer<vtkUnstructuredGrid> grid;
     if (xml)
       {
         vtkNew<vtkXMLUnstructuredGridReader> reader;
-        reader->AddObserver(vtkCommand::ErrorEvent, messages);
-        reader->AddObserver(vtkCommand::WarningEvent, messages);
         reader->SetFileName(filename.c_str());
         reader->Update();
         grid = reader->GetOutput();
@@ -92,17 +129,15 @@ namespace warpchol::fem
     else
       {
         vtkNew<vtkUnstructuredGridReader> reader;
-        reader->AddObserver(vtkCommand::ErrorEvent, messages);
-        reader->AddObserver(vtkCommand::WarningEvent, messages);
         reader->SetFileName(filename.c_str());
         if (!reader->IsFileUnstructuredGrid())
           throw InputError(filename + ": not a legacy VTK file holding an UNSTRUCTURED_GRID" +
-                           (messages->first.empty() ? std::string() : ": " + messages->first));
+                           (messages.first().empty() ? std::string() : ": " + messages.first()));
         reader->Update();
         grid = reader->GetOutput();
       }
-    if (!messages->first.empty())
-      throw InputError(filename + ": VTK cannot read it: " + messages->first);
+    if (!messages.first().empty())
+      throw InputError(filename + ": VTK cannot read it: " + messages.first());
     if (grid == nullptr || grid->GetNumberOfPoints() == 0)
       throw InputError(filename + ": VTK read no point from the file");
 
