@@ -89,15 +89,18 @@ namespace warpchol::app
     return pvd_name;
   }
 
-  StepLog::StepLog(const std::string &filename)
+  StepLog::StepLog(const std::string &filename, const bool with_error)
     : file(filename)
+    , with_error(with_error)
   {}
 
-  std::string StepLog::header()
+  std::string StepLog::header() const
   {
-    return "step,time,elements_updated,elements_updated_pct,refactorized,columns_recomputed_pct,"
-           "flops_recomputed_pct,t_rotations,t_error_estimate,t_assembly,t_factor,t_solve,t_step,"
-           "kinetic_energy,elastic_energy";
+    return std::string(
+             "step,time,elements_updated,elements_updated_pct,refactorized,columns_recomputed_pct,"
+             "flops_recomputed_pct,t_rotations,t_error_estimate,t_assembly,t_factor,t_solve,t_step,"
+             "kinetic_energy,elastic_energy") +
+           (with_error ? ",error_vs_corotational" : "");
   }
 
   void StepLog::add(const StepLogRow &row)
@@ -114,6 +117,8 @@ namespace warpchol::app
          << s.t_error_estimate << "," << s.t_assembly << "," << s.t_factor << "," << s.t_solve
          << "," << row.step_seconds << "," << std::setprecision(10) << row.kinetic_energy << ","
          << row.elastic_energy;
+    if (with_error)
+      line << "," << std::setprecision(6) << row.error_vs_corotational;
     rows.push_back(line.str());
     write_file_atomically(file, [&](std::ostream &out) {
       out << header() << "\n";

@@ -317,9 +317,9 @@ namespace warpchol::app
                         "columns of the elements whose error estimate exceeds the threshold");
       prm.declare_entry("Update threshold", "0.05", Patterns::Anything(),
                         "warp_canceling: a number >= 0 or inf. An element is updated when its "
-                        "error estimate exceeds this fraction of the mean magnitude of an "
-                        "element's exact contribution to A v in the step (dimensionless). 0 "
-                        "updates all (exact corotation), inf none (stiffness warping)");
+                        "error estimate (an impulse) exceeds this fraction of the step's impulse "
+                        "scale: the mean over elements of |A_e v_e| + dt |f_e| (dimensionless). "
+                        "0 updates all (exact corotation), inf none (stiffness warping)");
       prm.leave_subsection();
     }
 
@@ -416,7 +416,8 @@ namespace warpchol::app
       prm.enter_subsection("Region force");
       RegionParameters::declare_parameters(prm, "that carry the force");
       prm.declare_entry("Total force", "0, 0, 0", vector_pattern,
-                        "A constant force (N) shared evenly by the vertices of the region");
+                        "A constant force (N) on the region, shared by its vertices in proportion to "
+                        "their masses (a body force)");
       prm.leave_subsection();
     }
 
@@ -467,10 +468,15 @@ namespace warpchol::app
       prm.declare_entry("Write log", "false", Patterns::Bool(),
                         "Write the per-step CSV log SCENE/log.csv");
       prm.declare_entry("Print timings", "true", Patterns::Bool(),
-                        "Print run times in the summary (false gives a summary that does not "
-                        "change from run to run)");
+                        "Print run times and the solver's figures (fill, columns and flops "
+                        "recomputed) in the summary; false leaves what depends on the model "
+                        "alone, the same from run to run and from solver to solver");
       prm.declare_entry("Progress", "auto", Patterns::Selection("auto|on|off"),
                         "A progress line on standard error: auto shows it on a terminal");
+      prm.declare_entry("Compare with corotational", "false", Patterns::Bool(),
+                        "Also run the exact corotational model, in step (not timed), and report "
+                        "the trajectory error max_i |x_i - x_i(corotational)| over "
+                        "max_i |x_i(corotational) - X_i| in the log and the summary");
       prm.leave_subsection();
     }
 
@@ -483,6 +489,7 @@ namespace warpchol::app
       write_log     = prm.get_bool("Write log");
       print_timings = prm.get_bool("Print timings");
       progress      = prm.get("Progress");
+      compare_with_corotational = prm.get_bool("Compare with corotational");
       prm.leave_subsection();
     }
   } // namespace parameters

@@ -139,10 +139,15 @@ namespace warpchol::app
     const auto force_vertices = select_vertices(all.region_force.region, "Region force");
     if (!force_vertices.empty() && all.region_force.total_force.norm() > 0)
       {
+        // Shared in proportion to the vertices' masses, as a body force: applied to the
+        // whole body it accelerates every vertex alike (a rigid translation).
+        double region_mass = 0;
+        for (const unsigned int v : force_vertices)
+          region_mass += elastic_body->vertex_mass(v);
         scene_loads.vertex_forces.assign(triangulation.n_vertices(), fem::Vector3::Zero());
         for (const unsigned int v : force_vertices)
           scene_loads.vertex_forces[v] =
-            all.region_force.total_force / static_cast<double>(force_vertices.size());
+            all.region_force.total_force * (elastic_body->vertex_mass(v) / region_mass);
       }
     scene_loads.tool.vertices  = select_vertices(all.tool.region, "Tool");
     scene_loads.tool.stiffness = all.tool.spring_stiffness;

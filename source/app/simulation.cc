@@ -23,6 +23,12 @@ namespace warpchol::app
     simulated_scene = std::make_unique<Scene>(parameters);
     setup_seconds   = stopwatch.seconds();
     directory       = parameters.output.directory + "/" + parameters.scene_name();
+    if (parameters.output.compare_with_corotational)
+      {
+        AllParameters reference = parameters;
+        reference.model.type    = "corotational";
+        reference_scene         = std::make_unique<Scene>(reference);
+      }
 
     const auto &body = simulated_scene->body();
     element_centres.resize(body.n_elements(), fem::Vector3::Zero());
@@ -40,7 +46,7 @@ namespace warpchol::app
     if (settings.write_log || settings.vtu_interval > 0)
       create_directory(directory);
     if (settings.write_log)
-      step_log = std::make_unique<StepLog>(directory + "/log.csv");
+      step_log = std::make_unique<StepLog>(directory + "/log.csv", reference_scene != nullptr);
     if (settings.vtu_interval > 0)
       vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name());
 
@@ -94,6 +100,24 @@ namespace warpchol::app
                 t.updated_distance_to_tool += (element_centres[e] - tool_centre).norm();
           }
 
+        double error_vs_corotational = -1;
+        if (reference_scene)
+          {
+            fem::StepStatistics reference_statistics;
+            reference_scene->integrator().advance(reference_statistics);
+            const auto &x         = integrator.positions();
+            const auto &reference = reference_scene->integrator().positions();
+            double      difference = 0, motion = 0;
+            for (unsigned int v = 0; v < x.size(); ++v)
+              {
+                difference = std::max(difference, (x[v] - reference[v]).norm());
+                motion     = std::max(motion, (reference[v] - body.rest_positions()[v]).norm());
+              }
+            error_vs_corotational = motion > 0 ? difference / motion : difference;
+            t.max_error_vs_corotational = std::max(t.max_error_vs_corotational, error_vs_corotational);
+            t.last_error_vs_corotational = error_vs_corotational;
+          }
+
         const double kinetic_energy = integrator.kinetic_energy();
         if (step_log)
           {
@@ -105,6 +129,7 @@ namespace warpchol::app
             row.step_seconds   = step_seconds;
             row.kinetic_energy = kinetic_energy;
             row.elastic_energy = integrator.elastic_energy();
+            row.error_vs_corotational = error_vs_corotational;
             step_log->add(row);
           }
         if (vtu_series && step % settings.vtu_interval == 0)
@@ -149,8 +174,10 @@ namespace warpchol::app
       out << ", update threshold " << n(wcc->update_threshold());
     const auto &solver = model.solver();
     out << "; solver: " << cholesky::to_string(solver.settings().ordering.method) << " ordering, "
-        << cholesky::to_string(solver.settings().method) << ", fill "
-        << n(solver.statistics().fill()) << "\n";
+        << cholesky::to_string(solver.settings().method);
+    if (timings)
+      out << ", fill " << n(solver.statistics().fill());
+    out << "\n";
     out << "  steps: " << t.steps << ", simulated time " << n(integrator.time(), 4) << " s\n";
     if (model.uses_rotations())
       {
@@ -158,10 +185,12 @@ namespace warpchol::app
             << " %, max " << n(100 * t.max_elements_updated / n_elements) << " %; steps with "
             << "updates: " << t.steps_with_updates << ", without update at the end: "
             << t.trailing_steps_without_update << "\n";
-        if (t.refactorizations > 0)
-          out << "  refactorizations: " << t.refactorizations << ", columns recomputed mean "
-              << n(t.columns_recomputed_pct / t.refactorizations) << " %, flops recomputed mean "
-              << n(t.flops_recomputed_pct / t.refactorizations) << " %\n";
+        out << "  refactorizations: " << t.refactorizations;
+        if (timings && t.refactorizations > 0)
+          out << ", columns recomputed mean " << n(t.columns_recomputed_pct / t.refactorizations)
+              << " %, flops recomputed mean " << n(t.flops_recomputed_pct / t.refactorizations)
+              << " %";
+        out << "\n";
         if (!scene.loads().tool.vertices.empty() && t.elements_updated > 0)
           {
             double all_distance = 0;
@@ -172,6 +201,9 @@ namespace warpchol::app
                 << " m)\n";
           }
       }
+    if (reference_scene)
+      out << "  trajectory error against corotational: max " << n(t.max_error_vs_corotational, 2)
+          << ", at the end " << n(t.last_error_vs_corotational, 2) << "\n";
     out << "  energy at the end: kinetic " << n(integrator.kinetic_energy()) << " J, elastic "
         << n(integrator.elastic_energy()) << " J\n";
     if (timings)

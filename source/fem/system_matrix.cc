@@ -15,6 +15,7 @@ namespace warpchol::fem
     SystemCoefficients coefficients;
     coefficients.mass      = 1 + time_step * rayleigh_mass;
     coefficients.stiffness = time_step * time_step + time_step * rayleigh_stiffness;
+    coefficients.time_step = time_step;
     return coefficients;
   }
 

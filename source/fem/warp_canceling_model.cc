@@ -44,11 +44,12 @@ namespace warpchol::fem
   }
 
   std::vector<unsigned int>
-  WarpCancelingModel::elements_to_update(const std::vector<Vector3> &velocities)
+  WarpCancelingModel::elements_to_update(const std::vector<Vector3> &positions,
+                                         const std::vector<Vector3> &velocities)
   {
     const unsigned int  n_elements = body.n_elements();
     std::vector<double> error(n_elements);
-    double              exact_magnitude_sum = 0;
+    double              impulse_sum = 0;
     for (unsigned int e = 0; e < n_elements; ++e)
       {
         const auto &vertices = body.element_vertices(e);
@@ -58,11 +59,14 @@ namespace warpchol::fem
         // = I), the mass part m_ab S_a^T v_b.
         ElementVector z;
         ElementVector unrotated_velocity;
+        ElementVector unrotated_displacement;
         for (unsigned int a = 0; a < 4; ++a)
           {
-            z.segment<3>(3 * a) = nodal_rotations[vertices[a]].transpose() * velocities[vertices[a]];
-            unrotated_velocity.segment<3>(3 * a) =
-              element_rotation.transpose() * velocities[vertices[a]];
+            const unsigned int v = vertices[a];
+            z.segment<3>(3 * a) = nodal_rotations[v].transpose() * velocities[v];
+            unrotated_velocity.segment<3>(3 * a) = element_rotation.transpose() * velocities[v];
+            unrotated_displacement.segment<3>(3 * a) =
+              element_rotation.transpose() * positions[v] - body.rest_positions()[v];
           }
         const ElementVector local_force = body.rest_stiffness(e) * unrotated_velocity;
         const auto         &mass        = body.element_mass(e);
@@ -76,10 +80,11 @@ namespace warpchol::fem
             exact.segment<3>(3 * a) = nodal_rotations[vertices[a]].transpose() * world;
           }
         error[e] = (exact - contribution[e] * z).norm();
-        exact_magnitude_sum += exact.norm();
+        impulse_sum += exact.norm() + coefficients.time_step *
+                                        (body.rest_stiffness(e) * unrotated_displacement).norm();
       }
 
-    const double scale = exact_magnitude_sum / n_elements;
+    const double scale = impulse_sum / n_elements;
     std::vector<unsigned int> update;
     for (unsigned int e = 0; e < n_elements; ++e)
       {
@@ -140,7 +145,7 @@ namespace warpchol::fem
 
     stopwatch.restart();
     record.error_estimate.resize(n_elements);
-    const std::vector<unsigned int> update = elements_to_update(velocities);
+    const std::vector<unsigned int> update = elements_to_update(positions, velocities);
     statistics.t_error_estimate += stopwatch.seconds();
     record_updates(update);
     statistics.elements_updated = update.size();

@@ -56,23 +56,27 @@ namespace warpchol::app
     double                    step_seconds   = 0;
     double                    kinetic_energy = 0;
     double                    elastic_energy = 0;
+    /** Trajectory error against the corotational run; negative when none runs. */
+    double                    error_vs_corotational = -1;
   };
 
   /** The CSV log: a header row, then a row per step; the file is rewritten after each step. */
   class StepLog
   {
   public:
-    explicit StepLog(const std::string &filename);
+    /** @p with_error: add the column error_vs_corotational. */
+    StepLog(const std::string &filename, bool with_error);
 
     void add(const StepLogRow &row);
 
     const std::string &filename() const;
 
     /** The header row (the column names). */
-    static std::string header();
+    std::string header() const;
 
   private:
     std::string              file;
+    bool                     with_error;
     std::vector<std::string> rows;
   };
 } // namespace warpchol::app

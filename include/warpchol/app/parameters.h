@@ -150,7 +150,7 @@ namespace warpchol::app
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
     };
 
-    /** Subsection "Region force": a constant total force spread evenly over a region. */
+    /** Subsection "Region force": a constant total force on a region, shared by mass. */
     struct RegionForce
     {
       RegionParameters region;
@@ -184,6 +184,8 @@ namespace warpchol::app
       bool         print_timings = true;
       /** "auto" (when standard error is a terminal), "on" or "off". */
       std::string  progress = "auto";
+      /** Run the exact corotational model alongside and log the trajectory error. */
+      bool         compare_with_corotational = false;
 
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);

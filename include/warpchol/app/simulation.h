@@ -30,6 +30,9 @@ namespace warpchol::app
     double       step_seconds = 0;
     /** Sum over updates of the rest distance of the element's centre to the tool's centre. */
     double       updated_distance_to_tool = 0;
+    /** Trajectory error against the corotational run: largest over the steps, and last. */
+    double       max_error_vs_corotational  = 0;
+    double       last_error_vs_corotational = 0;
   };
 
   class Simulation
@@ -55,6 +58,8 @@ namespace warpchol::app
 
     AllParameters                 parameters;
     std::unique_ptr<Scene>        simulated_scene;
+    /** The exact corotational run of the same scene, when the error against it is asked. */
+    std::unique_ptr<Scene>        reference_scene;
     std::string                   directory;
     RunTotals                     run_totals;
     std::unique_ptr<VtuSeries>    vtu_series;

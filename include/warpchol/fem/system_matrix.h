@@ -27,6 +27,8 @@ namespace warpchol::fem
     double mass = 1;
     /** Factor of the stiffness matrix: dt^2 + dt beta. */
     double stiffness = 0;
+    /** The time step dt they were made for (the scale of impulses: dt times a force). */
+    double time_step = 0;
     /**
      * Per vertex, a value added to the 3 diagonal entries of its free dofs (dt^2 k for the
      * springs of a pulling tool, which act along every direction alike and so stay the same

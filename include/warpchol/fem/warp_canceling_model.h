@@ -22,12 +22,16 @@ namespace warpchol::fem
    * Which elements to update. With z = R^T v_e (v_e the element's nodal velocities) the
    * exact and the approximate contributions of e to the left-hand side differ by
    *   err_e = || (A_e[R, R_e] - A_e[stored S, Q]) z ||
-   * (rotating by R changes no norm). The threshold is dimensionless: e is updated when
-   *   err_e > threshold * mean over elements of || A_e[R, R_e] z ||,
-   * that is when its error exceeds the given fraction of the mean magnitude of an element's
-   * exact contribution to A v (an impulse) in this step. A rigid translation leaves
-   * err_e / mean at rounding level (1e-16), so any threshold above about 1e-12 treats it as
-   * no change; a body at rest (v = 0) never updates.
+   * (rotating by R changes no norm), an impulse (N s). The threshold is dimensionless,
+   * relative to the impulse scale of the step
+   *   I = mean over elements of ( || A_e[R, R_e] z || + dt || f_e || ),
+   * the typical size of an element's terms in the impulse balance A v = M v + dt f: its
+   * exact contribution to A v and its elastic impulse (f_e = R_e K_e (R_e^T x_e - X_e)).
+   * Element e is updated when err_e > threshold * I. A rigid translation leaves err_e / I at
+   * rounding level (1e-16), so any threshold above about 1e-12 treats it as no change. As a
+   * loaded body comes to rest, err_e vanishes with the velocities while its elastic
+   * impulse keeps I finite: the updates die out. A body at rest and unloaded (I = 0)
+   * updates nothing.
    *
    * Threshold 0 updates every element without estimating anything: the step is then exact
    * corotation (assembled and factored in full). An infinite threshold never updates and
@@ -55,7 +59,8 @@ namespace warpchol::fem
 
   private:
     /** The elements whose error estimate exceeds the threshold, in increasing order. */
-    std::vector<unsigned int> elements_to_update(const std::vector<Vector3> &velocities);
+    std::vector<unsigned int> elements_to_update(const std::vector<Vector3> &positions,
+                                                 const std::vector<Vector3> &velocities);
 
     /** Store the current rotations of @p e and recompute its contribution. */
     void update_element(unsigned int e);
