@@ -142,6 +142,8 @@ namespace warpchol::cholesky
 
   void SparseCholesky::solve(const std::vector<double> &b, std::vector<double> &x) const
   {
+    if (!factor_valid)
+      throw Error("solve() called without a valid factorization");
     if (static_cast<Index>(b.size()) != stats.n)
       throw InputError("right-hand side has " + std::to_string(b.size()) + " entries, expected " +
                        std::to_string(stats.n));
