@@ -3,17 +3,25 @@
  * after changing a random fraction of its columns, solve, and print one line of
  * key=value fields that scripts can read.
  *
- *   warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] [--method left|up]
- *                              [--changed-fraction P] [--seed S]
+ *   warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] [--method left|up|supernodal]
+ *                              [--supernodal on|off] [--threads N] [--changed-fraction P]
+ *                              [--seed S] [--repeat R] [--compare cholmod]
+ *
+ * Times are the best of R runs (the machine is shared and noisy). With --compare cholmod,
+ * CHOLMOD's supernodal factorization runs in the same process on the same matrix with the
+ * same permutation and BLAS, and the ratios ours/CHOLMOD are printed.
  */
 
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/base/stopwatch.h>
+#include <warpchol/cholesky/cholmod_reference.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/sparse/matrix_market.h>
 #include <warpchol/sparse/residual.h>
 #include <warpchol/sparse/spd_perturbation.h>
 
+#include <algorithm>
 #include <cmath>
 #include <iostream>
 #include <string>
@@ -29,10 +37,13 @@ namespace
     cholesky::SparseCholesky::Settings       solver;
     double                                   changed_fraction = 0.1;
     std::uint64_t                            seed             = 1;
+    int                                      repeat           = 1;
+    bool                                     compare_cholmod  = false;
   };
 
   const char *usage = "usage: warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] "
-                      "[--method left|up] [--changed-fraction P] [--seed S]";
+                      "[--method left|up|supernodal] [--supernodal on|off] [--threads N] "
+                      "[--changed-fraction P] [--seed S] [--repeat R] [--compare cholmod]";
 
   double parse_number(const std::string &option, const std::string &text)
   {
@@ -75,6 +86,35 @@ namespace
           }
         else if (argument == "--seed")
           options.seed = static_cast<std::uint64_t>(parse_number(argument, value()));
+        else if (argument == "--supernodal")
+          {
+            const std::string on_off = value();
+            if (on_off != "on" && on_off != "off")
+              throw InputError("--supernodal: expected on or off, got '" + on_off + "'");
+            options.solver.method = on_off == "on" ? cholesky::FactorizationMethod::supernodal :
+                                                     cholesky::FactorizationMethod::left_looking;
+          }
+        else if (argument == "--threads")
+          {
+            const double threads = parse_number(argument, value());
+            if (threads < 1 || threads > 256 || threads != std::floor(threads))
+              throw InputError("--threads must be an integer in [1, 256], got " + format_number(threads));
+            options.solver.n_threads = static_cast<unsigned int>(threads);
+          }
+        else if (argument == "--repeat")
+          {
+            const double repeat = parse_number(argument, value());
+            if (repeat < 1 || repeat > 1000 || repeat != std::floor(repeat))
+              throw InputError("--repeat must be an integer in [1, 1000], got " + format_number(repeat));
+            options.repeat = static_cast<int>(repeat);
+          }
+        else if (argument == "--compare")
+          {
+            const std::string peer = value();
+            if (peer != "cholmod")
+              throw InputError("--compare: only 'cholmod' is supported, got '" + peer + "'");
+            options.compare_cholmod = true;
+          }
         else if (argument == "--help" || argument == "-h")
           {
             std::cout << usage << "\n";
@@ -95,17 +135,26 @@ namespace
 
   void run(const Options &options)
   {
-    sparse::CSCMatrix matrix = sparse::read_matrix_market(options.matrix_file);
+    sparse::CSCMatrix        matrix = sparse::read_matrix_market(options.matrix_file);
     cholesky::SparseCholesky solver(options.solver);
     solver.analyze(matrix);
-    solver.factorize(matrix);
-    const double factor_seconds = solver.statistics().factorize_seconds;
+    double factor_seconds = 1e300;
+    for (int r = 0; r < options.repeat; ++r)
+      {
+        solver.factorize(matrix);
+        factor_seconds = std::min(factor_seconds, solver.statistics().factorize_seconds);
+      }
 
     // Change a random set of columns (and rows), keeping A symmetric positive definite.
     const auto n_changed = static_cast<Index>(std::llround(options.changed_fraction * matrix.n_cols));
     const std::vector<Index> changed = sparse::random_columns(matrix.n_cols, n_changed, options.seed);
     sparse::perturb_columns_spd(matrix, changed, options.seed);
-    solver.refactorize(matrix, changed);
+    double refactor_seconds = 1e300;
+    for (int r = 0; r < options.repeat; ++r)
+      {
+        solver.refactorize(matrix, changed);
+        refactor_seconds = std::min(refactor_seconds, solver.statistics().refactorize_seconds);
+      }
 
     // b = A x_true with x_true = 1, solve with the updated factor.
     const std::vector<double> ones(matrix.n_cols, 1.);
@@ -117,27 +166,49 @@ namespace
     const double n     = static_cast<double>(stats.n);
     std::cout << "n=" << stats.n << " nnz_a=" << stats.nnz_a << " nnz_l=" << stats.nnz_l
               << " fill=" << format_number(stats.fill(), 6)
-              << " fill_full=" << format_number(static_cast<double>(stats.nnz_l) /
-                                                  (2. * stats.nnz_a - n), 6)
+              << " fill_full=" << format_number(static_cast<double>(stats.nnz_l) / (2. * stats.nnz_a - n), 6)
               << " flops=" << format_number(stats.flops, 6)
               << " ordering=" << cholesky::to_string(options.solver.ordering.method)
               << " method=" << cholesky::to_string(options.solver.method)
+              << " threads=" << options.solver.n_threads
               << " vertex_block=" << stats.vertex_block_size
+              << " supernodes=" << stats.n_supernodes
               << " analyze_s=" << format_number(stats.analyze_seconds, 4)
               << " factor_s=" << format_number(factor_seconds, 4)
-              << " refactor_s=" << format_number(stats.refactorize_seconds, 4)
+              << " refactor_s=" << format_number(refactor_seconds, 4)
               << " solve_s=" << format_number(stats.solve_seconds, 4)
               << " changed_cols=" << format_number(static_cast<double>(changed.size()) / n, 4)
-              << " cols_recomputed=" << format_number(stats.columns_recomputed / n, 4)
-              << " flops_recomputed=" << format_number(stats.flops_recomputed / stats.flops, 4)
+              << " cols_recomputed=" << format_number(static_cast<double>(stats.columns_recomputed) / n, 4)
+              << " supernodes_recomputed="
+              << format_number(stats.n_supernodes > 0 ? static_cast<double>(stats.supernodes_recomputed) / stats.n_supernodes : 0., 4)
+              << " flops_recomputed=" << format_number(stats.flops_recomputed / stats.method_flops, 4)
+              << " factor_bytes=" << stats.factor_bytes
               << " residual=" << format_number(sparse::relative_residual(matrix, x, b), 3)
-              << " backward_error=" << format_number(sparse::backward_error(matrix, x, b), 3)
-              << "\n";
+              << " backward_error=" << format_number(sparse::backward_error(matrix, x, b), 3);
+
+    if (options.compare_cholmod)
+      {
+        // CHOLMOD supernodal on the same (changed) matrix with the same permutation.
+        cholesky::CholmodReference cholmod(true);
+        cholmod.analyze(matrix, solver.permutation());
+        double cholmod_seconds = 1e300;
+        for (int r = 0; r < options.repeat; ++r)
+          {
+            cholmod.factorize(matrix);
+            cholmod_seconds = std::min(cholmod_seconds, cholmod.factorize_seconds);
+          }
+        std::cout << " cholmod_factor_s=" << format_number(cholmod_seconds, 4)
+                  << " factor_ratio=" << format_number(factor_seconds / cholmod_seconds, 3)
+                  << " cholmod_bytes=" << cholmod.factor_bytes()
+                  << " memory_ratio=" << format_number(static_cast<double>(stats.factor_bytes) / cholmod.factor_bytes(), 3);
+      }
+    std::cout << "\n";
   }
 } // namespace
 
 int main(int argc, char **argv)
 {
+  warpchol::cholesky::CholmodReference::restart_with_openmp_thread_limit(argv);
   try
     {
       run(parse_command_line(argc, argv));

@@ -1,8 +1,11 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/stopwatch.h>
+#include <warpchol/cholesky/blas.h>
 #include <warpchol/cholesky/cholmod_reference.h>
 
 #include <cholmod.h>
+#include <cstdlib>
+#include <unistd.h>
 
 namespace warpchol::cholesky
 {
@@ -35,6 +38,7 @@ namespace warpchol::cholesky
   CholmodReference::CholmodReference(const bool supernodal)
     : implementation(std::make_unique<Implementation>())
   {
+    blas::use_single_threaded_blas();
     cholmod_common &common = implementation->common;
     cholmod_l_start(&common);
     common.nmethods           = 1;
@@ -134,6 +138,14 @@ namespace warpchol::cholesky
   {
     const cholmod_factor *l = implementation->factor;
     return l->is_super ? static_cast<double>(l->xsize) : static_cast<double>(l->nzmax);
+  }
+
+  void CholmodReference::restart_with_openmp_thread_limit(char **argv)
+  {
+    if (std::getenv("OMP_THREAD_LIMIT") != nullptr)
+      return;
+    ::setenv("OMP_THREAD_LIMIT", "1", 1);
+    ::execv("/proc/self/exe", argv); // returns only on failure: then run as we are
   }
 
   double CholmodReference::flops() const

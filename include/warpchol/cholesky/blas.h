@@ -1,0 +1,42 @@
+#pragma once
+
+/**
+ * @file
+ * The few BLAS/LAPACK routines of the supernodal code, declared through their Fortran
+ * symbols (OpenBLAS, 32-bit integers) and wrapped with C++ signatures. Matrices are
+ * column-major; lower triangles.
+ */
+namespace warpchol::cholesky::blas
+{
+  /**
+   * Pin OpenBLAS to one thread per call (idempotent, cheap). warpchol runs its own threads
+   * above BLAS (subtrees, row blocks); OpenBLAS threads under them would oversubscribe the
+   * cores. CHOLMOD, in the same process, then gets the same single-threaded kernels.
+   */
+  void use_single_threaded_blas();
+
+  /** C = alpha A B^T + beta C, A m x k, B n x k ("N","T"). */
+  void gemm_nt(int m, int n, int k, double alpha, const double *a, int lda, const double *b,
+               int ldb, double beta, double *c, int ldc);
+
+  /** C = alpha A A^T + beta C on the lower triangle of the n x n C, A n x k. */
+  void syrk_lower(int n, int k, double alpha, const double *a, int lda, double beta, double *c,
+                  int ldc);
+
+  /** B = B L^{-T} for the m x n B and the lower triangular n x n L ("R","L","T","N"). */
+  void trsm_right_lower_transpose(int m, int n, const double *l, int ldl, double *b, int ldb);
+
+  /** B = L^{-1} B (transpose = false) or L^{-T} B (transpose = true), L lower n x n, B n x nrhs. */
+  void trsm_left_lower(bool transpose, int n, int nrhs, const double *l, int ldl, double *b, int ldb);
+
+  /** y = alpha op(A) x + beta y, A m x n, op = A or A^T. */
+  void gemv(bool transpose, int m, int n, double alpha, const double *a, int lda, const double *x,
+            double beta, double *y);
+
+  /**
+   * Cholesky factorization of the lower triangle of the n x n A in place. Returns 0, or
+   * the 1-based column whose pivot is not positive; LAPACK leaves that pivot's value on
+   * the diagonal.
+   */
+  int potrf_lower(int n, double *a, int lda);
+} // namespace warpchol::cholesky::blas

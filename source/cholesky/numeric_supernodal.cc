@@ -1,0 +1,543 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/cholesky/blas.h>
+#include <warpchol/cholesky/numeric_supernodal.h>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+#include <tbb/task_group.h>
+
+#include <algorithm>
+#include <atomic>
+
+namespace warpchol::cholesky
+{
+  namespace
+  {
+    /** What one thread needs to compute a supernode. */
+    struct Workspace
+    {
+      /** map[row] = position of that row in the supernode being computed. */
+      std::vector<Index>  map;
+      /** Positions in the target supernode of the rows of one update. */
+      std::vector<Index>  relative_map;
+      /** The update L_d(rows, :) L_d(cols, :)^T before it is scattered. */
+      std::vector<double> update;
+      double              flops = 0;
+
+      void reserve(const SupernodalSymbolic &symbolic)
+      {
+        if (static_cast<Index>(map.size()) < symbolic.n)
+          map.resize(symbolic.n);
+        if (static_cast<Index>(relative_map.size()) < symbolic.n)
+          relative_map.resize(symbolic.n);
+        if (static_cast<Index>(update.size()) < symbolic.max_update_size)
+          update.resize(symbolic.max_update_size);
+      }
+    };
+
+    /** Supernodes whose own work exceeds this many flops split it over threads. */
+    constexpr double parallel_supernode_flops = 4e6;
+    /** Column block of the threaded dense Cholesky of a large supernode. */
+    constexpr Index panel_block = 128;
+
+    /** Split [begin, end) into about @p n_chunks ranges of equal weight. */
+    template <typename Weight>
+    std::vector<Index> balanced_chunks(const Index begin, const Index end, const Index n_chunks,
+                                       const Weight &weight)
+    {
+      double total = 0;
+      for (Index r = begin; r < end; ++r)
+        total += weight(r);
+      std::vector<Index> bounds{begin};
+      double             accumulated = 0;
+      for (Index r = begin; r < end; ++r)
+        {
+          accumulated += weight(r);
+          if (accumulated >= total * static_cast<double>(bounds.size()) / static_cast<double>(n_chunks) &&
+              r + 1 < end && static_cast<Index>(bounds.size()) < n_chunks)
+            bounds.push_back(r + 1);
+        }
+      bounds.push_back(end);
+      return bounds;
+    }
+
+    /**
+     * One call of factorize(): the supernodes to compute and how, over a shared value array.
+     */
+    class NumericRun
+    {
+    public:
+      NumericRun(const SupernodalSymbolic                 &symbolic,
+                 const sparse::CSCMatrix                  &lower,
+                 double                                   *values,
+                 tbb::enumerable_thread_specific<Workspace> &workspaces,
+                 const unsigned int                        n_threads)
+        : symbolic(symbolic)
+        , lower(lower)
+        , values(values)
+        , workspaces(workspaces)
+        , n_threads(std::max(1u, n_threads))
+      {}
+
+      /** Compute supernodes[k] from column offset offsets[k] (0 if offsets is empty). */
+      void run(const std::vector<Index> &supernodes, const std::vector<Index> &offsets)
+      {
+        const Index ns = symbolic.n_supernodes();
+        start_offset.assign(ns, -1);
+        if (supernodes.empty())
+          for (Index s = 0; s < ns; ++s)
+            start_offset[s] = 0;
+        else
+          for (std::size_t k = 0; k < supernodes.size(); ++k)
+            start_offset[supernodes[k]] = offsets.empty() ? 0 : offsets[k];
+        selected = supernodes;
+        if (selected.empty())
+          {
+            selected.resize(ns);
+            for (Index s = 0; s < ns; ++s)
+              selected[s] = s;
+          }
+
+        if (n_threads == 1)
+          {
+            Workspace &workspace = workspaces.local();
+            workspace.reserve(symbolic);
+            for (const Index s : selected)
+              factor_supernode(s, start_offset[s], workspace);
+            return;
+          }
+        tbb::task_arena arena(static_cast<int>(n_threads));
+        arena.execute([&] { run_in_parallel(); });
+      }
+
+    private:
+      const SupernodalSymbolic                  &symbolic;
+      const sparse::CSCMatrix                   &lower;
+      double                                    *values;
+      tbb::enumerable_thread_specific<Workspace> &workspaces;
+      const unsigned int                         n_threads;
+
+      /** start_offset[s]: first column (local) of s to compute, -1 if s is not computed. */
+      std::vector<Index> start_offset;
+      std::vector<Index> selected;
+      /** Tree of the selected supernodes: children lists and the flops of each subtree. */
+      std::vector<Index>  child_start, children;
+      std::vector<double> subtree_flops;
+      double              sequential_cutoff = 0;
+
+      void run_in_parallel()
+      {
+        const Index ns = symbolic.n_supernodes();
+        child_start.assign(ns + 1, 0);
+        subtree_flops.assign(ns, 0.);
+        std::vector<Index> roots;
+        for (const Index s : selected)
+          {
+            const Index p = symbolic.supernode_parent[s];
+            if (p != -1 && start_offset[p] != -1)
+              ++child_start[p + 1];
+            else
+              roots.push_back(s);
+          }
+        for (Index s = 0; s < ns; ++s)
+          child_start[s + 1] += child_start[s];
+        children.resize(child_start[ns]);
+        std::vector<Index> next(child_start.begin(), child_start.end() - 1);
+        double             total = 0;
+        for (const Index s : selected) // increasing: children before parents
+          {
+            subtree_flops[s] += symbolic.supernode_flops[s];
+            total += symbolic.supernode_flops[s];
+            const Index p = symbolic.supernode_parent[s];
+            if (p != -1 && start_offset[p] != -1)
+              {
+                children[next[p]++] = s;
+                subtree_flops[p] += subtree_flops[s];
+              }
+          }
+        // Subtrees below this size run as one sequential task: enough tasks to balance the
+        // threads, not so many that scheduling costs show.
+        sequential_cutoff = total / (8. * n_threads);
+        tbb::task_group group;
+        for (const Index root : roots)
+          group.run([this, root] { run_subtree(root); });
+        group.wait();
+      }
+
+      void run_subtree(const Index s)
+      {
+        if (subtree_flops[s] <= sequential_cutoff)
+          {
+            Workspace &workspace = workspaces.local();
+            workspace.reserve(symbolic);
+            // The subtree of s is the range [first_descendant[s], s] of supernodes.
+            const auto first = std::lower_bound(selected.begin(), selected.end(), symbolic.first_descendant[s]);
+            const auto last  = std::upper_bound(first, selected.end(), s);
+            for (auto t = first; t != last; ++t)
+              factor_supernode(*t, start_offset[*t], workspace);
+            return;
+          }
+        tbb::task_group group;
+        for (Index k = child_start[s]; k < child_start[s + 1]; ++k)
+          {
+            const Index child = children[k];
+            group.run([this, child] { run_subtree(child); });
+          }
+        group.wait();
+        Workspace &workspace = workspaces.local();
+        workspace.reserve(symbolic);
+        if (symbolic.supernode_flops[s] > parallel_supernode_flops)
+          factor_supernode_threaded(s, start_offset[s], workspace);
+        else
+          factor_supernode(s, start_offset[s], workspace);
+      }
+
+      double *block(const Index s) const
+      {
+        return values + symbolic.value_start[s];
+      }
+
+      /** Map the rows of s to their positions, clear columns [q, nc) and gather C into them. */
+      void gather(const Index s, const Index q, Index *map) const
+      {
+        const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+        const Index *rows = symbolic.row_index.data() + symbolic.row_start[s];
+        for (Index r = 0; r < nr; ++r)
+          map[rows[r]] = r;
+        double *ls = block(s);
+        std::fill(ls + q * nr, ls + nc * nr, 0.);
+        for (Index c = q; c < nc; ++c)
+          {
+            double *column = ls + c * nr;
+            for (Index p = lower.column_start[f + c]; p < lower.column_start[f + c + 1]; ++p)
+              column[map[lower.row_index[p]]] = lower.values[p];
+          }
+      }
+
+      void factor_supernode(const Index s, const Index q, Workspace &workspace)
+      {
+        gather(s, q, workspace.map.data());
+        const Index  nr = symbolic.n_rows(s);
+        const int    ld = static_cast<int>(nr);
+        double      *ls = block(s);
+        const Index *map = workspace.map.data();
+        const Index *rows = symbolic.row_index.data();
+
+        for (Index k = symbolic.update_start[s]; k < symbolic.update_start[s + 1]; ++k)
+          {
+            const Index p1 = symbolic.update_first_row(k, s, q), p2 = symbolic.update_row_end[k];
+            if (p1 == p2)
+              continue;
+            const Index   d      = symbolic.update_source[k];
+            const Index   end    = symbolic.row_start[d + 1];
+            const Index   rows1  = p2 - p1, rows2 = end - p1, width = symbolic.n_columns(d);
+            const int     ldd    = static_cast<int>(symbolic.n_rows(d));
+            const double *ld_top = block(d) + (p1 - symbolic.row_start[d]);
+            const Index   r0     = map[rows[p1]];
+            if (map[rows[end - 1]] - r0 == rows2 - 1)
+              {
+                // The rows of d land on consecutive rows (and columns) of s: update in place.
+                double *target = ls + r0 + r0 * nr;
+                blas::syrk_lower(rows1, width, -1., ld_top, ldd, 1., target, ld);
+                blas::gemm_nt(rows2 - rows1, rows1, width, -1., ld_top + rows1, ldd, ld_top, ldd, 1.,
+                              target + rows1, ld);
+                continue;
+              }
+            double *update = workspace.update.data();
+            const int ldu  = static_cast<int>(rows2);
+            blas::syrk_lower(rows1, width, 1., ld_top, ldd, 0., update, ldu);
+            blas::gemm_nt(rows2 - rows1, rows1, width, 1., ld_top + rows1, ldd, ld_top, ldd, 0.,
+                          update + rows1, ldu);
+            Index *relative = workspace.relative_map.data();
+            for (Index r = 0; r < rows2; ++r)
+              relative[r] = map[rows[p1 + r]];
+            // Rows of d within s's columns map to local columns: relative[c] is column c's.
+            for (Index c = 0; c < rows1; ++c)
+              {
+                double       *target = ls + relative[c] * nr;
+                const double *source = update + c * rows2;
+                for (Index r = c; r < rows2; ++r)
+                  target[relative[r]] -= source[r];
+              }
+          }
+        finish_supernode(s, q);
+        workspace.flops += symbolic.flops_from(s, q);
+      }
+
+      /** The columns [0, q) of s already hold L: apply them, then dpotrf and dtrsm. */
+      void finish_supernode(const Index s, const Index q)
+      {
+        const Index nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+        const int   ld = static_cast<int>(nr);
+        double     *ls = block(s);
+        if (q > 0)
+          {
+            blas::syrk_lower(nc - q, q, -1., ls + q, ld, 1., ls + q + q * nr, ld);
+            blas::gemm_nt(nr - nc, nc - q, q, -1., ls + nc, ld, ls + q, ld, 1., ls + nc + q * nr, ld);
+          }
+        check_pivot(s, q, blas::potrf_lower(nc - q, ls + q + q * nr, ld));
+        blas::trsm_right_lower_transpose(nr - nc, nc - q, ls + q + q * nr, ld, ls + nc + q * nr, ld);
+      }
+
+      /** Throw NotPositiveDefinite if dpotrf stopped at the pivot @p info of block column q. */
+      void check_pivot(const Index s, const Index column_offset, const int info) const
+      {
+        if (info == 0)
+          return;
+        const Index local = column_offset + info - 1;
+        const Index nr    = symbolic.n_rows(s);
+        throw NotPositiveDefinite(symbolic.first_column[s] + local, block(s)[local + local * nr]);
+      }
+
+      /**
+       * The same as factor_supernode() for a large supernode, with its rows split into
+       * blocks that threads update independently (a row of s is written by one thread), and
+       * a blocked right-looking dense Cholesky whose triangular solves and trailing
+       * updates are split the same way.
+       */
+      void factor_supernode_threaded(const Index s, const Index q, Workspace &owner)
+      {
+        // The row map must outlive the parallel loops below, during which this thread may
+        // run other tasks that use its thread-local workspace: it gets its own array.
+        const std::unique_ptr<Index[]> shared_map(new Index[symbolic.n]);
+        gather(s, q, shared_map.get());
+        const Index  nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+        const int    ld = static_cast<int>(nr);
+        double      *ls = block(s);
+        const Index *map = shared_map.get();
+        const Index *rows = symbolic.row_index.data();
+        const Index  n_chunks = 4 * static_cast<Index>(n_threads);
+
+        // Row r of s receives updates in columns [q, min(r, nc-1)].
+        const std::vector<Index> bounds = balanced_chunks(q, nr, n_chunks, [&](const Index r) {
+          return static_cast<double>(std::min(r, nc - 1) - q + 1);
+        });
+        tbb::parallel_for(Index(0), static_cast<Index>(bounds.size()) - 1, [&](const Index chunk) {
+          Workspace &workspace = workspaces.local();
+          workspace.reserve(symbolic);
+          const Index a = bounds[chunk], b = bounds[chunk + 1];
+          for (Index k = symbolic.update_start[s]; k < symbolic.update_start[s + 1]; ++k)
+            {
+              const Index p1 = symbolic.update_first_row(k, s, q), p2 = symbolic.update_row_end[k];
+              if (p1 == p2)
+                continue;
+              const Index d = symbolic.update_source[k], end = symbolic.row_start[d + 1];
+              // Rows of d landing in [a, b): a contiguous range, local positions increase.
+              auto local_of = [&](const Index position) { return map[rows[position]]; };
+              Index ra = p1, rb = end;
+              {
+                Index lo = p1, hi = end;
+                while (lo < hi)
+                  {
+                    const Index mid = (lo + hi) / 2;
+                    (local_of(mid) < a) ? lo = mid + 1 : hi = mid;
+                  }
+                ra = lo;
+                hi = end;
+                while (lo < hi)
+                  {
+                    const Index mid = (lo + hi) / 2;
+                    (local_of(mid) < b) ? lo = mid + 1 : hi = mid;
+                  }
+                rb = lo;
+              }
+              // Target columns: the rows of d in s's columns that lie before b.
+              const Index columns = std::min(rb, p2) - p1;
+              if (ra == rb || columns <= 0)
+                continue;
+              const Index   width = symbolic.n_columns(d);
+              const int     ldd   = static_cast<int>(symbolic.n_rows(d));
+              const double *ld_top = block(d) + (p1 - symbolic.row_start[d]);
+              const Index   m      = rb - ra;
+              const Index r0 = local_of(ra), c0 = local_of(p1);
+              if (local_of(rb - 1) - r0 == m - 1 && local_of(p1 + columns - 1) - c0 == columns - 1)
+                {
+                  // Contiguous rows and columns: straight into the block (entries above the
+                  // diagonal of s are scratch space, never read).
+                  blas::gemm_nt(m, columns, width, -1., ld_top + (ra - p1), ldd, ld_top, ldd, 1.,
+                                ls + r0 + c0 * nr, ld);
+                  continue;
+                }
+              double *update = workspace.update.data();
+              blas::gemm_nt(m, columns, width, 1., ld_top + (ra - p1), ldd, ld_top, ldd, 0., update,
+                            static_cast<int>(m));
+              Index *relative = workspace.relative_map.data();
+              for (Index r = 0; r < m; ++r)
+                relative[r] = local_of(ra + r);
+              for (Index c = 0; c < columns; ++c)
+                {
+                  const Index   column = local_of(p1 + c);
+                  double       *target = ls + column * nr;
+                  const double *source = update + c * m;
+                  for (Index r = 0; r < m; ++r)
+                    if (relative[r] >= column)
+                      target[relative[r]] -= source[r];
+                }
+            }
+        });
+        threaded_panel_cholesky(s, q, n_chunks);
+        // Count the flops as the serial code spends them, so that fractions do not depend
+        // on the thread count (the row blocks compute a few entries above the diagonal).
+        owner.flops += symbolic.flops_from(s, q);
+      }
+
+      /**
+       * Blocked right-looking Cholesky of columns [q, nc) of s (all its rows), after the
+       * update by its own columns [0, q): dpotrf on each diagonal tile, then dtrsm of the
+       * rows below it and the trailing update, both split into row blocks over threads.
+       */
+      void threaded_panel_cholesky(const Index s, const Index q, const Index n_chunks)
+      {
+        const Index nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+        const int   ld = static_cast<int>(nr);
+        double     *ls = block(s);
+
+        // Trailing update of columns [from, nc), rows [from, nr), by columns [k0, k1).
+        auto trailing_update = [&](const Index k0, const Index k1, const Index from) {
+          if (from >= nc || k1 <= k0)
+            return;
+          const std::vector<Index> bounds = balanced_chunks(from, nr, n_chunks, [&](const Index r) {
+            return static_cast<double>(std::min(r, nc - 1) - from + 1);
+          });
+          tbb::parallel_for(Index(0), static_cast<Index>(bounds.size()) - 1, [&](const Index chunk) {
+            const Index a = bounds[chunk], b = bounds[chunk + 1];
+            const Index columns = std::min(b, nc) - from;
+            blas::gemm_nt(b - a, columns, k1 - k0, -1., ls + a + k0 * nr, ld, ls + from + k0 * nr, ld, 1.,
+                          ls + a + from * nr, ld);
+          });
+        };
+
+        trailing_update(0, q, q);
+        for (Index k = q; k < nc; k += panel_block)
+          {
+            const Index kb = std::min(panel_block, nc - k);
+            check_pivot(s, k, blas::potrf_lower(kb, ls + k + k * nr, ld));
+            const Index below = k + kb;
+            if (below < nr)
+              {
+                const std::vector<Index> bounds = balanced_chunks(below, nr, n_chunks, [](Index) { return 1.; });
+                tbb::parallel_for(Index(0), static_cast<Index>(bounds.size()) - 1, [&](const Index chunk) {
+                  const Index a = bounds[chunk], b = bounds[chunk + 1];
+                  blas::trsm_right_lower_transpose(b - a, kb, ls + k + k * nr, ld, ls + a + k * nr, ld);
+                });
+              }
+            trailing_update(k, below, below);
+          }
+      }
+    };
+  } // namespace
+
+  struct SupernodalFactor::Implementation
+  {
+    std::vector<double>                        values;
+    tbb::enumerable_thread_specific<Workspace> workspaces;
+  };
+
+  SupernodalFactor::SupernodalFactor()
+    : implementation(std::make_unique<Implementation>())
+  {}
+
+  SupernodalFactor::~SupernodalFactor() = default;
+
+  SupernodalFactor::SupernodalFactor(const SupernodalFactor &other)
+    : implementation(std::make_unique<Implementation>())
+  {
+    implementation->values = other.implementation->values;
+  }
+
+  SupernodalFactor &SupernodalFactor::operator=(const SupernodalFactor &other)
+  {
+    implementation->values = other.implementation->values;
+    return *this;
+  }
+
+  void SupernodalFactor::initialize(const SupernodalSymbolic &symbolic)
+  {
+    implementation->values.assign(symbolic.n_stored_values(), 0.);
+  }
+
+  double SupernodalFactor::factorize(const SupernodalSymbolic &symbolic,
+                                     const sparse::CSCMatrix  &lower,
+                                     const std::vector<Index> &supernodes,
+                                     const std::vector<Index> &start_offsets,
+                                     const unsigned int        n_threads)
+  {
+    if (static_cast<Index>(implementation->values.size()) != symbolic.n_stored_values())
+      initialize(symbolic);
+    for (Workspace &workspace : implementation->workspaces)
+      workspace.flops = 0;
+    NumericRun run(symbolic, lower, implementation->values.data(), implementation->workspaces, n_threads);
+    run.run(supernodes, start_offsets);
+    double flops = 0;
+    for (const Workspace &workspace : implementation->workspaces)
+      flops += workspace.flops;
+    return flops;
+  }
+
+  void SupernodalFactor::solve(const SupernodalSymbolic &symbolic, double *x, const Index n_rhs) const
+  {
+    const Index          n  = symbolic.n;
+    const Index          ns = symbolic.n_supernodes();
+    const double        *values = implementation->values.data();
+    std::vector<double>  below(symbolic.n);
+    for (Index r = 0; r < n_rhs; ++r)
+      {
+        double *b = x + r * n;
+        // L y = b: the diagonal block, then the rows below it.
+        for (Index s = 0; s < ns; ++s)
+          {
+            const Index   f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+            const double *ls   = values + symbolic.value_start[s];
+            const Index  *rows = symbolic.row_index.data() + symbolic.row_start[s];
+            blas::trsm_left_lower(false, static_cast<int>(nc), 1, ls, static_cast<int>(nr), b + f, static_cast<int>(n));
+            if (nr == nc)
+              continue;
+            blas::gemv(false, static_cast<int>(nr - nc), static_cast<int>(nc), 1., ls + nc,
+                       static_cast<int>(nr), b + f, 0., below.data());
+            for (Index i = nc; i < nr; ++i)
+              b[rows[i]] -= below[i - nc];
+          }
+        // L^T x = y, supernodes in reverse.
+        for (Index s = ns - 1; s >= 0; --s)
+          {
+            const Index   f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+            const double *ls   = values + symbolic.value_start[s];
+            const Index  *rows = symbolic.row_index.data() + symbolic.row_start[s];
+            if (nr > nc)
+              {
+                for (Index i = nc; i < nr; ++i)
+                  below[i - nc] = b[rows[i]];
+                blas::gemv(true, static_cast<int>(nr - nc), static_cast<int>(nc), -1., ls + nc,
+                           static_cast<int>(nr), below.data(), 1., b + f);
+              }
+            blas::trsm_left_lower(true, static_cast<int>(nc), 1, ls, static_cast<int>(nr), b + f, static_cast<int>(n));
+          }
+      }
+  }
+
+  sparse::CSCMatrix SupernodalFactor::to_csc(const SupernodalSymbolic &symbolic) const
+  {
+    sparse::CSCMatrix l = sparse::CSCMatrix::zero(symbolic.n, symbolic.n);
+    for (Index s = 0; s < symbolic.n_supernodes(); ++s)
+      {
+        const Index   nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+        const double *ls = implementation->values.data() + symbolic.value_start[s];
+        for (Index c = 0; c < nc; ++c)
+          {
+            for (Index r = c; r < nr; ++r)
+              {
+                l.row_index.push_back(symbolic.row_index[symbolic.row_start[s] + r]);
+                l.values.push_back(ls[r + c * nr]);
+              }
+            l.column_start[symbolic.first_column[s] + c + 1] = static_cast<Index>(l.row_index.size());
+          }
+      }
+    return l;
+  }
+
+  const std::vector<double> &SupernodalFactor::values() const
+  {
+    return implementation->values;
+  }
+} // namespace warpchol::cholesky
