@@ -12,6 +12,7 @@
  * same permutation and BLAS, and the ratios ours/CHOLMOD are printed.
  */
 
+#include <warpchol/app/command_line.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
@@ -45,72 +46,41 @@ namespace
                       "[--method left|up|supernodal] [--supernodal on|off] [--threads N] "
                       "[--changed-fraction P] [--seed S] [--repeat R] [--compare cholmod]";
 
-  double parse_number(const std::string &option, const std::string &text)
-  {
-    std::size_t  used  = 0;
-    double       value = 0;
-    try
-      {
-        value = std::stod(text, &used);
-      }
-    catch (...)
-      {
-        used = 0;
-      }
-    if (used != text.size() || !std::isfinite(value))
-      throw InputError(option + ": '" + text + "' is not a number");
-    return value;
-  }
-
   Options parse_command_line(const int argc, char **argv)
   {
-    Options options;
-    for (int a = 1; a < argc; ++a)
+    Options          options;
+    app::CommandLine command_line(argc, argv);
+    while (command_line.has_next())
       {
-        const std::string argument = argv[a];
-        auto              value    = [&]() -> std::string {
-          if (a + 1 >= argc)
-            throw InputError(argument + " needs a value");
-          return argv[++a];
-        };
+        const std::string argument = command_line.next();
         if (argument == "--ordering")
-          options.solver.ordering.method = cholesky::parse_ordering_method(value());
+          options.solver.ordering.method = cholesky::parse_ordering_method(command_line.value_of(argument));
         else if (argument == "--method")
-          options.solver.method = cholesky::parse_factorization_method(value());
-        else if (argument == "--changed-fraction")
-          {
-            options.changed_fraction = parse_number(argument, value());
-            if (options.changed_fraction < 0 || options.changed_fraction > 1)
-              throw InputError("--changed-fraction must lie in [0, 1], got " +
-                               format_number(options.changed_fraction));
-          }
-        else if (argument == "--seed")
-          options.seed = static_cast<std::uint64_t>(parse_number(argument, value()));
+          options.solver.method = cholesky::parse_factorization_method(command_line.value_of(argument));
         else if (argument == "--supernodal")
           {
-            const std::string on_off = value();
+            const std::string on_off = command_line.value_of(argument);
             if (on_off != "on" && on_off != "off")
               throw InputError("--supernodal: expected on or off, got '" + on_off + "'");
             options.solver.method = on_off == "on" ? cholesky::FactorizationMethod::supernodal :
                                                      cholesky::FactorizationMethod::left_looking;
           }
         else if (argument == "--threads")
+          options.solver.n_threads = static_cast<unsigned int>(command_line.integer_of(argument, 1, 256));
+        else if (argument == "--changed-fraction")
           {
-            const double threads = parse_number(argument, value());
-            if (threads < 1 || threads > 256 || threads != std::floor(threads))
-              throw InputError("--threads must be an integer in [1, 256], got " + format_number(threads));
-            options.solver.n_threads = static_cast<unsigned int>(threads);
+            options.changed_fraction = command_line.number_of(argument);
+            if (options.changed_fraction < 0 || options.changed_fraction > 1)
+              throw InputError("--changed-fraction must lie in [0, 1], got " +
+                               format_number(options.changed_fraction));
           }
+        else if (argument == "--seed")
+          options.seed = static_cast<std::uint64_t>(command_line.integer_of(argument, 0, 1L << 62));
         else if (argument == "--repeat")
-          {
-            const double repeat = parse_number(argument, value());
-            if (repeat < 1 || repeat > 1000 || repeat != std::floor(repeat))
-              throw InputError("--repeat must be an integer in [1, 1000], got " + format_number(repeat));
-            options.repeat = static_cast<int>(repeat);
-          }
+          options.repeat = static_cast<int>(command_line.integer_of(argument, 1, 1000));
         else if (argument == "--compare")
           {
-            const std::string peer = value();
+            const std::string peer = command_line.value_of(argument);
             if (peer != "cholmod")
               throw InputError("--compare: only 'cholmod' is supported, got '" + peer + "'");
             options.compare_cholmod = true;
@@ -125,8 +95,7 @@ namespace
         else if (options.matrix_file.empty())
           options.matrix_file = argument;
         else
-          throw InputError("more than one matrix file given ('" + options.matrix_file +
-                           "', '" + argument + "')");
+          throw InputError("more than one matrix file given ('" + options.matrix_file + "', '" + argument + "')");
       }
     if (options.matrix_file.empty())
       throw InputError(std::string("no matrix file given; ") + usage);
