@@ -15,6 +15,7 @@
 #include <warpchol/app/command_line.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/cholesky/blas.h>
 #include <warpchol/cholesky/cholmod_reference.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/sparse/matrix_market.h>
@@ -157,7 +158,7 @@ namespace
 
 int main(int argc, char **argv)
 {
-  warpchol::cholesky::CholmodReference::restart_with_openmp_thread_limit(argv);
+  warpchol::cholesky::blas::restart_with_single_threaded_libraries(argv);
   try
     {
       run(parse_command_line(argc, argv));

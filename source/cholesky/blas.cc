@@ -1,5 +1,8 @@
 #include <warpchol/cholesky/blas.h>
 
+#include <cstdlib>
+#include <unistd.h>
+
 extern "C"
 {
   void dgemm_(const char *transa, const char *transb, const int *m, const int *n, const int *k,
@@ -26,6 +29,15 @@ namespace warpchol::cholesky::blas
       return true;
     }();
     (void)pinned;
+  }
+
+  void restart_with_single_threaded_libraries(char **argv)
+  {
+    if (std::getenv("OPENBLAS_NUM_THREADS") != nullptr && std::getenv("OMP_THREAD_LIMIT") != nullptr)
+      return;
+    ::setenv("OPENBLAS_NUM_THREADS", "1", 0);
+    ::setenv("OMP_THREAD_LIMIT", "1", 0);
+    ::execv("/proc/self/exe", argv); // returns only on failure: then run as we are
   }
 
   void gemm_nt(const int m, const int n, const int k, const double alpha, const double *a,

@@ -4,8 +4,6 @@
 #include <warpchol/cholesky/cholmod_reference.h>
 
 #include <cholmod.h>
-#include <cstdlib>
-#include <unistd.h>
 
 namespace warpchol::cholesky
 {
@@ -138,14 +136,6 @@ namespace warpchol::cholesky
   {
     const cholmod_factor *l = implementation->factor;
     return l->is_super ? static_cast<double>(l->xsize) : static_cast<double>(l->nzmax);
-  }
-
-  void CholmodReference::restart_with_openmp_thread_limit(char **argv)
-  {
-    if (std::getenv("OMP_THREAD_LIMIT") != nullptr)
-      return;
-    ::setenv("OMP_THREAD_LIMIT", "1", 1);
-    ::execv("/proc/self/exe", argv); // returns only on failure: then run as we are
   }
 
   double CholmodReference::flops() const

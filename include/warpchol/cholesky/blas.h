@@ -15,6 +15,19 @@ namespace warpchol::cholesky::blas
    */
   void use_single_threaded_blas();
 
+  /**
+   * For programs that time the solver: make the threads of the libraries below us what
+   * the measurement needs, which only the environment at start-up can do.
+   * - OPENBLAS_NUM_THREADS=1: OpenBLAS's pthread build otherwise starts worker threads at
+   *   load time that spin (sched_yield) for a while, taking a core from us.
+   * - OMP_THREAD_LIMIT=1: Debian's CHOLMOD opens OpenMP regions of a fixed 4 threads around
+   *   cheap loops, which on a 2-core machine costs it up to 4x in thread wake-ups.
+   * If either is unset, set both and restart the program in place (execv of
+   * /proc/self/exe with @p argv); returns only when nothing needs doing or exec fails.
+   * Call it first thing in main().
+   */
+  void restart_with_single_threaded_libraries(char **argv);
+
   /** C = alpha A B^T + beta C, A m x k, B n x k ("N","T"). */
   void gemm_nt(int m, int n, int k, double alpha, const double *a, int lda, const double *b,
                int ldb, double beta, double *c, int ldc);

@@ -51,16 +51,6 @@ namespace warpchol::cholesky
     double analyze_seconds   = 0;
     double factorize_seconds = 0;
 
-    /**
-     * Make sure CHOLMOD runs at its best on this machine: Debian's CHOLMOD opens OpenMP
-     * regions of a fixed 4 threads around cheap loops, which on a 2-core machine costs it
-     * up to 4x in thread wake-ups. OpenMP reads its thread limit only at start-up, so if
-     * OMP_THREAD_LIMIT is unset this sets it to 1 and restarts the program in place
-     * (execv of /proc/self/exe with @p argv); it returns only if that is not needed or
-     * fails. Call it first thing in main() of a program that times CHOLMOD.
-     */
-    static void restart_with_openmp_thread_limit(char **argv);
-
   private:
     struct Implementation;
     std::unique_ptr<Implementation> implementation;
