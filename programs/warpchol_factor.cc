@@ -183,19 +183,5 @@ namespace
 int main(int argc, char **argv)
 {
   warpchol::cholesky::blas::restart_with_single_threaded_libraries(argv);
-  try
-    {
-      run(parse_command_line(argc, argv));
-    }
-  catch (const warpchol::InputError &error)
-    {
-      std::cerr << "warpchol-factor: " << error.what() << "\n";
-      return 2;
-    }
-  catch (const std::exception &error)
-    {
-      std::cerr << "warpchol-factor: " << error.what() << "\n";
-      return 1;
-    }
-  return 0;
+  return warpchol::app::run_program("warpchol-factor", [&] { run(parse_command_line(argc, argv)); });
 }

@@ -3,9 +3,29 @@
 #include <warpchol/base/format.h>
 
 #include <cmath>
+#include <iostream>
 
 namespace warpchol::app
 {
+  int run_program(const std::string &program_name, const std::function<void()> &body)
+  {
+    try
+      {
+        body();
+      }
+    catch (const InputError &error)
+      {
+        std::cerr << program_name << ": " << error.what() << std::endl;
+        return 2;
+      }
+    catch (const std::exception &error)
+      {
+        std::cerr << program_name << ": " << error.what() << std::endl;
+        return 1;
+      }
+    return 0;
+  }
+
   CommandLine::CommandLine(const int argc, char **argv)
     : arguments(argv + 1, argv + argc)
   {}

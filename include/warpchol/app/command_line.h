@@ -1,5 +1,6 @@
 #pragma once
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -10,6 +11,13 @@
  */
 namespace warpchol::app
 {
+  /**
+   * Run the body of program @p program_name and turn its errors into one line on stderr
+   * ("NAME: message") and an exit status: 2 for bad input (InputError), 1 for any other
+   * error, 0 on success.
+   */
+  int run_program(const std::string &program_name, const std::function<void()> &body);
+
   /** The arguments of a program after its name, read one by one. */
   class CommandLine
   {
