@@ -1,0 +1,163 @@
+#pragma once
+
+#include <warpchol/base/types.h>
+#include <warpchol/fem/small_dense.h>
+
+#include <deal.II/dofs/dof_handler.h>
+#include <deal.II/fe/fe_system.h>
+#include <deal.II/fe/mapping_fe.h>
+#include <deal.II/grid/tria.h>
+
+#include <Eigen/Core>
+
+#include <array>
+#include <vector>
+
+/**
+ * @file
+ * A linear elastic body meshed with tetrahedra: its rest geometry, the rest stiffness and
+ * mass of every element, and what depends on a deformed configuration (element and nodal
+ * rotations, corotated elastic forces, energies).
+ */
+namespace warpchol::fem
+{
+  /** Isotropic linear elastic material. */
+  struct Material
+  {
+    /** Young's modulus E (Pa), > 0. */
+    double youngs_modulus = 50;
+    /** Poisson's ratio nu, in (-1, 0.5). */
+    double poisson_ratio = 0.45;
+    /** Mass density (kg/m^3), > 0. */
+    double density = 20;
+
+    /** Lame's first parameter lambda = E nu / ((1 + nu)(1 - 2 nu)). */
+    double lame_lambda() const;
+    /** The shear modulus mu = E / (2 (1 + nu)). */
+    double lame_mu() const;
+  };
+
+  /** How the mass matrix is built. */
+  enum class MassMatrix
+  {
+    /** Row sums on the diagonal: one mass per vertex, invariant under rotations. */
+    lumped,
+    /** The Galerkin mass matrix of the linear elements. */
+    consistent
+  };
+
+  /**
+   * The body: a deal.II Triangulation<3> of tetrahedra with the vector-valued linear
+   * element FESystem(FE_SimplexP<3>(1), 3).
+   *
+   * Numbering. Vertex v is the triangulation's vertex v; element e is the active cell with
+   * active_cell_index() e, and its local vertex a is the cell's vertex a. The DoFHandler is
+   * renumbered so that the dof of component c at vertex v is 3 v + c: a vector of per-vertex
+   * 3-vectors is then a dof vector. The linear systems are posed on the *unknowns*, the
+   * dofs of the vertices that are not fixed, numbered 3 k + c for the k-th free vertex.
+   *
+   * Element matrices are 12x12 with rows 3 a + c (see small_dense.h): K_e, the rest
+   * stiffness of isotropic linear elasticity, and the mass, stored as the 4x4 scalar matrix
+   * m_ab (the 12x12 mass is m_ab times the 3x3 identity in block (a, b)).
+   */
+  class ElasticBody
+  {
+  public:
+    /**
+     * Set the body up on @p triangulation (which must outlive it, hold only tetrahedra and
+     * use every vertex). @p fixed_vertex[v] is true for the vertices held at rest.
+     * Throws InputError naming the cell when an element has no volume.
+     */
+    ElasticBody(const dealii::Triangulation<3> &triangulation, const Material &material,
+                MassMatrix mass_matrix, const std::vector<bool> &fixed_vertex);
+
+    unsigned int n_vertices() const;
+    unsigned int n_elements() const;
+    /** Number of free dofs: 3 per vertex that is not fixed. */
+    Index n_unknowns() const;
+
+    /** The global vertices of element @p e, in the order of the element matrices. */
+    const std::array<unsigned int, 4> &element_vertices(unsigned int e) const;
+    /** The elements that contain vertex @p v, in increasing order. */
+    const std::vector<unsigned int> &elements_of_vertex(unsigned int v) const;
+    /** The first of the 3 unknowns of vertex @p v, or -1 when it is fixed. */
+    Index first_unknown(unsigned int v) const;
+    bool  is_fixed(unsigned int v) const;
+
+    const std::vector<Vector3> &rest_positions() const;
+    double                      element_volume(unsigned int e) const;
+    double                      total_volume() const;
+    double                      total_mass() const;
+
+    const Material &material() const;
+    MassMatrix      mass_matrix_type() const;
+
+    /** K_e: the rest stiffness matrix of element @p e. */
+    const ElementMatrix &rest_stiffness(unsigned int e) const;
+    /** m_ab: the scalar mass matrix of element @p e (consistent, or lumped: diagonal). */
+    const Eigen::Matrix4d &element_mass(unsigned int e) const;
+    /** The lumped mass of vertex @p v (the row sum of the consistent mass matrix). */
+    double vertex_mass(unsigned int v) const;
+
+    /** F = Ds Dm^-1 of element @p e: deformed edge vectors times inverse rest edge vectors. */
+    Matrix3 deformation_gradient(unsigned int e, const std::vector<Vector3> &positions) const;
+
+    /** R_e for every element: the rotation of the polar decomposition of F (rotations.h). */
+    void compute_element_rotations(const std::vector<Vector3> &positions,
+                                   std::vector<Matrix3>       &element_rotations) const;
+
+    /**
+     * S_i for every vertex: the volume-weighted average of the rotations of the elements
+     * around vertex i, projected back onto the rotations by a polar decomposition.
+     */
+    void compute_nodal_rotations(const std::vector<Matrix3> &element_rotations,
+                                 std::vector<Matrix3>       &nodal_rotations) const;
+
+    /**
+     * forces += the elastic forces at @p positions: f_e = -R_e K_e (R_e^T x_e - X_e) for
+     * every element, or -K_e (x_e - X_e) when @p element_rotations is null (linear).
+     */
+    void add_elastic_forces(const std::vector<Vector3> &positions,
+                            const std::vector<Matrix3> *element_rotations,
+                            std::vector<Vector3>       &forces) const;
+
+    /** Sum over elements of 1/2 u_e^T K_e u_e, u_e = R_e^T x_e - X_e (R_e = I if null). */
+    double elastic_energy(const std::vector<Vector3> &positions,
+                          const std::vector<Matrix3> *element_rotations) const;
+
+    /** out += M v (the mass matrix of the chosen type). */
+    void add_mass_times(const std::vector<Vector3> &velocities, std::vector<Vector3> &out) const;
+
+    /** 1/2 v^T M v. */
+    double kinetic_energy(const std::vector<Vector3> &velocities) const;
+
+    /** The element vector of element @p e gathered from a per-vertex field. */
+    ElementVector gather(unsigned int e, const std::vector<Vector3> &field) const;
+
+    const dealii::Triangulation<3> &triangulation() const;
+    /** The DoFHandler, numbered 3 v + c (see the class documentation). */
+    const dealii::DoFHandler<3> &dof_handler() const;
+    const dealii::Mapping<3>    &mapping() const;
+
+  private:
+    void compute_element_matrices();
+
+    const dealii::Triangulation<3> &tria;
+    Material                        body_material;
+    MassMatrix                      mass_type;
+    dealii::FESystem<3>             fe;
+    dealii::MappingFE<3>            fe_mapping;
+    dealii::DoFHandler<3>           dofs;
+
+    std::vector<std::array<unsigned int, 4>> vertices_of_element;
+    std::vector<std::vector<unsigned int>>   elements_around_vertex;
+    std::vector<Index>                       first_unknown_of_vertex;
+    Index                                    unknown_count = 0;
+    std::vector<Vector3>                     rest;
+    std::vector<double>                      volumes;
+    std::vector<Matrix3>                     inverse_rest_edges;
+    std::vector<ElementMatrix>               stiffness;
+    std::vector<Eigen::Matrix4d>             mass;
+    std::vector<double>                      lumped_mass;
+  };
+} // namespace warpchol::fem

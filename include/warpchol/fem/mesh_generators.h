@@ -1,0 +1,60 @@
+#pragma once
+
+#include <deal.II/base/point.h>
+#include <deal.II/grid/tria.h>
+
+#include <array>
+#include <cstddef>
+
+/**
+ * @file
+ * Generated tetrahedral meshes: deal.II builds a hexahedral mesh (GridGenerator), refines
+ * it on its curved description, and splits every hexahedron into 24 tetrahedra
+ * (GridGenerator::convert_hypercube_to_simplex_mesh). The result carries no manifold: the
+ * simulation works on the straight-sided tetrahedra it was given.
+ */
+namespace warpchol::fem
+{
+  /**
+   * A solid torus around the y axis (deal.II's GridGenerator::torus): its centre line is the
+   * circle of radius @p major_radius in the x-z plane, its cross-section a disk of radius
+   * @p minor_radius.
+   */
+  struct TorusGeometry
+  {
+    double       major_radius = 0.3;
+    double       minor_radius = 0.1;
+    /** Hexahedral layers around the centre line before refinement (at least 3). */
+    unsigned int toroidal_cells = 6;
+    /** Global refinements of the hexahedral mesh before the split into tetrahedra. */
+    unsigned int refinements = 0;
+
+    /** Vertices of the tetrahedral mesh create_torus() makes (a closed formula). */
+    std::size_t n_vertices() const;
+    /** Tetrahedra of the tetrahedral mesh create_torus() makes. */
+    std::size_t n_tetrahedra() const;
+  };
+
+  /**
+   * The torus resolution whose mesh has about @p target_vertices vertices, with elements as
+   * little stretched along the centre line as the counts allow: among the refinement levels,
+   * take the one whose layer count (chosen to hit the target) gives layers closest to the
+   * cross-section's cell size.
+   */
+  TorusGeometry torus_with_about(double major_radius, double minor_radius,
+                                 std::size_t target_vertices);
+
+  /** Fill @p triangulation (cleared first) with the tetrahedral torus of @p geometry. */
+  void create_torus(dealii::Triangulation<3> &triangulation, const TorusGeometry &geometry);
+
+  /** An axis-aligned box split into subdivisions[d] hexahedra along axis d. */
+  struct BoxGeometry
+  {
+    dealii::Point<3>            lower_corner{0, 0, 0};
+    dealii::Point<3>            upper_corner{1, 1, 1};
+    std::array<unsigned int, 3> subdivisions{{1, 1, 1}};
+  };
+
+  /** Fill @p triangulation (cleared first) with the tetrahedral box of @p geometry. */
+  void create_box(dealii::Triangulation<3> &triangulation, const BoxGeometry &geometry);
+} // namespace warpchol::fem

@@ -1,0 +1,70 @@
+#pragma once
+
+#include <deal.II/grid/tria.h>
+
+#include <array>
+#include <string>
+#include <vector>
+
+/**
+ * @file
+ * Tetrahedral meshes from files: Gmsh ASCII .msh (versions 1, 2.2 and 4.1), legacy VTK
+ * .vtk and VTK XML .vtu.
+ *
+ * Every format is first read into a TetrahedralMesh (Gmsh by a line-aware scanner that
+ * keeps the tetrahedra and skips lines, triangles and points; VTK files through the VTK
+ * library, as ParaView reads them), checked (each element's orientation and volume, with
+ * the file and line or cell that is wrong), stripped of the vertices no tetrahedron uses,
+ * and then handed to deal.II's GridIn as a Gmsh stream of tetrahedra only.
+ */
+namespace warpchol::fem
+{
+  /** A tetrahedral mesh as a file describes it. */
+  struct TetrahedralMesh
+  {
+    /** Vertex coordinates, in the file's order. */
+    std::vector<std::array<double, 3>> vertices;
+    /** The 4 vertices (indices into @p vertices) of every tetrahedron, in the file's order. */
+    std::vector<std::array<unsigned int, 4>> tetrahedra;
+    /** Where each tetrahedron comes from, for messages ("mesh.msh:812", "cell 17 of mesh.vtu"). */
+    std::vector<std::string> locations;
+    /** The file name, for messages. */
+    std::string name;
+  };
+
+  /**
+   * What read_mesh() did with the file's vertices: @p vertex_of_file_vertex[i] is the
+   * triangulation vertex of the i-th vertex of the file (0-based, in the order the file
+   * lists them, which is SOFA's numbering), or -1 if no tetrahedron uses it (dropped).
+   */
+  struct MeshFileNumbering
+  {
+    std::vector<long> vertex_of_file_vertex;
+  };
+
+  /** Scan a Gmsh ASCII file (version 1, 2.2 or 4.1). Throws InputError "FILE:LINE: ...". */
+  TetrahedralMesh read_gmsh(const std::string &filename);
+
+  /** Read a legacy .vtk or XML .vtu unstructured grid through the VTK library. */
+  TetrahedralMesh read_vtk(const std::string &filename);
+
+  /**
+   * Check the elements of @p mesh: every tetrahedron must have a volume, and all must have
+   * the same orientation. A file whose tetrahedra are all negatively oriented (the opposite
+   * convention) is accepted: its tetrahedra are reoriented. Throws InputError naming the
+   * first degenerate or inverted element and its location.
+   */
+  void check_and_orient(TetrahedralMesh &mesh);
+
+  /**
+   * Fill @p triangulation (cleared first) with the tetrahedra of @p mesh, checked and
+   * oriented, dropping the unused vertices, through GridIn (as a Gmsh 2.2 stream).
+   */
+  MeshFileNumbering create_triangulation(TetrahedralMesh mesh, dealii::Triangulation<3> &triangulation);
+
+  /**
+   * Read the mesh file @p filename, by its extension (.msh, .vtk, .vtu), into
+   * @p triangulation. Throws InputError naming the file (and line) on any problem.
+   */
+  MeshFileNumbering read_mesh(const std::string &filename, dealii::Triangulation<3> &triangulation);
+} // namespace warpchol::fem

@@ -1,0 +1,144 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+#include <warpchol/fem/mesh_generators.h>
+
+#include <deal.II/grid/grid_generator.h>
+
+#include <cmath>
+#include <limits>
+
+namespace warpchol::fem
+{
+  namespace
+  {
+    /**
+     * Counts of the quadrilateral cross-section of GridGenerator::torus (a square in the
+     * middle and four cells around it: 8 vertices, 12 edges, 5 cells) after @p refinements
+     * uniform refinements: every edge gains a midpoint, every cell a centre.
+     */
+    struct CrossSectionCounts
+    {
+      std::size_t vertices = 8;
+      std::size_t edges    = 12;
+      std::size_t cells    = 5;
+    };
+
+    CrossSectionCounts cross_section(const unsigned int refinements)
+    {
+      CrossSectionCounts counts;
+      for (unsigned int r = 0; r < refinements; ++r)
+        counts = {counts.vertices + counts.edges + counts.cells,
+                  2 * counts.edges + 4 * counts.cells,
+                  4 * counts.cells};
+      return counts;
+    }
+
+    std::size_t n_layers(const TorusGeometry &geometry)
+    {
+      return static_cast<std::size_t>(geometry.toroidal_cells) << geometry.refinements;
+    }
+
+    void check(const TorusGeometry &geometry)
+    {
+      if (!(geometry.minor_radius > 0) || !(geometry.major_radius > geometry.minor_radius))
+        throw InputError("torus: the radii must satisfy 0 < minor radius < major radius, got " +
+                         format_number(geometry.minor_radius) + " and " +
+                         format_number(geometry.major_radius));
+      if (geometry.toroidal_cells < 3)
+        throw InputError("torus: at least 3 toroidal cells are needed, got " +
+                         std::to_string(geometry.toroidal_cells));
+    }
+
+    /** Split the (possibly refined) hexahedral mesh into tetrahedra, without manifolds. */
+    void split_into_tetrahedra(const dealii::Triangulation<3> &hexahedra,
+                               dealii::Triangulation<3>       &tetrahedra)
+    {
+      tetrahedra.clear();
+      dealii::GridGenerator::convert_hypercube_to_simplex_mesh(hexahedra, tetrahedra);
+      // The tetrahedra are the geometry: no curved description is attached to them.
+      tetrahedra.set_all_manifold_ids(dealii::numbers::flat_manifold_id);
+    }
+  } // namespace
+
+  std::size_t TorusGeometry::n_vertices() const
+  {
+    // The split into tetrahedra adds a vertex at the centre of every face of the
+    // hexahedral mesh (not in the hexahedra). Every layer of hexahedra contributes the
+    // cross-section's vertices, one face centre per cell of the cross-section (the faces
+    // between layers) and one per edge of the cross-section (the faces along the layer).
+    const CrossSectionCounts c = cross_section(refinements);
+    return n_layers(*this) * (c.vertices + c.edges + c.cells);
+  }
+
+  std::size_t TorusGeometry::n_tetrahedra() const
+  {
+    return 24 * n_layers(*this) * cross_section(refinements).cells;
+  }
+
+  TorusGeometry torus_with_about(const double major_radius, const double minor_radius,
+                                 const std::size_t target_vertices)
+  {
+    TorusGeometry best{major_radius, minor_radius, 3, 0};
+    check(best);
+    double best_stretch = std::numeric_limits<double>::infinity();
+    for (unsigned int refinements = 0; refinements <= 5; ++refinements)
+      {
+        TorusGeometry candidate{major_radius, minor_radius, 1, refinements};
+        const double  per_toroidal_cell = static_cast<double>(candidate.n_vertices());
+        candidate.toroidal_cells =
+          std::max(3u, static_cast<unsigned int>(std::lround(target_vertices / per_toroidal_cell)));
+        const double relative_miss =
+          std::abs(static_cast<double>(candidate.n_vertices()) - target_vertices) /
+          static_cast<double>(target_vertices);
+        if (relative_miss > 0.1)
+          continue;
+        // Length of a layer along the centre line against the cross-section cell size
+        // (the middle square of the cross-section spans about the minor radius).
+        const double layer_length =
+          2 * M_PI * major_radius / static_cast<double>(n_layers(candidate));
+        const double cross_section_cell = minor_radius / static_cast<double>(1u << refinements);
+        const double stretch            = std::abs(std::log(layer_length / cross_section_cell));
+        if (stretch < best_stretch)
+          {
+            best_stretch = stretch;
+            best         = candidate;
+          }
+      }
+    if (best_stretch == std::numeric_limits<double>::infinity())
+      throw InputError("torus: no resolution gives about " + std::to_string(target_vertices) +
+                       " vertices (at least " + std::to_string(best.n_vertices()) + ")");
+    return best;
+  }
+
+  void create_torus(dealii::Triangulation<3> &triangulation, const TorusGeometry &geometry)
+  {
+    check(geometry);
+    // Refine on the hexahedral mesh, whose manifolds (a torus on the boundary, transfinite
+    // interpolation inside) place the new vertices on the curved surface.
+    dealii::Triangulation<3> hexahedra;
+    dealii::GridGenerator::torus(hexahedra, geometry.major_radius, geometry.minor_radius,
+                                 geometry.toroidal_cells);
+    hexahedra.refine_global(geometry.refinements);
+    split_into_tetrahedra(hexahedra, triangulation);
+  }
+
+  void create_box(dealii::Triangulation<3> &triangulation, const BoxGeometry &geometry)
+  {
+    for (unsigned int d = 0; d < 3; ++d)
+      {
+        if (!(geometry.upper_corner[d] > geometry.lower_corner[d]))
+          throw InputError("box: the upper corner must lie above the lower corner along every "
+                           "axis (axis " + std::to_string(d) + ")");
+        if (geometry.subdivisions[d] == 0)
+          throw InputError("box: at least one subdivision per axis is needed (axis " +
+                           std::to_string(d) + ")");
+      }
+    dealii::Triangulation<3>                hexahedra;
+    const std::vector<unsigned int>         subdivisions(geometry.subdivisions.begin(),
+                                                 geometry.subdivisions.end());
+    dealii::GridGenerator::subdivided_hyper_rectangle(hexahedra, subdivisions,
+                                                      geometry.lower_corner,
+                                                      geometry.upper_corner);
+    split_into_tetrahedra(hexahedra, triangulation);
+  }
+} // namespace warpchol::fem
