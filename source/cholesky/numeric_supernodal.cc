@@ -38,6 +38,12 @@ namespace warpchol::cholesky
 
     /** Supernodes whose own work exceeds this many flops split it over threads. */
     constexpr double parallel_supernode_flops = 4e6;
+    /**
+     * An update is computed in blocks of at least this many columns, and of about
+     * update_block_doubles entries, so that each block is scattered while still in cache.
+     */
+    constexpr Index update_block_columns = 32;
+    constexpr Index update_block_doubles = 1 << 15;
     /** Column block of the threaded dense Cholesky of a large supernode. */
     constexpr Index panel_block = 128;
 
@@ -244,21 +250,28 @@ namespace warpchol::cholesky
                               target + rows1, ld);
                 continue;
               }
-            double *update = workspace.update.data();
-            const int ldu  = static_cast<int>(rows2);
-            blas::syrk_lower(rows1, width, 1., ld_top, ldd, 0., update, ldu);
-            blas::gemm_nt(rows2 - rows1, rows1, width, 1., ld_top + rows1, ldd, ld_top, ldd, 0.,
-                          update + rows1, ldu);
             Index *relative = workspace.relative_map.data();
             for (Index r = 0; r < rows2; ++r)
               relative[r] = map[rows[p1 + r]];
-            // Rows of d within s's columns map to local columns: relative[c] is column c's.
-            for (Index c = 0; c < rows1; ++c)
+            // The update is computed and scattered a block of columns at a time, a block small
+            // enough to stay in cache between the dgemm that writes it and the scatter that
+            // reads it. Rows of d within s's columns map to local columns: relative[c] is
+            // column c's.
+            double     *update = workspace.update.data();
+            const Index block  = std::max<Index>(update_block_columns, update_block_doubles / rows2);
+            for (Index c0 = 0; c0 < rows1; c0 += block)
               {
-                double       *target = ls + relative[c] * nr;
-                const double *source = update + c * rows2;
-                for (Index r = c; r < rows2; ++r)
-                  target[relative[r]] -= source[r];
+                const Index c1 = std::min(c0 + block, rows1), width1 = c1 - c0, m = rows2 - c0;
+                blas::syrk_lower(width1, width, 1., ld_top + c0, ldd, 0., update, m);
+                blas::gemm_nt(m - width1, width1, width, 1., ld_top + c1, ldd, ld_top + c0, ldd, 0.,
+                              update + width1, m);
+                for (Index c = c0; c < c1; ++c)
+                  {
+                    double       *target = ls + relative[c] * nr;
+                    const double *source = update + (c - c0) * m - c0; // source[r]: row r
+                    for (Index r = c; r < rows2; ++r)
+                      target[relative[r]] -= source[r];
+                  }
               }
           }
         finish_supernode(s, q);
