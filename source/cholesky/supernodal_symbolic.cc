@@ -1,6 +1,7 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/cholesky/supernodal_symbolic.h>
 #include <warpchol/cholesky/symbolic.h>
+#include <warpchol/sparse/conversions.h>
 
 #include <algorithm>
 #include <numeric>
@@ -191,24 +192,14 @@ namespace warpchol::cholesky
     // Row structure: row i lies below supernode s iff s is on the supernodal tree path from
     // the supernode of some k < i with C(i,k) != 0 up to (not including) the supernode of i.
     // Rows are visited in increasing order, so each supernode's rows come out sorted.
-    std::vector<Index> upper_start(n + 1, 0), upper_column(lower.n_nonzeros());
-    for (Index k = 0; k < n; ++k)
-      for (Index p = lower.column_start[k]; p < lower.column_start[k + 1]; ++p)
-        ++upper_start[lower.row_index[p] + 1];
-    std::partial_sum(upper_start.begin(), upper_start.end(), upper_start.begin());
-    {
-      std::vector<Index> next(upper_start.begin(), upper_start.end() - 1);
-      for (Index k = 0; k < n; ++k)
-        for (Index p = lower.column_start[k]; p < lower.column_start[k + 1]; ++p)
-          upper_column[next[lower.row_index[p]]++] = k;
-    }
+    const sparse::CSCMatrix upper = sparse::upper_triangle(lower);
     auto walk_rows = [&](auto &&add_row) {
       std::vector<Index> mark(ns, -1);
       for (Index i = 0; i < n; ++i)
         {
           const Index top = symbolic.supernode_of[i];
-          for (Index p = upper_start[i]; p < upper_start[i + 1]; ++p)
-            for (Index s = symbolic.supernode_of[upper_column[p]]; s != top && mark[s] != i;
+          for (Index p = upper.column_start[i]; p < upper.column_start[i + 1]; ++p)
+            for (Index s = symbolic.supernode_of[upper.row_index[p]]; s != top && mark[s] != i;
                  s = symbolic.supernode_parent[s])
               {
                 mark[s] = i;

@@ -16,9 +16,7 @@ namespace warpchol::cholesky
     // Liu's algorithm needs the entries of row k left of the diagonal: the upper triangle
     // by columns, i.e. the transpose of the lower triangle.
     const Index              n = lower.n_cols;
-    const sparse::CSCMatrix upper = sparse::transpose(sparse::CSCMatrix{
-      lower.n_rows, lower.n_cols, lower.column_start, lower.row_index, lower.values,
-      sparse::Storage::full});
+    const sparse::CSCMatrix upper = sparse::upper_triangle(lower);
     std::vector<Index> parent(n, -1), ancestor(n, -1);
     for (Index k = 0; k < n; ++k)
       for (Index p = upper.column_start[k]; p < upper.column_start[k + 1]; ++p)
@@ -143,8 +141,7 @@ namespace warpchol::cholesky
     symbolic.column_counts.assign(n, 1);
 
     // The upper part of column k of C is row k of its lower triangle.
-    const sparse::CSCMatrix upper = sparse::transpose(sparse::CSCMatrix{
-      n, n, lower.column_start, lower.row_index, lower.values, sparse::Storage::full});
+    const sparse::CSCMatrix upper = sparse::upper_triangle(lower);
 
     // 1. Row structure and parents. Walking from each i with C(i,k) != 0 (i < k) up the
     //    tree built so far visits exactly the columns of row k of L; a node without a
