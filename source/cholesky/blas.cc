@@ -13,9 +13,6 @@ extern "C"
   void dtrsm_(const char *side, const char *uplo, const char *transa, const char *diag, const int *m,
               const int *n, const double *alpha, const double *a, const int *lda, double *b,
               const int *ldb);
-  void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a,
-              const int *lda, const double *x, const int *incx, const double *beta, double *y,
-              const int *incy);
   void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info);
   void openblas_set_num_threads(int n_threads);
 }
@@ -40,12 +37,20 @@ namespace warpchol::cholesky::blas
     ::execv("/proc/self/exe", argv); // returns only on failure: then run as we are
   }
 
+  void gemm(const bool transpose_a, const bool transpose_b, const int m, const int n, const int k,
+            const double alpha, const double *a, const int lda, const double *b, const int ldb,
+            const double beta, double *c, const int ldc)
+  {
+    if (m > 0 && n > 0)
+      dgemm_(transpose_a ? "T" : "N", transpose_b ? "T" : "N", &m, &n, &k, &alpha, a, &lda, b, &ldb,
+             &beta, c, &ldc);
+  }
+
   void gemm_nt(const int m, const int n, const int k, const double alpha, const double *a,
                const int lda, const double *b, const int ldb, const double beta, double *c,
                const int ldc)
   {
-    if (m > 0 && n > 0)
-      dgemm_("N", "T", &m, &n, &k, &alpha, a, &lda, b, &ldb, &beta, c, &ldc);
+    gemm(false, true, m, n, k, alpha, a, lda, b, ldb, beta, c, ldc);
   }
 
   void syrk_lower(const int n, const int k, const double alpha, const double *a, const int lda,
@@ -69,14 +74,6 @@ namespace warpchol::cholesky::blas
     const double one = 1.;
     if (n > 0 && nrhs > 0)
       dtrsm_("L", "L", transpose ? "T" : "N", "N", &n, &nrhs, &one, l, &ldl, b, &ldb);
-  }
-
-  void gemv(const bool transpose, const int m, const int n, const double alpha, const double *a,
-            const int lda, const double *x, const double beta, double *y)
-  {
-    const int one = 1;
-    if (m > 0 && n > 0)
-      dgemv_(transpose ? "T" : "N", &m, &n, &alpha, a, &lda, x, &one, &beta, y, &one);
   }
 
   int potrf_lower(const int n, double *a, const int lda)

@@ -490,42 +490,45 @@ namespace warpchol::cholesky
 
   void SupernodalFactor::solve(const SupernodalSymbolic &symbolic, double *x, const Index n_rhs) const
   {
-    const Index          n  = symbolic.n;
-    const Index          ns = symbolic.n_supernodes();
-    const double        *values = implementation->values.data();
-    std::vector<double>  below(symbolic.n);
-    for (Index r = 0; r < n_rhs; ++r)
+    // All right-hand sides at once: dtrsm on the diagonal block of each supernode, dgemm
+    // for the rows below it, gathered into / scattered from a dense block.
+    const int           n      = static_cast<int>(symbolic.n);
+    const int           m      = static_cast<int>(n_rhs);
+    const Index         ns     = symbolic.n_supernodes();
+    const double       *values = implementation->values.data();
+    std::vector<double> below(symbolic.n * n_rhs);
+    // L y = b: the diagonal block, then the rows below it.
+    for (Index s = 0; s < ns; ++s)
       {
-        double *b = x + r * n;
-        // L y = b: the diagonal block, then the rows below it.
-        for (Index s = 0; s < ns; ++s)
+        const Index   f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+        const int     rows_below = static_cast<int>(nr - nc);
+        const double *ls         = values + symbolic.value_start[s];
+        const Index  *rows       = symbolic.row_index.data() + symbolic.row_start[s];
+        blas::trsm_left_lower(false, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
+        if (rows_below == 0)
+          continue;
+        blas::gemm(false, false, rows_below, m, static_cast<int>(nc), 1., ls + nc, static_cast<int>(nr), x + f, n,
+                   0., below.data(), rows_below);
+        for (Index r = 0; r < n_rhs; ++r)
+          for (Index i = 0; i < rows_below; ++i)
+            x[rows[nc + i] + r * n] -= below[i + r * rows_below];
+      }
+    // L^T x = y, supernodes in reverse.
+    for (Index s = ns - 1; s >= 0; --s)
+      {
+        const Index   f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+        const int     rows_below = static_cast<int>(nr - nc);
+        const double *ls         = values + symbolic.value_start[s];
+        const Index  *rows       = symbolic.row_index.data() + symbolic.row_start[s];
+        if (rows_below > 0)
           {
-            const Index   f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
-            const double *ls   = values + symbolic.value_start[s];
-            const Index  *rows = symbolic.row_index.data() + symbolic.row_start[s];
-            blas::trsm_left_lower(false, static_cast<int>(nc), 1, ls, static_cast<int>(nr), b + f, static_cast<int>(n));
-            if (nr == nc)
-              continue;
-            blas::gemv(false, static_cast<int>(nr - nc), static_cast<int>(nc), 1., ls + nc,
-                       static_cast<int>(nr), b + f, 0., below.data());
-            for (Index i = nc; i < nr; ++i)
-              b[rows[i]] -= below[i - nc];
+            for (Index r = 0; r < n_rhs; ++r)
+              for (Index i = 0; i < rows_below; ++i)
+                below[i + r * rows_below] = x[rows[nc + i] + r * n];
+            blas::gemm(true, false, static_cast<int>(nc), m, rows_below, -1., ls + nc, static_cast<int>(nr),
+                       below.data(), rows_below, 1., x + f, n);
           }
-        // L^T x = y, supernodes in reverse.
-        for (Index s = ns - 1; s >= 0; --s)
-          {
-            const Index   f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
-            const double *ls   = values + symbolic.value_start[s];
-            const Index  *rows = symbolic.row_index.data() + symbolic.row_start[s];
-            if (nr > nc)
-              {
-                for (Index i = nc; i < nr; ++i)
-                  below[i - nc] = b[rows[i]];
-                blas::gemv(true, static_cast<int>(nr - nc), static_cast<int>(nc), -1., ls + nc,
-                           static_cast<int>(nr), below.data(), 1., b + f);
-              }
-            blas::trsm_left_lower(true, static_cast<int>(nc), 1, ls, static_cast<int>(nr), b + f, static_cast<int>(n));
-          }
+        blas::trsm_left_lower(true, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
       }
   }
 

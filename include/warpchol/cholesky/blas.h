@@ -28,6 +28,10 @@ namespace warpchol::cholesky::blas
    */
   void restart_with_single_threaded_libraries(char **argv);
 
+  /** C = alpha op(A) op(B) + beta C, op(A) m x k, op(B) k x n, op = transpose or not. */
+  void gemm(bool transpose_a, bool transpose_b, int m, int n, int k, double alpha, const double *a,
+            int lda, const double *b, int ldb, double beta, double *c, int ldc);
+
   /** C = alpha A B^T + beta C, A m x k, B n x k ("N","T"). */
   void gemm_nt(int m, int n, int k, double alpha, const double *a, int lda, const double *b,
                int ldb, double beta, double *c, int ldc);
@@ -41,10 +45,6 @@ namespace warpchol::cholesky::blas
 
   /** B = L^{-1} B (transpose = false) or L^{-T} B (transpose = true), L lower n x n, B n x nrhs. */
   void trsm_left_lower(bool transpose, int n, int nrhs, const double *l, int ldl, double *b, int ldb);
-
-  /** y = alpha op(A) x + beta y, A m x n, op = A or A^T. */
-  void gemv(bool transpose, int m, int n, double alpha, const double *a, int lda, const double *x,
-            double beta, double *y);
 
   /**
    * Cholesky factorization of the lower triangle of the n x n A in place. Returns 0, or
