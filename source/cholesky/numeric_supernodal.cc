@@ -37,7 +37,7 @@ namespace warpchol::cholesky
     };
 
     /** Supernodes whose own work exceeds this many flops split it over threads. */
-    constexpr double parallel_supernode_flops = 4e6;
+    constexpr double parallel_supernode_flops = 1e7;
     /**
      * An update is computed in blocks of at least this many columns, and of about
      * update_block_doubles entries, so that each block is scattered while still in cache.
@@ -45,7 +45,7 @@ namespace warpchol::cholesky
     constexpr Index update_block_columns = 32;
     constexpr Index update_block_doubles = 1 << 15;
     /** Column block of the threaded dense Cholesky of a large supernode. */
-    constexpr Index panel_block = 128;
+    constexpr Index panel_block = 256;
 
     /** Split [begin, end) into about @p n_chunks ranges of equal weight. */
     template <typename Weight>
@@ -221,69 +221,69 @@ namespace warpchol::cholesky
           }
       }
 
-      void factor_supernode(const Index s, const Index q, Workspace &workspace)
+      /**
+       * Subtract from supernode s the part of update k (from a descendant d) that falls in
+       * the local columns [column_begin, column_end) of s, rows at and below them:
+       *   L_s(rows, cols) -= L_d(rows, :) L_d(cols, :)^T.
+       * Straight into the block when d's rows land on consecutive rows of s; otherwise
+       * computed (dsyrk + dgemm) and scattered through the row map a block of columns at a
+       * time, a block small enough to stay in cache between the dgemm that writes it and
+       * the scatter that reads it.
+       */
+      void apply_update(const Index s, const Index k, const Index column_begin, const Index column_end,
+                        const Index *map, Workspace &workspace) const
       {
-        gather(s, q, workspace.map.data());
-        const Index  nr = symbolic.n_rows(s);
-        const int    ld = static_cast<int>(nr);
-        double      *ls = block(s);
-        const Index *map = workspace.map.data();
+        const Index  f    = symbolic.first_column[s];
         const Index *rows = symbolic.row_index.data();
-
-        for (Index k = symbolic.update_start[s]; k < symbolic.update_start[s + 1]; ++k)
+        const Index  p1   = symbolic.update_first_row(k, s, column_begin);
+        const Index  p2   = std::lower_bound(rows + p1, rows + symbolic.update_row_end[k], f + column_end) - rows;
+        if (p1 == p2)
+          return;
+        const Index   d      = symbolic.update_source[k];
+        const Index   end    = symbolic.row_start[d + 1];
+        const Index   rows1  = p2 - p1, rows2 = end - p1, width = symbolic.n_columns(d);
+        const Index   nr     = symbolic.n_rows(s);
+        const int     ld     = static_cast<int>(nr), ldd = static_cast<int>(symbolic.n_rows(d));
+        const double *ld_top = block(d) + (p1 - symbolic.row_start[d]);
+        double       *ls     = block(s);
+        const Index   r0     = map[rows[p1]];
+        if (map[rows[end - 1]] - r0 == rows2 - 1)
           {
-            const Index p1 = symbolic.update_first_row(k, s, q), p2 = symbolic.update_row_end[k];
-            if (p1 == p2)
-              continue;
-            const Index   d      = symbolic.update_source[k];
-            const Index   end    = symbolic.row_start[d + 1];
-            const Index   rows1  = p2 - p1, rows2 = end - p1, width = symbolic.n_columns(d);
-            const int     ldd    = static_cast<int>(symbolic.n_rows(d));
-            const double *ld_top = block(d) + (p1 - symbolic.row_start[d]);
-            const Index   r0     = map[rows[p1]];
-            if (map[rows[end - 1]] - r0 == rows2 - 1)
+            double *target = ls + r0 + r0 * nr;
+            blas::syrk_lower(rows1, width, -1., ld_top, ldd, 1., target, ld);
+            blas::gemm_nt(rows2 - rows1, rows1, width, -1., ld_top + rows1, ldd, ld_top, ldd, 1., target + rows1, ld);
+            return;
+          }
+        Index *relative = workspace.relative_map.data();
+        for (Index r = 0; r < rows2; ++r)
+          relative[r] = map[rows[p1 + r]];
+        // Rows of d within s's columns map to local columns: relative[c] is column c's.
+        double     *update = workspace.update.data();
+        const Index step   = std::max<Index>(update_block_columns, update_block_doubles / rows2);
+        for (Index c0 = 0; c0 < rows1; c0 += step)
+          {
+            const Index c1 = std::min(c0 + step, rows1), width1 = c1 - c0, m = rows2 - c0;
+            blas::syrk_lower(width1, width, 1., ld_top + c0, ldd, 0., update, m);
+            blas::gemm_nt(m - width1, width1, width, 1., ld_top + c1, ldd, ld_top + c0, ldd, 0., update + width1, m);
+            for (Index c = c0; c < c1; ++c)
               {
-                // The rows of d land on consecutive rows (and columns) of s: update in place.
-                double *target = ls + r0 + r0 * nr;
-                blas::syrk_lower(rows1, width, -1., ld_top, ldd, 1., target, ld);
-                blas::gemm_nt(rows2 - rows1, rows1, width, -1., ld_top + rows1, ldd, ld_top, ldd, 1.,
-                              target + rows1, ld);
-                continue;
-              }
-            Index *relative = workspace.relative_map.data();
-            for (Index r = 0; r < rows2; ++r)
-              relative[r] = map[rows[p1 + r]];
-            // The update is computed and scattered a block of columns at a time, a block small
-            // enough to stay in cache between the dgemm that writes it and the scatter that
-            // reads it. Rows of d within s's columns map to local columns: relative[c] is
-            // column c's.
-            double     *update = workspace.update.data();
-            const Index block  = std::max<Index>(update_block_columns, update_block_doubles / rows2);
-            for (Index c0 = 0; c0 < rows1; c0 += block)
-              {
-                const Index c1 = std::min(c0 + block, rows1), width1 = c1 - c0, m = rows2 - c0;
-                blas::syrk_lower(width1, width, 1., ld_top + c0, ldd, 0., update, m);
-                blas::gemm_nt(m - width1, width1, width, 1., ld_top + c1, ldd, ld_top + c0, ldd, 0.,
-                              update + width1, m);
-                for (Index c = c0; c < c1; ++c)
-                  {
-                    double       *target = ls + relative[c] * nr;
-                    const double *source = update + (c - c0) * m - c0; // source[r]: row r
-                    for (Index r = c; r < rows2; ++r)
-                      target[relative[r]] -= source[r];
-                  }
+                double       *target = ls + relative[c] * nr;
+                const double *source = update + (c - c0) * m - c0; // source[r]: row r
+                for (Index r = c; r < rows2; ++r)
+                  target[relative[r]] -= source[r];
               }
           }
-        finish_supernode(s, q);
-        workspace.flops += symbolic.flops_from(s, q);
       }
 
-      /** The columns [0, q) of s already hold L: apply them, then dpotrf and dtrsm. */
-      void finish_supernode(const Index s, const Index q)
+      void factor_supernode(const Index s, const Index q, Workspace &workspace)
       {
         const Index nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
         const int   ld = static_cast<int>(nr);
         double     *ls = block(s);
+        gather(s, q, workspace.map.data());
+        for (Index k = symbolic.update_start[s]; k < symbolic.update_start[s + 1]; ++k)
+          apply_update(s, k, q, nc, workspace.map.data(), workspace);
+        // The columns [0, q) of s already hold L: apply them, then dpotrf and dtrsm.
         if (q > 0)
           {
             blas::syrk_lower(nc - q, q, -1., ls + q, ld, 1., ls + q + q * nr, ld);
@@ -291,6 +291,7 @@ namespace warpchol::cholesky
           }
         check_pivot(s, q, blas::potrf_lower(nc - q, ls + q + q * nr, ld));
         blas::trsm_right_lower_transpose(nr - nc, nc - q, ls + q + q * nr, ld, ls + nc + q * nr, ld);
+        workspace.flops += symbolic.flops_from(s, q);
       }
 
       /** Throw NotPositiveDefinite if dpotrf stopped at the pivot @p info of block column q. */
@@ -304,10 +305,22 @@ namespace warpchol::cholesky
       }
 
       /**
-       * The same as factor_supernode() for a large supernode, with its rows split into
-       * blocks that threads update independently (a row of s is written by one thread), and
-       * a blocked right-looking dense Cholesky whose triangular solves and trailing
-       * updates are split the same way.
+       * Local columns [begin, end) of s cut into one range per thread, balanced by the
+       * entries at and below the diagonal of each column (its share of update work).
+       */
+      std::vector<Index> column_ranges(const Index s, const Index begin, const Index end) const
+      {
+        const Index nr = symbolic.n_rows(s);
+        return balanced_chunks(begin, end, static_cast<Index>(n_threads),
+                               [nr](const Index c) { return static_cast<double>(nr - c); });
+      }
+
+      /**
+       * The same as factor_supernode() for a large supernode, its columns split into one
+       * range per thread: each thread applies every update to its own columns (no two
+       * threads write the same entry, and each entry sums its updates in the same order as
+       * the serial code). Then a blocked right-looking dense Cholesky whose triangular solves
+       * are split by rows and whose trailing updates are split by columns the same way.
        */
       void factor_supernode_threaded(const Index s, const Index q, Workspace &owner)
       {
@@ -315,128 +328,46 @@ namespace warpchol::cholesky
         // run other tasks that use its thread-local workspace: it gets its own array.
         const std::unique_ptr<Index[]> shared_map(new Index[symbolic.n]);
         gather(s, q, shared_map.get());
-        const Index  nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
-        const int    ld = static_cast<int>(nr);
-        double      *ls = block(s);
-        const Index *map = shared_map.get();
-        const Index *rows = symbolic.row_index.data();
-        const Index  n_chunks = 4 * static_cast<Index>(n_threads);
-
-        // Row r of s receives updates in columns [q, min(r, nc-1)].
-        const std::vector<Index> bounds = balanced_chunks(q, nr, n_chunks, [&](const Index r) {
-          return static_cast<double>(std::min(r, nc - 1) - q + 1);
-        });
-        tbb::parallel_for(Index(0), static_cast<Index>(bounds.size()) - 1, [&](const Index chunk) {
+        const Index              nc     = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+        const int                ld     = static_cast<int>(nr);
+        double                  *ls     = block(s);
+        const std::vector<Index> ranges = column_ranges(s, q, nc);
+        tbb::parallel_for(Index(0), static_cast<Index>(ranges.size()) - 1, [&](const Index range) {
           Workspace &workspace = workspaces.local();
           workspace.reserve(symbolic);
-          const Index a = bounds[chunk], b = bounds[chunk + 1];
           for (Index k = symbolic.update_start[s]; k < symbolic.update_start[s + 1]; ++k)
-            {
-              const Index p1 = symbolic.update_first_row(k, s, q), p2 = symbolic.update_row_end[k];
-              if (p1 == p2)
-                continue;
-              const Index d = symbolic.update_source[k], end = symbolic.row_start[d + 1];
-              // Rows of d landing in [a, b): a contiguous range, local positions increase.
-              auto local_of = [&](const Index position) { return map[rows[position]]; };
-              Index ra = p1, rb = end;
-              {
-                Index lo = p1, hi = end;
-                while (lo < hi)
-                  {
-                    const Index mid = (lo + hi) / 2;
-                    (local_of(mid) < a) ? lo = mid + 1 : hi = mid;
-                  }
-                ra = lo;
-                hi = end;
-                while (lo < hi)
-                  {
-                    const Index mid = (lo + hi) / 2;
-                    (local_of(mid) < b) ? lo = mid + 1 : hi = mid;
-                  }
-                rb = lo;
-              }
-              // Target columns: the rows of d in s's columns that lie before b.
-              const Index columns = std::min(rb, p2) - p1;
-              if (ra == rb || columns <= 0)
-                continue;
-              const Index   width = symbolic.n_columns(d);
-              const int     ldd   = static_cast<int>(symbolic.n_rows(d));
-              const double *ld_top = block(d) + (p1 - symbolic.row_start[d]);
-              const Index   m      = rb - ra;
-              const Index r0 = local_of(ra), c0 = local_of(p1);
-              if (local_of(rb - 1) - r0 == m - 1 && local_of(p1 + columns - 1) - c0 == columns - 1)
-                {
-                  // Contiguous rows and columns: straight into the block (entries above the
-                  // diagonal of s are scratch space, never read).
-                  blas::gemm_nt(m, columns, width, -1., ld_top + (ra - p1), ldd, ld_top, ldd, 1.,
-                                ls + r0 + c0 * nr, ld);
-                  continue;
-                }
-              double *update = workspace.update.data();
-              blas::gemm_nt(m, columns, width, 1., ld_top + (ra - p1), ldd, ld_top, ldd, 0., update,
-                            static_cast<int>(m));
-              Index *relative = workspace.relative_map.data();
-              for (Index r = 0; r < m; ++r)
-                relative[r] = local_of(ra + r);
-              for (Index c = 0; c < columns; ++c)
-                {
-                  const Index   column = local_of(p1 + c);
-                  double       *target = ls + column * nr;
-                  const double *source = update + c * m;
-                  for (Index r = 0; r < m; ++r)
-                    if (relative[r] >= column)
-                      target[relative[r]] -= source[r];
-                }
-            }
+            apply_update(s, k, ranges[range], ranges[range + 1], shared_map.get(), workspace);
         });
-        threaded_panel_cholesky(s, q, n_chunks);
-        // Count the flops as the serial code spends them, so that fractions do not depend
-        // on the thread count (the row blocks compute a few entries above the diagonal).
-        owner.flops += symbolic.flops_from(s, q);
-      }
 
-      /**
-       * Blocked right-looking Cholesky of columns [q, nc) of s (all its rows), after the
-       * update by its own columns [0, q): dpotrf on each diagonal tile, then dtrsm of the
-       * rows below it and the trailing update, both split into row blocks over threads.
-       */
-      void threaded_panel_cholesky(const Index s, const Index q, const Index n_chunks)
-      {
-        const Index nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
-        const int   ld = static_cast<int>(nr);
-        double     *ls = block(s);
-
-        // Trailing update of columns [from, nc), rows [from, nr), by columns [k0, k1).
+        // Trailing update of columns [from, nc) (all rows below them) by columns [k0, k1).
         auto trailing_update = [&](const Index k0, const Index k1, const Index from) {
           if (from >= nc || k1 <= k0)
             return;
-          const std::vector<Index> bounds = balanced_chunks(from, nr, n_chunks, [&](const Index r) {
-            return static_cast<double>(std::min(r, nc - 1) - from + 1);
-          });
-          tbb::parallel_for(Index(0), static_cast<Index>(bounds.size()) - 1, [&](const Index chunk) {
-            const Index a = bounds[chunk], b = bounds[chunk + 1];
-            const Index columns = std::min(b, nc) - from;
-            blas::gemm_nt(b - a, columns, k1 - k0, -1., ls + a + k0 * nr, ld, ls + from + k0 * nr, ld, 1.,
-                          ls + a + from * nr, ld);
+          const std::vector<Index> columns = column_ranges(s, from, nc);
+          tbb::parallel_for(Index(0), static_cast<Index>(columns.size()) - 1, [&](const Index range) {
+            const Index c0 = columns[range], c1 = columns[range + 1];
+            blas::syrk_lower(c1 - c0, k1 - k0, -1., ls + c0 + k0 * nr, ld, 1., ls + c0 + c0 * nr, ld);
+            blas::gemm_nt(nr - c1, c1 - c0, k1 - k0, -1., ls + c1 + k0 * nr, ld, ls + c0 + k0 * nr, ld, 1.,
+                          ls + c1 + c0 * nr, ld);
           });
         };
-
         trailing_update(0, q, q);
         for (Index k = q; k < nc; k += panel_block)
           {
-            const Index kb = std::min(panel_block, nc - k);
+            const Index kb = std::min(panel_block, nc - k), below = k + kb;
             check_pivot(s, k, blas::potrf_lower(kb, ls + k + k * nr, ld));
-            const Index below = k + kb;
             if (below < nr)
               {
-                const std::vector<Index> bounds = balanced_chunks(below, nr, n_chunks, [](Index) { return 1.; });
-                tbb::parallel_for(Index(0), static_cast<Index>(bounds.size()) - 1, [&](const Index chunk) {
-                  const Index a = bounds[chunk], b = bounds[chunk + 1];
+                const std::vector<Index> rows =
+                  balanced_chunks(below, nr, static_cast<Index>(n_threads), [](Index) { return 1.; });
+                tbb::parallel_for(Index(0), static_cast<Index>(rows.size()) - 1, [&](const Index range) {
+                  const Index a = rows[range], b = rows[range + 1];
                   blas::trsm_right_lower_transpose(b - a, kb, ls + k + k * nr, ld, ls + a + k * nr, ld);
                 });
               }
             trailing_update(k, below, below);
           }
+        owner.flops += symbolic.flops_from(s, q);
       }
     };
   } // namespace
