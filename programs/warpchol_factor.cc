@@ -6,6 +6,7 @@
  *   warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] [--method left|up|supernodal]
  *                              [--supernodal on|off] [--threads N] [--changed-fraction P]
  *                              [--seed S] [--repeat R] [--compare cholmod]
+ *                              [--relaxation off|N0,N1,N2,Z0,Z1,Z2]
  *
  * Times are the best of R runs (the machine is shared and noisy). With --compare cholmod,
  * CHOLMOD's supernodal factorization runs in the same process on the same matrix with the
@@ -26,6 +27,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -47,7 +49,8 @@ namespace
 
   const char *usage = "usage: warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] "
                       "[--method left|up|supernodal] [--supernodal on|off] [--threads N] "
-                      "[--changed-fraction P] [--seed S] [--repeat R] [--compare cholmod]";
+                      "[--changed-fraction P] [--seed S] [--repeat R] [--compare cholmod] "
+                      "[--relaxation off|N0,N1,N2,Z0,Z1,Z2]";
 
   Options parse_command_line(const int argc, char **argv)
   {
@@ -81,6 +84,24 @@ namespace
           options.seed = static_cast<std::uint64_t>(command_line.integer_of(argument, 0, 1L << 62));
         else if (argument == "--repeat")
           options.repeat = static_cast<int>(command_line.integer_of(argument, 1, 1000));
+        else if (argument == "--relaxation")
+          {
+            // Supernode amalgamation: off, or CHOLMOD's nrelax[3] and zrelax[3].
+            const std::string text = command_line.value_of(argument);
+            auto             &relaxation = options.solver.relaxation;
+            char              tail       = 0;
+            long              n[3]       = {0, 0, 0};
+            if (text == "off")
+              relaxation.enabled = false;
+            else if (std::sscanf(text.c_str(), "%ld,%ld,%ld,%lf,%lf,%lf%c", &n[0], &n[1], &n[2], &relaxation.zrelax[0],
+                                 &relaxation.zrelax[1], &relaxation.zrelax[2], &tail) == 6 &&
+                     n[0] >= 0 && n[1] >= 0 && n[2] >= 0)
+              for (int i = 0; i < 3; ++i)
+                relaxation.nrelax[i] = n[i];
+            else
+              throw InputError("--relaxation: expected off or N0,N1,N2,Z0,Z1,Z2 (CHOLMOD's 4,16,48,0.8,0.1,0.05), got '" +
+                               text + "'");
+          }
         else if (argument == "--compare")
           {
             const std::string peer = command_line.value_of(argument);
