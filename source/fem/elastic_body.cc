@@ -71,6 +71,7 @@ namespace warpchol::fem
     for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
       if (!fixed_vertex[v])
         {
+          free_vertices.push_back(v);
           first_unknown_of_vertex[v] = unknown_count;
           unknown_count += 3;
         }
@@ -120,12 +121,20 @@ namespace warpchol::fem
         for (unsigned int a = 0; a < 4; ++a)
           for (unsigned int b = a + 1; b < 4; ++b)
             longest_edge = std::max(longest_edge, (rest[v[a]] - rest[v[b]]).norm());
-        const double volume = std::abs(edges.determinant()) / 6;
-        volumes[e]          = volume;
+        const double signed_volume = edges.determinant() / 6;
+        const double volume        = std::abs(signed_volume);
+        volumes[e]                 = volume;
+        const auto vertex_list     = std::to_string(v[0]) + " " + std::to_string(v[1]) + " " +
+                                 std::to_string(v[2]) + " " + std::to_string(v[3]);
+        // A negatively oriented cell is folded over its neighbours (the readers orient
+        // every cell of a valid mesh positively); its Jacobian determinant would also turn
+        // its stiffness negative.
+        if (signed_volume < 0)
+          throw InputError("cell " + std::to_string(e) + " (vertices " + vertex_list +
+                           ") is inverted: signed volume " + format_number(signed_volume));
         if (!(volume > 1e-10 * longest_edge * longest_edge * longest_edge))
-          throw InputError("cell " + std::to_string(e) + " (vertices " + std::to_string(v[0]) +
-                           " " + std::to_string(v[1]) + " " + std::to_string(v[2]) + " " +
-                           std::to_string(v[3]) + ") is degenerate: volume " +
+          throw InputError("cell " + std::to_string(e) + " (vertices " + vertex_list +
+                           ") is degenerate: volume " +
                            format_number(volume) + " for edges up to " +
                            format_number(longest_edge));
         inverse_rest_edges[e] = edges.inverse();
@@ -216,6 +225,11 @@ namespace warpchol::fem
   Index ElasticBody::first_unknown(const unsigned int v) const
   {
     return first_unknown_of_vertex[v];
+  }
+
+  unsigned int ElasticBody::vertex_of_unknown(const Index unknown) const
+  {
+    return free_vertices.at(unknown / 3);
   }
 
   bool ElasticBody::is_fixed(const unsigned int v) const

@@ -49,10 +49,16 @@ namespace warpchol::fem
                          std::to_string(geometry.toroidal_cells));
     }
 
-    /** Split the (possibly refined) hexahedral mesh into tetrahedra, without manifolds. */
-    void split_into_tetrahedra(const dealii::Triangulation<3> &hexahedra,
-                               dealii::Triangulation<3>       &tetrahedra)
+    /**
+     * Split the (possibly refined) hexahedral mesh into tetrahedra, without manifolds. The
+     * face centres the split adds are taken on the straight faces: put on a curved
+     * description, they can fold tetrahedra over on a coarse mesh (the inner side of a torus
+     * with 8 toroidal cells does).
+     */
+    void split_into_tetrahedra(dealii::Triangulation<3> &hexahedra,
+                               dealii::Triangulation<3> &tetrahedra)
     {
+      hexahedra.set_all_manifold_ids(dealii::numbers::flat_manifold_id);
       tetrahedra.clear();
       dealii::GridGenerator::convert_hypercube_to_simplex_mesh(hexahedra, tetrahedra);
       // The tetrahedra are the geometry: no curved description is attached to them.

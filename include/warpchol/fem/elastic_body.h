@@ -82,6 +82,8 @@ namespace warpchol::fem
     const std::vector<unsigned int> &elements_of_vertex(unsigned int v) const;
     /** The first of the 3 unknowns of vertex @p v, or -1 when it is fixed. */
     Index first_unknown(unsigned int v) const;
+    /** The vertex whose dofs hold unknown @p unknown (3 k + c is vertex of k, component c). */
+    unsigned int vertex_of_unknown(Index unknown) const;
     bool  is_fixed(unsigned int v) const;
 
     const std::vector<Vector3> &rest_positions() const;
@@ -152,6 +154,7 @@ namespace warpchol::fem
     std::vector<std::array<unsigned int, 4>> vertices_of_element;
     std::vector<std::vector<unsigned int>>   elements_around_vertex;
     std::vector<Index>                       first_unknown_of_vertex;
+    std::vector<unsigned int>                free_vertices;
     Index                                    unknown_count = 0;
     std::vector<Vector3>                     rest;
     std::vector<double>                      volumes;

@@ -1,0 +1,232 @@
+#pragma once
+
+#include <warpchol/cholesky/sparse_cholesky.h>
+#include <warpchol/fem/elastic_body.h>
+#include <warpchol/fem/mesh_generators.h>
+#include <warpchol/fem/small_dense.h>
+
+#include <deal.II/base/parameter_handler.h>
+
+#include <ostream>
+#include <string>
+#include <vector>
+
+/**
+ * @file
+ * The parameters of a scene, read from a .prm file with deal.II's ParameterHandler. As in
+ * step-44, one small struct per subsection with a static declare_parameters() and a
+ * parse_parameters(), and AllParameters that gathers them and is built from a file.
+ *
+ * Every error names the file, the line and the entry, on one line:
+ *   torus.prm:12: Material/Poisson's ratio = 0.5: must be < 0.5 (incompressible)
+ */
+namespace warpchol::app
+{
+  /**
+   * Where entries sit in a parameter file: finds the line of a "set" statement, so that a
+   * value rejected after parsing (a bound ParameterHandler's patterns cannot express, a
+   * missing file) is reported at its line.
+   */
+  class ParameterFileLocator
+  {
+  public:
+    ParameterFileLocator() = default;
+    /** Scan @p filename (an empty name stands for the defaults). */
+    explicit ParameterFileLocator(const std::string &filename);
+
+    /** "FILE:LINE: Subsection/Entry" (or "FILE: Subsection/Entry" if the file does not set it). */
+    std::string where(const std::string &subsection, const std::string &entry) const;
+
+    /** Throw InputError "where(...) = VALUE: message". */
+    [[noreturn]] void fail(const dealii::ParameterHandler &prm, const std::string &subsection,
+                           const std::string &entry, const std::string &message) const;
+
+    /** The directory of the file, to which relative paths in it refer ("" for the defaults). */
+    std::string directory() const;
+    const std::string &filename() const;
+
+  private:
+    std::string file;
+    /** "Subsection/Entry" -> line, for every "set" statement of the file. */
+    std::vector<std::pair<std::string, int>> set_lines;
+  };
+
+  /** A set of vertices given by a region: a box, a sphere, a list of ids, all or none. */
+  struct RegionParameters
+  {
+    std::string         kind = "none";
+    fem::Vector3        box_lower_corner{0, 0, 0};
+    fem::Vector3        box_upper_corner{0, 0, 0};
+    fem::Vector3        sphere_center{0, 0, 0};
+    double              sphere_radius = 0;
+    std::vector<long>   vertex_ids;
+
+    /** The region entries, in the current subsection; @p what says what the region is for. */
+    static void declare_parameters(dealii::ParameterHandler &prm, const std::string &what,
+                                   const std::string &default_kind = "none");
+    void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file,
+                                 const std::string &subsection);
+  };
+
+  namespace parameters
+  {
+    /** Subsection "Mesh": a generated torus or box, or a mesh file. */
+    struct Mesh
+    {
+      /** "torus", "box" or "file". */
+      std::string         source = "torus";
+      /** The mesh file as written in the parameter file. */
+      std::string         file_name;
+      double              scale = 1;
+      fem::TorusGeometry  torus;
+      fem::BoxGeometry    box;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /** Subsection "Material". */
+    struct Material
+    {
+      double          youngs_modulus = 50;
+      double          poisson_ratio  = 0.45;
+      double          density        = 20;
+      /** > 0: the density is set so that the body has this mass (kg), density is unused. */
+      double          total_mass  = 0;
+      fem::MassMatrix mass_matrix = fem::MassMatrix::lumped;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /** Subsection "Time stepping". */
+    struct TimeStepping
+    {
+      double       time_step          = 0.01;
+      unsigned int n_steps            = 100;
+      double       rayleigh_mass      = 0;
+      double       rayleigh_stiffness = 0;
+      /** Stop before n_steps once the kinetic energy falls below this (J); 0: never. */
+      double       rest_kinetic_energy = 0;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /** Subsection "Model". */
+    struct Model
+    {
+      std::string type             = "warp_canceling";
+      double      update_threshold = 0.05;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /** Subsection "Solver": parsed by the solver's own parsers, so new choices need no change here. */
+    struct Solver
+    {
+      cholesky::SparseCholesky::Settings settings;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /** Subsection "Fixed vertices". */
+    struct FixedVertices
+    {
+      RegionParameters region;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /** Subsection "Gravity". */
+    struct Gravity
+    {
+      fem::Vector3 acceleration{0, 0, 0};
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /** Subsection "Region force": a constant total force spread evenly over a region. */
+    struct RegionForce
+    {
+      RegionParameters region;
+      fem::Vector3     total_force{0, 0, 0};
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /** Subsection "Tool": a region pulled by springs towards targets that move. */
+    struct Tool
+    {
+      RegionParameters region;
+      double           spring_stiffness = 0;
+      fem::Vector3     velocity{0, 0, 0};
+      double           duration = 0;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /** Subsection "Output". */
+    struct Output
+    {
+      std::string  directory = "output";
+      /** The scene's name: the folder under directory; empty for the parameter file's name. */
+      std::string  scene;
+      /** Write a VTU file every this many steps (and the initial state); 0: none. */
+      unsigned int vtu_interval = 0;
+      bool         write_log    = true;
+      bool         print_timings = true;
+      /** "auto" (when standard error is a terminal), "on" or "off". */
+      std::string  progress = "auto";
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+  } // namespace parameters
+
+  /** Every subsection of a scene's parameter file. */
+  struct AllParameters
+  {
+    parameters::Mesh          mesh;
+    parameters::Material      material;
+    parameters::TimeStepping  time_stepping;
+    parameters::Model         model;
+    parameters::Solver        solver;
+    parameters::FixedVertices fixed_vertices;
+    parameters::Gravity       gravity;
+    parameters::RegionForce   region_force;
+    parameters::Tool          tool;
+    parameters::Output        output;
+
+    /** The defaults. */
+    AllParameters();
+
+    /**
+     * Read @p filename. Throws InputError "FILE:LINE: ..." for a file that cannot be read,
+     * an unknown subsection or entry, a value out of range.
+     */
+    explicit AllParameters(const std::string &filename);
+
+    /** Declare every subsection and entry in @p prm. */
+    static void declare_parameters(dealii::ParameterHandler &prm);
+
+    /** Write the documented defaults as a .prm file. */
+    static void print_defaults(std::ostream &out);
+
+    /** The scene's name: Output/Scene, else the parameter file's name without .prm. */
+    std::string scene_name() const;
+    /** The mesh file with a relative name taken relative to the parameter file. */
+    std::string mesh_file_path() const;
+
+    ParameterFileLocator file;
+
+  private:
+    void parse_parameters(dealii::ParameterHandler &prm);
+  };
+} // namespace warpchol::app

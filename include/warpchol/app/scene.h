@@ -1,0 +1,68 @@
+#pragma once
+
+#include <warpchol/app/parameters.h>
+#include <warpchol/fem/elastic_body.h>
+#include <warpchol/fem/elasticity_model.h>
+#include <warpchol/fem/implicit_euler.h>
+#include <warpchol/fem/mesh_readers.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+/**
+ * @file
+ * A scene: what the parameters describe, built: the mesh, the body with its fixed
+ * vertices, the loads, the elasticity model and the time integrator.
+ */
+namespace warpchol::app
+{
+  /** Build the model of @p type ("linear", ...) for @p body. */
+  std::unique_ptr<fem::ElasticityModel>
+  create_model(const parameters::Model &model, const fem::ElasticBody &body,
+               const fem::SystemCoefficients &coefficients,
+               const cholesky::SparseCholesky::Settings &solver_settings);
+
+  class Scene
+  {
+  public:
+    /** Build everything; throws InputError naming the parameter or the mesh file. */
+    explicit Scene(const AllParameters &parameters);
+
+    const AllParameters       &parameters() const;
+    const fem::ElasticBody    &body() const;
+    fem::ElasticityModel      &model();
+    const fem::ElasticityModel &model() const;
+    fem::ImplicitEuler        &integrator();
+    const fem::ImplicitEuler  &integrator() const;
+    const fem::Loads          &loads() const;
+
+    /** The vertices held at rest. */
+    const std::vector<unsigned int> &fixed_vertices() const;
+    /** "torus (12 toroidal cells, 0 refinements)" or the mesh file's name. */
+    const std::string &mesh_description() const;
+
+    /**
+     * The vertices of a region (sorted): in a box or sphere of rest positions, or by ids in
+     * the mesh file's numbering. Throws InputError naming @p subsection's entries when the
+     * region selects nothing or an id does not exist.
+     */
+    std::vector<unsigned int> select_vertices(const RegionParameters &region,
+                                              const std::string      &subsection) const;
+
+  private:
+    void build_mesh();
+
+    const AllParameters                    all;
+    dealii::Triangulation<3>               triangulation;
+    fem::MeshFileNumbering                 numbering;
+    std::string                            mesh_text;
+    std::vector<unsigned int>              fixed;
+    fem::Loads                             scene_loads;
+    std::unique_ptr<fem::ElasticBody>      elastic_body;
+    std::unique_ptr<fem::ElasticityModel>  elasticity_model;
+    std::unique_ptr<fem::ImplicitEuler>    time_integrator;
+  };
+} // namespace warpchol::app

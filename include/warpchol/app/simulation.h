@@ -1,0 +1,76 @@
+#pragma once
+
+#include <warpchol/app/output.h>
+#include <warpchol/app/parameters.h>
+#include <warpchol/app/scene.h>
+
+#include <memory>
+#include <ostream>
+#include <string>
+
+/**
+ * @file
+ * The driver: builds a scene from its parameters, runs its time steps, writes what was
+ * asked for and prints a summary.
+ */
+namespace warpchol::app
+{
+  /** Totals over the steps of a run, for the summary. */
+  struct RunTotals
+  {
+    unsigned int steps                  = 0;
+    double       elements_updated       = 0;
+    double       max_elements_updated   = 0;
+    unsigned int steps_with_updates     = 0;
+    unsigned int trailing_steps_without_update = 0;
+    unsigned int refactorizations       = 0;
+    double       columns_recomputed_pct = 0;
+    double       flops_recomputed_pct   = 0;
+    fem::StepStatistics seconds;
+    double       step_seconds = 0;
+    /** Sum over updates of the rest distance of the element's centre to the tool's centre. */
+    double       updated_distance_to_tool = 0;
+  };
+
+  class Simulation
+  {
+  public:
+    /** Build the scene (mesh, body, model and its first factorization). */
+    explicit Simulation(const AllParameters &parameters);
+
+    /**
+     * Run the steps, writing the log and VTU files if asked, and print the summary to
+     * @p out. If a step fails, what earlier steps wrote stays and the error (naming the
+     * step) propagates.
+     */
+    void run(std::ostream &out);
+
+    const Scene     &scene() const;
+    const RunTotals &totals() const;
+    /** Where the results go: DIRECTORY/SCENE. */
+    const std::string &output_directory() const;
+
+  private:
+    void print_summary(std::ostream &out) const;
+
+    AllParameters                 parameters;
+    std::unique_ptr<Scene>        simulated_scene;
+    std::string                   directory;
+    RunTotals                     run_totals;
+    std::unique_ptr<VtuSeries>    vtu_series;
+    std::unique_ptr<StepLog>      step_log;
+    double                        setup_seconds = 0;
+    /** Rest centre of every element, and of the tool (if any). */
+    std::vector<fem::Vector3>     element_centres;
+    fem::Vector3                  tool_centre = fem::Vector3::Zero();
+  };
+
+  /** Read @p parameter_file, run it and print the summary on @p out. Throws warpchol::Error. */
+  void run_parameter_file(const std::string &parameter_file, std::ostream &out);
+
+  /**
+   * The warpchol program: "warpchol PARAMS.prm", "warpchol --print-parameters [FILE]",
+   * "warpchol --help". Prints a one-line error on @p err and returns 1 on failure.
+   */
+  int main(int argc, const char *const *argv, std::ostream &out, std::ostream &err);
+} // namespace warpchol::app

@@ -1,0 +1,33 @@
+#pragma once
+
+#include <warpchol/fem/elasticity_model.h>
+
+/**
+ * @file
+ * Exact corotation (Mueller and Gross 2004).
+ */
+namespace warpchol::fem
+{
+  /**
+   * The corotational model: every step, the rotation R_e of every element (polar
+   * decomposition), A assembled from R_e K_e R_e^T and factored anew. The reference the
+   * cheaper models are measured against.
+   */
+  class CorotationalModel : public ElasticityModel
+  {
+  public:
+    CorotationalModel(const ElasticBody &body, const SystemCoefficients &coefficients,
+                      const cholesky::SparseCholesky::Settings &solver_settings);
+
+    std::string name() const override;
+
+    void prepare_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
+                      StepStatistics &statistics) override;
+
+    void add_elastic_forces(const std::vector<Vector3> &positions,
+                            std::vector<Vector3>       &forces) const override;
+
+  private:
+    std::vector<Matrix3> element_rotations;
+  };
+} // namespace warpchol::fem

@@ -1,0 +1,134 @@
+#pragma once
+
+#include <warpchol/base/types.h>
+#include <warpchol/cholesky/sparse_cholesky.h>
+#include <warpchol/fem/elastic_body.h>
+#include <warpchol/fem/small_dense.h>
+#include <warpchol/fem/system_matrix.h>
+
+#include <string>
+#include <vector>
+
+/**
+ * @file
+ * The interface shared by the four elasticity models (linear, corotational, stiffness
+ * warping, warp-canceling corotation): what differs between them is how the matrix of the
+ * implicit Euler step follows the rotation of the elements, and which forces they use.
+ */
+namespace warpchol::fem
+{
+  /** What one step of a model did and what it cost (wall-clock seconds). */
+  struct StepStatistics
+  {
+    /** Elements whose contribution to A was recomputed. */
+    Index elements_updated = 0;
+    /** Whether the factor changed (a full or partial factorization ran). */
+    bool refactorized = false;
+    /** Columns of L recomputed, and all columns. */
+    Index columns_recomputed = 0;
+    Index n_columns          = 0;
+    /** Flops of the (partial) factorization, and of a full one. */
+    double flops_recomputed = 0;
+    double flops_full       = 0;
+
+    double t_rotations      = 0;
+    double t_error_estimate = 0;
+    double t_assembly       = 0;
+    double t_factor         = 0;
+    double t_solve          = 0;
+  };
+
+  /** Per element: how up to date its contribution to A is (for output). */
+  struct ElementUpdateRecord
+  {
+    /** 1 if the element's contribution was recomputed in the last step. */
+    std::vector<unsigned char> updated;
+    /** Steps since the contribution was last recomputed (0: in the last step). */
+    std::vector<unsigned int> steps_since_update;
+    /** The relative error estimate of the last step; empty if the model estimates none. */
+    std::vector<double> error_estimate;
+  };
+
+  /**
+   * An elasticity model: owns the system matrix A = c_M M~ + c_K K~ (+ tool springs) over the
+   * free dofs and its Cholesky factor, and solves the implicit Euler step in the form
+   *   R A R^T v = rhs,  that is  A y = R^T rhs, v = R y,
+   * with R the block-diagonal nodal rotations (the identity for the linear and corotational
+   * models). A step is prepare_step() (rotations, matrix updates, factorization), then
+   * add_elastic_forces() for the right-hand side, then solve().
+   */
+  class ElasticityModel
+  {
+  public:
+    /**
+     * The model sets its system up and factors it. @p coefficients are those of the time
+     * step, @p solver_settings the ordering and method of the factorization.
+     */
+    ElasticityModel(const ElasticBody &body, const SystemCoefficients &coefficients,
+                    const cholesky::SparseCholesky::Settings &solver_settings);
+    virtual ~ElasticityModel() = default;
+
+    /** "linear", "corotational", ... */
+    virtual std::string name() const = 0;
+
+    /**
+     * Bring A and its factor up to date with the configuration at the start of a step.
+     * Throws MatrixError naming the column and vertex if the factorization fails.
+     */
+    virtual void prepare_step(const std::vector<Vector3> &positions,
+                              const std::vector<Vector3> &velocities,
+                              StepStatistics             &statistics) = 0;
+
+    /**
+     * forces += the elastic forces at @p positions, which were given to the last
+     * prepare_step(): exact corotated forces for every model but the linear one.
+     */
+    virtual void add_elastic_forces(const std::vector<Vector3> &positions,
+                                    std::vector<Vector3>       &forces) const = 0;
+
+    /**
+     * Solve R A R^T v = @p right_hand_side for the velocities of the free vertices; those
+     * of the fixed vertices are set to zero.
+     */
+    void solve(const std::vector<Vector3> &right_hand_side, std::vector<Vector3> &velocities,
+               StepStatistics &statistics) const;
+
+    /** Whether the model uses rotations at all (all but the linear one). */
+    virtual bool uses_rotations() const;
+
+    const ElementUpdateRecord &update_record() const;
+    const SystemMatrix        &system_matrix() const;
+    const cholesky::SparseCholesky &solver() const;
+    /** Seconds spent in the set-up: assembly, ordering, symbolic and first factorization. */
+    double setup_seconds() const;
+
+  protected:
+    /** Full numeric factorization of the current A (analyzed on the first call). */
+    void factorize(StepStatistics &statistics);
+    /** Partial refactorization after @p changed_columns of A changed. */
+    void refactorize(const std::vector<Index> &changed_columns, StepStatistics &statistics);
+
+    /** Record that @p updated (sorted) were recomputed this step, the others not. */
+    void record_updates(const std::vector<unsigned int> &updated);
+    /** Record that all or no element was recomputed this step. */
+    void record_updates(bool all);
+
+    /**
+     * The nodal rotations R in which solve() works; null means the identity. Set by the
+     * models that warp (stiffness warping, warp-canceling corotation).
+     */
+    const std::vector<Matrix3> *solve_frame = nullptr;
+
+    const ElasticBody       &body;
+    const SystemCoefficients coefficients;
+    SystemMatrix             system;
+    cholesky::SparseCholesky cholesky_solver;
+    ElementUpdateRecord      record;
+    double                   setup_time = 0;
+
+  private:
+    /** Run @p factor; a failed pivot becomes a MatrixError naming column and vertex. */
+    template <typename Factor>
+    void checked(const Factor &factor);
+  };
+} // namespace warpchol::fem

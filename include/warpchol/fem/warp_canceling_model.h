@@ -1,0 +1,74 @@
+#pragma once
+
+#include <warpchol/fem/elasticity_model.h>
+
+#include <array>
+#include <limits>
+
+/**
+ * @file
+ * Warp-canceling corotation (Hecht, Lee, Shewchuk and O'Brien, ACM TOG 31(5), 2012).
+ */
+namespace warpchol::fem
+{
+  /**
+   * Warp-canceling corotation (WCC). Every element e keeps the nodal rotations S_a of its
+   * vertices and its own rotation Q_e from the step it was last *updated*, and contributes
+   *   A_e = c_M diag(S_a^T) M_e diag(S_b) + c_K diag(S_a^T Q_e) K_e diag(Q_e^T S_b)
+   * to A. The step solves R A R^T v = rhs with the current nodal rotations R: where an
+   * element is up to date (S = R, Q_e = R_e) this is exact corotation; where it is not, the
+   * nodal rotations stand in for the missing update.
+   *
+   * Which elements to update. With z = R^T v_e (v_e the element's nodal velocities) the
+   * exact and the approximate contributions of e to the left-hand side differ by
+   *   err_e = || (A_e[R, R_e] - A_e[stored S, Q]) z ||
+   * (rotating by R changes no norm). The threshold is dimensionless: e is updated when
+   *   err_e > threshold * mean over elements of || A_e[R, R_e] z ||,
+   * that is when its error exceeds the given fraction of the mean magnitude of an element's
+   * exact contribution to A v (an impulse) in this step. A rigid translation leaves
+   * err_e / mean at rounding level (1e-16), so any threshold above about 1e-12 treats it as
+   * no change; a body at rest (v = 0) never updates.
+   *
+   * Threshold 0 updates every element without estimating anything: the step is then exact
+   * corotation (assembled and factored in full). An infinite threshold never updates and
+   * estimates nothing: the step is then exactly stiffness warping. In between, the updated
+   * elements' entries are re-assembled and the factor is refactorized partially, for the
+   * dofs of their vertices only; nothing is refactorized in a step with no update.
+   */
+  class WarpCancelingModel : public ElasticityModel
+  {
+  public:
+    /** @p update_threshold >= 0, possibly infinite. */
+    WarpCancelingModel(const ElasticBody &body, const SystemCoefficients &coefficients,
+                       const cholesky::SparseCholesky::Settings &solver_settings,
+                       double update_threshold);
+
+    std::string name() const override;
+
+    void prepare_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
+                      StepStatistics &statistics) override;
+
+    void add_elastic_forces(const std::vector<Vector3> &positions,
+                            std::vector<Vector3>       &forces) const override;
+
+    double update_threshold() const;
+
+  private:
+    /** The elements whose error estimate exceeds the threshold, in increasing order. */
+    std::vector<unsigned int> elements_to_update(const std::vector<Vector3> &velocities);
+
+    /** Store the current rotations of @p e and recompute its contribution. */
+    void update_element(unsigned int e);
+
+    const double threshold;
+
+    std::vector<Matrix3> element_rotations;
+    std::vector<Matrix3> nodal_rotations;
+
+    /** S_a and Q_e of the last update of each element. */
+    std::vector<std::array<Matrix3, 4>> stored_nodal_rotations;
+    std::vector<Matrix3>                stored_element_rotation;
+    /** A_e with the stored rotations: what the element contributes to A now. */
+    std::vector<ElementMatrix> contribution;
+  };
+} // namespace warpchol::fem

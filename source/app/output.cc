@@ -1,0 +1,129 @@
+#include <warpchol/app/output.h>
+#include <warpchol/base/atomic_file.h>
+#include <warpchol/base/exceptions.h>
+
+#include <deal.II/base/data_out_base.h>
+#include <deal.II/lac/vector.h>
+#include <deal.II/numerics/data_out.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+namespace warpchol::app
+{
+  void create_directory(const std::string &directory)
+  {
+    std::error_code error;
+    std::filesystem::create_directories(directory, error);
+    if (error || !std::filesystem::is_directory(directory))
+      throw InputError(directory + ": cannot create the output directory" +
+                       (error ? ": " + error.message() : std::string()));
+  }
+
+  VtuSeries::VtuSeries(const std::string &directory, const std::string &scene)
+    : directory(directory)
+    , scene(scene)
+    , pvd_name(directory + "/" + scene + ".pvd")
+  {}
+
+  void VtuSeries::write(const unsigned int step, const double time, const fem::ElasticBody &body,
+                        const std::vector<fem::Vector3> &displacements,
+                        const std::vector<fem::Vector3> &velocities,
+                        const fem::ElementUpdateRecord  &record)
+  {
+    // The dofs are numbered 3 v + c (ElasticBody): per-vertex 3-vectors are dof vectors.
+    dealii::Vector<double> displacement(3 * body.n_vertices());
+    dealii::Vector<double> velocity(3 * body.n_vertices());
+    for (unsigned int v = 0; v < body.n_vertices(); ++v)
+      for (unsigned int c = 0; c < 3; ++c)
+        {
+          displacement[3 * v + c] = displacements[v][c];
+          velocity[3 * v + c]     = velocities[v][c];
+        }
+    const unsigned int     n_cells = body.n_elements();
+    dealii::Vector<double> updated(n_cells), steps_since_update(n_cells), error_estimate(n_cells);
+    for (unsigned int e = 0; e < n_cells; ++e)
+      {
+        updated[e]            = record.updated[e];
+        steps_since_update[e] = record.steps_since_update[e];
+        if (!record.error_estimate.empty())
+          error_estimate[e] = record.error_estimate[e];
+      }
+
+    using Interpretation = dealii::DataComponentInterpretation::DataComponentInterpretation;
+    const std::vector<Interpretation> vector_field(
+      3, dealii::DataComponentInterpretation::component_is_part_of_vector);
+    dealii::DataOut<3> data_out;
+    data_out.attach_dof_handler(body.dof_handler());
+    data_out.add_data_vector(displacement, std::vector<std::string>(3, "displacement"),
+                             dealii::DataOut<3>::type_dof_data, vector_field);
+    data_out.add_data_vector(velocity, std::vector<std::string>(3, "velocity"),
+                             dealii::DataOut<3>::type_dof_data, vector_field);
+    data_out.add_data_vector(updated, "updated", dealii::DataOut<3>::type_cell_data);
+    data_out.add_data_vector(steps_since_update, "steps_since_update",
+                             dealii::DataOut<3>::type_cell_data);
+    if (!record.error_estimate.empty())
+      data_out.add_data_vector(error_estimate, "error_estimate", dealii::DataOut<3>::type_cell_data);
+    data_out.build_patches(body.mapping());
+
+    std::ostringstream name;
+    name << scene << "-" << std::setw(5) << std::setfill('0') << step << ".vtu";
+    write_file_atomically(directory + "/" + name.str(),
+                          [&](std::ostream &out) { data_out.write_vtu(out); });
+
+    times_and_names.emplace_back(time, name.str());
+    write_file_atomically(pvd_name, [&](std::ostream &out) {
+      dealii::DataOutBase::write_pvd_record(out, times_and_names);
+    });
+  }
+
+  std::size_t VtuSeries::n_files() const
+  {
+    return times_and_names.size();
+  }
+
+  const std::string &VtuSeries::pvd_file() const
+  {
+    return pvd_name;
+  }
+
+  StepLog::StepLog(const std::string &filename)
+    : file(filename)
+  {}
+
+  std::string StepLog::header()
+  {
+    return "step,time,elements_updated,elements_updated_pct,refactorized,columns_recomputed_pct,"
+           "flops_recomputed_pct,t_rotations,t_error_estimate,t_assembly,t_factor,t_solve,t_step,"
+           "kinetic_energy,elastic_energy";
+  }
+
+  void StepLog::add(const StepLogRow &row)
+  {
+    const auto &s       = row.statistics;
+    const auto  percent = [](const double part, const double whole) {
+      return whole > 0 ? 100 * part / whole : 0.0;
+    };
+    std::ostringstream line;
+    line << std::setprecision(6) << row.step << "," << row.time << "," << s.elements_updated << ","
+         << percent(s.elements_updated, row.n_elements) << "," << (s.refactorized ? 1 : 0) << ","
+         << percent(s.columns_recomputed, s.n_columns) << ","
+         << percent(s.flops_recomputed, s.flops_full) << "," << s.t_rotations << ","
+         << s.t_error_estimate << "," << s.t_assembly << "," << s.t_factor << "," << s.t_solve
+         << "," << row.step_seconds << "," << std::setprecision(10) << row.kinetic_energy << ","
+         << row.elastic_energy;
+    rows.push_back(line.str());
+    write_file_atomically(file, [&](std::ostream &out) {
+      out << header() << "\n";
+      for (const auto &text : rows)
+        out << text << "\n";
+    });
+  }
+
+  const std::string &StepLog::filename() const
+  {
+    return file;
+  }
+} // namespace warpchol::app

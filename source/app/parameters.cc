@@ -1,0 +1,571 @@
+#include <warpchol/app/parameters.h>
+#include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+
+#include <deal.II/base/exceptions.h>
+#include <deal.II/base/utilities.h>
+
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <regex>
+#include <sstream>
+
+namespace warpchol::app
+{
+  namespace
+  {
+    using dealii::ParameterHandler;
+    namespace Patterns = dealii::Patterns;
+
+    std::string trim(const std::string &text)
+    {
+      const auto first = text.find_first_not_of(" \t\r");
+      if (first == std::string::npos)
+        return "";
+      return text.substr(first, text.find_last_not_of(" \t\r") - first + 1);
+    }
+
+    /** Collapse runs of white space into one blank. */
+    std::string one_line(const std::string &text)
+    {
+      std::istringstream words(text);
+      std::string        word, result;
+      while (words >> word)
+        result += (result.empty() ? "" : " ") + word;
+      return result;
+    }
+
+    /**
+     * ParameterHandler's exceptions carry a several-line message after deal.II's header;
+     * keep the "Additional information" as one line, with "Line <N> of file <F>:" written
+     * as "F:N:".
+     */
+    std::string parameter_handler_message(const std::exception &error)
+    {
+      std::string       message = error.what();
+      const std::string marker  = "Additional information:";
+      const auto        begin   = message.find(marker);
+      if (begin != std::string::npos)
+        message = message.substr(begin + marker.size());
+      const auto stack = message.find("Stacktrace:");
+      if (stack != std::string::npos)
+        message.resize(stack);
+      message = one_line(message);
+      const std::regex located(R"(^Line <(\d+)> of file <([^>]*)>: ?(.*)$)");
+      std::smatch      match;
+      if (std::regex_match(message, match, located))
+        message = match[2].str() + ":" + match[1].str() + ": " + match[3].str();
+      return message;
+    }
+
+    const auto vector_pattern = Patterns::List(Patterns::Double(), 3, 3, ",");
+
+    fem::Vector3 get_vector(ParameterHandler &prm, const std::string &entry)
+    {
+      const auto   parts = dealii::Utilities::split_string_list(prm.get(entry), ',');
+      fem::Vector3 result;
+      for (unsigned int d = 0; d < 3; ++d)
+        result[d] = dealii::Utilities::string_to_double(parts[d]);
+      return result;
+    }
+
+    void require_positive(ParameterHandler &prm, const ParameterFileLocator &file,
+                          const std::string &subsection, const std::string &entry)
+    {
+      if (!(prm.get_double(entry) > 0))
+        file.fail(prm, subsection, entry, "must be > 0");
+    }
+  } // namespace
+
+  // ---------------------------------------------------------------------------------------
+  ParameterFileLocator::ParameterFileLocator(const std::string &filename)
+    : file(filename)
+  {
+    std::ifstream            input(filename);
+    std::string              line;
+    std::vector<std::string> subsections;
+    int                      line_number = 0;
+    while (std::getline(input, line))
+      {
+        ++line_number;
+        line              = trim(line.substr(0, line.find('#')));
+        const auto first  = line.substr(0, line.find_first_of(" \t"));
+        const auto rest   = trim(line.substr(first.size()));
+        if (first == "subsection")
+          subsections.push_back(one_line(rest));
+        else if (first == "end" && !subsections.empty())
+          subsections.pop_back();
+        else if (first == "set")
+          {
+            std::string path;
+            for (const auto &name : subsections)
+              path += name + "/";
+            set_lines.emplace_back(path + one_line(rest.substr(0, rest.find('='))), line_number);
+          }
+      }
+  }
+
+  std::string ParameterFileLocator::where(const std::string &subsection,
+                                          const std::string &entry) const
+  {
+    const std::string path = subsection + "/" + entry;
+    if (file.empty())
+      return "defaults: " + path;
+    for (const auto &[entry_path, line] : set_lines)
+      if (entry_path == path)
+        return file + ":" + std::to_string(line) + ": " + path;
+    return file + ": " + path + " (default)";
+  }
+
+  void ParameterFileLocator::fail(const dealii::ParameterHandler &prm,
+                                  const std::string &subsection, const std::string &entry,
+                                  const std::string &message) const
+  {
+    throw InputError(where(subsection, entry) + " = " + prm.get(entry) + ": " + message);
+  }
+
+  std::string ParameterFileLocator::directory() const
+  {
+    const auto slash = file.find_last_of('/');
+    return slash == std::string::npos ? std::string() : file.substr(0, slash + 1);
+  }
+
+  const std::string &ParameterFileLocator::filename() const
+  {
+    return file;
+  }
+
+  // ---------------------------------------------------------------------------------------
+  void RegionParameters::declare_parameters(ParameterHandler &prm, const std::string &what,
+                                            const std::string &default_kind)
+  {
+    prm.declare_entry("Region", default_kind, Patterns::Selection("none|box|sphere|ids"),
+                      "The vertices " + what + ": none, those in a box or a sphere (rest "
+                      "positions), or those listed in Vertex ids");
+    prm.declare_entry("Box lower corner", "0, 0, 0", vector_pattern,
+                      "Region = box: the corner with the smallest coordinates (m)");
+    prm.declare_entry("Box upper corner", "0, 0, 0", vector_pattern,
+                      "Region = box: the corner with the largest coordinates (m)");
+    prm.declare_entry("Sphere center", "0, 0, 0", vector_pattern,
+                      "Region = sphere: the centre (m)");
+    prm.declare_entry("Sphere radius", "0", Patterns::Double(0),
+                      "Region = sphere: the radius (m)");
+    prm.declare_entry("Vertex ids", "", Patterns::List(Patterns::Integer(0), 0, Patterns::List::max_int_value, ","),
+                      "Region = ids: vertex ids counted from 0 in the order of the mesh "
+                      "file's node list (SOFA's numbering), or of a generated mesh's vertices");
+  }
+
+  void RegionParameters::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file,
+                                          const std::string &subsection)
+  {
+    kind             = prm.get("Region");
+    box_lower_corner = get_vector(prm, "Box lower corner");
+    box_upper_corner = get_vector(prm, "Box upper corner");
+    sphere_center    = get_vector(prm, "Sphere center");
+    sphere_radius    = prm.get_double("Sphere radius");
+    vertex_ids.clear();
+    for (const auto &id : dealii::Utilities::split_string_list(prm.get("Vertex ids"), ','))
+      vertex_ids.push_back(dealii::Utilities::string_to_int(id));
+    if (kind == "box" && !(box_upper_corner.array() >= box_lower_corner.array()).all())
+      file.fail(prm, subsection, "Box upper corner",
+                "must not lie below Box lower corner along any axis");
+    if (kind == "sphere")
+      require_positive(prm, file, subsection, "Sphere radius");
+    if (kind == "ids" && vertex_ids.empty())
+      file.fail(prm, subsection, "Vertex ids", "Region = ids needs at least one id");
+  }
+
+  // ---------------------------------------------------------------------------------------
+  namespace parameters
+  {
+    void Mesh::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Mesh");
+      prm.declare_entry("Source", "torus", Patterns::Selection("torus|box|file"),
+                        "torus or box: generated by deal.II and split into tetrahedra; file: "
+                        "read from File");
+      prm.declare_entry("File", "", Patterns::Anything(),
+                        "Source = file: a tetrahedral mesh (.msh Gmsh 1, 2.2 or 4.1 ASCII, .vtk "
+                        "legacy VTK, .vtu VTK XML); a relative name is taken relative to the "
+                        "directory of this parameter file");
+      prm.declare_entry("Scale", "1", Patterns::Double(0),
+                        "Source = file: factor applied to the file's coordinates");
+      prm.declare_entry("Torus major radius", "0.3", Patterns::Double(0),
+                        "Radius of the torus' centre line (m); the torus turns around the y axis");
+      prm.declare_entry("Torus minor radius", "0.1", Patterns::Double(0),
+                        "Radius of the torus' cross-section (m)");
+      prm.declare_entry("Torus toroidal cells", "12", Patterns::Integer(3, 1000),
+                        "Hexahedral layers around the torus before refinement (each hexahedron "
+                        "becomes 24 tetrahedra)");
+      prm.declare_entry("Torus refinements", "0", Patterns::Integer(0, 4),
+                        "Global refinements of the hexahedral torus before the split");
+      prm.declare_entry("Box lower corner", "0, 0, 0", vector_pattern,
+                        "Source = box: the corner with the smallest coordinates (m)");
+      prm.declare_entry("Box upper corner", "0.4, 0.1, 0.1", vector_pattern,
+                        "Source = box: the corner with the largest coordinates (m)");
+      prm.declare_entry("Box subdivisions", "8, 2, 2",
+                        Patterns::List(Patterns::Integer(1, 1000), 3, 3, ","),
+                        "Source = box: hexahedra along x, y, z (each becomes 24 tetrahedra)");
+      prm.leave_subsection();
+    }
+
+    void Mesh::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    {
+      prm.enter_subsection("Mesh");
+      source    = prm.get("Source");
+      file_name = prm.get("File");
+      scale     = prm.get_double("Scale");
+      if (source == "file" && file_name.empty())
+        file.fail(prm, "Mesh", "File", "Source = file needs a mesh file");
+      require_positive(prm, file, "Mesh", "Scale");
+      torus.major_radius   = prm.get_double("Torus major radius");
+      torus.minor_radius   = prm.get_double("Torus minor radius");
+      torus.toroidal_cells = prm.get_integer("Torus toroidal cells");
+      torus.refinements    = prm.get_integer("Torus refinements");
+      if (source == "torus")
+        {
+          require_positive(prm, file, "Mesh", "Torus minor radius");
+          if (!(torus.major_radius > torus.minor_radius))
+            file.fail(prm, "Mesh", "Torus major radius", "must exceed Torus minor radius");
+        }
+      const fem::Vector3 lower = get_vector(prm, "Box lower corner");
+      const fem::Vector3 upper = get_vector(prm, "Box upper corner");
+      if (source == "box" && !(upper.array() > lower.array()).all())
+        file.fail(prm, "Mesh", "Box upper corner", "must lie above Box lower corner along every axis");
+      const auto subdivisions = dealii::Utilities::split_string_list(prm.get("Box subdivisions"), ',');
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          box.lower_corner[d] = lower[d];
+          box.upper_corner[d] = upper[d];
+          box.subdivisions[d] = dealii::Utilities::string_to_int(subdivisions[d]);
+        }
+      prm.leave_subsection();
+    }
+
+    void Material::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Material");
+      prm.declare_entry("Young's modulus", "50", Patterns::Double(0),
+                        "E (Pa), > 0: isotropic linear elasticity");
+      prm.declare_entry("Poisson's ratio", "0.45", Patterns::Double(-1, 0.5),
+                        "nu, in (-1, 0.5): incompressible (0.5) is not supported");
+      prm.declare_entry("Density", "20", Patterns::Double(0),
+                        "Mass density (kg/m^3), > 0; unused when Total mass > 0");
+      prm.declare_entry("Total mass", "0", Patterns::Double(0),
+                        "If > 0, the body's mass (kg): the density is this over the mesh volume");
+      prm.declare_entry("Mass matrix", "lumped", Patterns::Selection("lumped|consistent"),
+                        "lumped (row sums, one mass per vertex) or consistent (Galerkin)");
+      prm.leave_subsection();
+    }
+
+    void Material::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    {
+      prm.enter_subsection("Material");
+      youngs_modulus = prm.get_double("Young's modulus");
+      poisson_ratio  = prm.get_double("Poisson's ratio");
+      density        = prm.get_double("Density");
+      total_mass     = prm.get_double("Total mass");
+      mass_matrix = prm.get("Mass matrix") == "lumped" ? fem::MassMatrix::lumped : fem::MassMatrix::consistent;
+      require_positive(prm, file, "Material", "Young's modulus");
+      if (!(poisson_ratio < 0.5))
+        file.fail(prm, "Material", "Poisson's ratio",
+                  "must be < 0.5 (an incompressible material makes lambda infinite)");
+      if (!(poisson_ratio > -1))
+        file.fail(prm, "Material", "Poisson's ratio", "must be > -1");
+      if (total_mass == 0)
+        require_positive(prm, file, "Material", "Density");
+      prm.leave_subsection();
+    }
+
+    void TimeStepping::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Time stepping");
+      prm.declare_entry("Time step", "0.01", Patterns::Double(0), "dt (s), > 0: implicit Euler");
+      prm.declare_entry("Number of steps", "100", Patterns::Integer(1), "Steps to run");
+      prm.declare_entry("Rayleigh mass", "0", Patterns::Double(0),
+                        "alpha (1/s) in the damping matrix B = alpha M + beta K");
+      prm.declare_entry("Rayleigh stiffness", "0", Patterns::Double(0),
+                        "beta (s) in the damping matrix B = alpha M + beta K");
+      prm.declare_entry("Rest kinetic energy", "0", Patterns::Double(0),
+                        "If > 0, stop once the kinetic energy (J) falls below it after the "
+                        "first step: the body is at rest. Needs a fixed vertex when gravity or "
+                        "a region force acts (otherwise the body never comes to rest)");
+      prm.leave_subsection();
+    }
+
+    void TimeStepping::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    {
+      prm.enter_subsection("Time stepping");
+      time_step           = prm.get_double("Time step");
+      n_steps             = prm.get_integer("Number of steps");
+      rayleigh_mass       = prm.get_double("Rayleigh mass");
+      rayleigh_stiffness  = prm.get_double("Rayleigh stiffness");
+      rest_kinetic_energy = prm.get_double("Rest kinetic energy");
+      require_positive(prm, file, "Time stepping", "Time step");
+      prm.leave_subsection();
+    }
+
+    void Model::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Model");
+      prm.declare_entry("Type", "warp_canceling",
+                        Patterns::Selection("linear|corotational|stiffness_warping|warp_canceling"),
+                        "linear: no rotation, factor once; corotational: exact per-element "
+                        "rotations, refactor every step; stiffness_warping: nodal rotations, "
+                        "factor once; warp_canceling: WCC, partial refactorization of the "
+                        "columns of the elements whose error estimate exceeds the threshold");
+      prm.declare_entry("Update threshold", "0.05", Patterns::Anything(),
+                        "warp_canceling: a number >= 0 or inf. An element is updated when its "
+                        "error estimate exceeds this fraction of the mean magnitude of an "
+                        "element's exact contribution to A v in the step (dimensionless). 0 "
+                        "updates all (exact corotation), inf none (stiffness warping)");
+      prm.leave_subsection();
+    }
+
+    void Model::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    {
+      prm.enter_subsection("Model");
+      type                   = prm.get("Type");
+      const std::string text = trim(prm.get("Update threshold"));
+      if (text == "inf" || text == "infinity")
+        update_threshold = std::numeric_limits<double>::infinity();
+      else
+        {
+          std::size_t used = 0;
+          try
+            {
+              update_threshold = std::stod(text, &used);
+            }
+          catch (...)
+            {
+              used = 0;
+            }
+          if (text.empty() || used != text.size() || !(update_threshold >= 0) ||
+              std::isinf(update_threshold))
+            file.fail(prm, "Model", "Update threshold", "must be a number >= 0 or inf");
+        }
+      prm.leave_subsection();
+    }
+
+    void Solver::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Solver");
+      prm.declare_entry("Ordering", "metis", Patterns::Anything(),
+                        "Fill-reducing ordering of the sparse Cholesky solver: natural, amd or "
+                        "metis (nested dissection: the best for partial refactorizations)");
+      prm.declare_entry("Method", "left_looking", Patterns::Anything(),
+                        "Numeric factorization of the sparse Cholesky solver: left_looking (the "
+                        "one that refactorizes partially) or up_looking (always in full)");
+      prm.leave_subsection();
+    }
+
+    void Solver::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    {
+      prm.enter_subsection("Solver");
+      try
+        {
+          settings.ordering.method = cholesky::parse_ordering_method(trim(prm.get("Ordering")));
+        }
+      catch (const Error &error)
+        {
+          file.fail(prm, "Solver", "Ordering", error.what());
+        }
+      try
+        {
+          settings.method = cholesky::parse_factorization_method(trim(prm.get("Method")));
+        }
+      catch (const Error &error)
+        {
+          file.fail(prm, "Solver", "Method", error.what());
+        }
+      prm.leave_subsection();
+    }
+
+    void FixedVertices::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Fixed vertices");
+      RegionParameters::declare_parameters(prm, "held at rest (their dofs are not unknowns)");
+      prm.leave_subsection();
+    }
+
+    void FixedVertices::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    {
+      prm.enter_subsection("Fixed vertices");
+      region.parse_parameters(prm, file, "Fixed vertices");
+      prm.leave_subsection();
+    }
+
+    void Gravity::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Gravity");
+      prm.declare_entry("Acceleration", "0, 0, 0", vector_pattern,
+                        "Gravitational acceleration (m/s^2), e.g. 0, -9.81, 0");
+      prm.leave_subsection();
+    }
+
+    void Gravity::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &)
+    {
+      prm.enter_subsection("Gravity");
+      acceleration = get_vector(prm, "Acceleration");
+      prm.leave_subsection();
+    }
+
+    void RegionForce::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Region force");
+      RegionParameters::declare_parameters(prm, "that carry the force");
+      prm.declare_entry("Total force", "0, 0, 0", vector_pattern,
+                        "A constant force (N) shared evenly by the vertices of the region");
+      prm.leave_subsection();
+    }
+
+    void RegionForce::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    {
+      prm.enter_subsection("Region force");
+      region.parse_parameters(prm, file, "Region force");
+      total_force = get_vector(prm, "Total force");
+      prm.leave_subsection();
+    }
+
+    void Tool::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Tool");
+      RegionParameters::declare_parameters(prm, "the tool grabs");
+      prm.declare_entry("Spring stiffness", "0", Patterns::Double(0),
+                        "Stiffness (N/m) of the spring tying each grabbed vertex to its target");
+      prm.declare_entry("Velocity", "0, 0, 0", vector_pattern,
+                        "Velocity (m/s) of the targets, which start at the grabbed vertices' "
+                        "rest positions");
+      prm.declare_entry("Duration", "0", Patterns::Double(0),
+                        "Time (s) after which the targets stop and hold");
+      prm.leave_subsection();
+    }
+
+    void Tool::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    {
+      prm.enter_subsection("Tool");
+      region.parse_parameters(prm, file, "Tool");
+      spring_stiffness = prm.get_double("Spring stiffness");
+      velocity         = get_vector(prm, "Velocity");
+      duration         = prm.get_double("Duration");
+      if (region.kind != "none")
+        require_positive(prm, file, "Tool", "Spring stiffness");
+      prm.leave_subsection();
+    }
+
+    void Output::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Output");
+      prm.declare_entry("Directory", "output", Patterns::Anything(),
+                        "Results go to DIRECTORY/SCENE/ (relative to the working directory)");
+      prm.declare_entry("Scene", "", Patterns::Anything(),
+                        "The scene's name; empty: the parameter file's name without .prm");
+      prm.declare_entry("VTU interval", "0", Patterns::Integer(0),
+                        "Write a VTU file (and the PVD series) every this many steps, and the "
+                        "initial state; 0: none");
+      prm.declare_entry("Write log", "false", Patterns::Bool(),
+                        "Write the per-step CSV log SCENE/log.csv");
+      prm.declare_entry("Print timings", "true", Patterns::Bool(),
+                        "Print run times in the summary (false gives a summary that does not "
+                        "change from run to run)");
+      prm.declare_entry("Progress", "auto", Patterns::Selection("auto|on|off"),
+                        "A progress line on standard error: auto shows it on a terminal");
+      prm.leave_subsection();
+    }
+
+    void Output::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &)
+    {
+      prm.enter_subsection("Output");
+      directory     = prm.get("Directory");
+      scene         = trim(prm.get("Scene"));
+      vtu_interval  = prm.get_integer("VTU interval");
+      write_log     = prm.get_bool("Write log");
+      print_timings = prm.get_bool("Print timings");
+      progress      = prm.get("Progress");
+      prm.leave_subsection();
+    }
+  } // namespace parameters
+
+  // ---------------------------------------------------------------------------------------
+  void AllParameters::declare_parameters(ParameterHandler &prm)
+  {
+    parameters::Mesh::declare_parameters(prm);
+    parameters::Material::declare_parameters(prm);
+    parameters::TimeStepping::declare_parameters(prm);
+    parameters::Model::declare_parameters(prm);
+    parameters::Solver::declare_parameters(prm);
+    parameters::FixedVertices::declare_parameters(prm);
+    parameters::Gravity::declare_parameters(prm);
+    parameters::RegionForce::declare_parameters(prm);
+    parameters::Tool::declare_parameters(prm);
+    parameters::Output::declare_parameters(prm);
+  }
+
+  void AllParameters::parse_parameters(ParameterHandler &prm)
+  {
+    mesh.parse_parameters(prm, file);
+    material.parse_parameters(prm, file);
+    time_stepping.parse_parameters(prm, file);
+    model.parse_parameters(prm, file);
+    solver.parse_parameters(prm, file);
+    fixed_vertices.parse_parameters(prm, file);
+    gravity.parse_parameters(prm, file);
+    region_force.parse_parameters(prm, file);
+    tool.parse_parameters(prm, file);
+    output.parse_parameters(prm, file);
+  }
+
+  AllParameters::AllParameters()
+  {
+    ParameterHandler prm;
+    declare_parameters(prm);
+    parse_parameters(prm);
+  }
+
+  AllParameters::AllParameters(const std::string &filename)
+    : file(filename)
+  {
+    if (!std::ifstream(filename))
+      throw InputError(filename + ": cannot open the parameter file");
+    ParameterHandler prm;
+    declare_parameters(prm);
+    try
+      {
+        prm.parse_input(filename);
+      }
+    catch (const dealii::ExceptionBase &error)
+      {
+        throw InputError(parameter_handler_message(error));
+      }
+    parse_parameters(prm);
+  }
+
+  void AllParameters::print_defaults(std::ostream &out)
+  {
+    ParameterHandler prm;
+    declare_parameters(prm);
+    out << "# warpchol scene parameters (defaults). Run: warpchol FILE.prm\n";
+    prm.print_parameters(out, ParameterHandler::PRM);
+  }
+
+  std::string AllParameters::scene_name() const
+  {
+    if (!output.scene.empty())
+      return output.scene;
+    std::string name = file.filename();
+    const auto  slash = name.find_last_of('/');
+    if (slash != std::string::npos)
+      name = name.substr(slash + 1);
+    if (name.size() > 4 && name.compare(name.size() - 4, 4, ".prm") == 0)
+      name.resize(name.size() - 4);
+    return name.empty() ? "scene" : name;
+  }
+
+  std::string AllParameters::mesh_file_path() const
+  {
+    if (mesh.file_name.empty() || mesh.file_name[0] == '/')
+      return mesh.file_name;
+    return file.directory() + mesh.file_name;
+  }
+} // namespace warpchol::app

@@ -1,0 +1,211 @@
+#include <warpchol/app/scene.h>
+#include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+#include <warpchol/fem/corotational_model.h>
+#include <warpchol/fem/linear_model.h>
+#include <warpchol/fem/mesh_generators.h>
+#include <warpchol/fem/stiffness_warping_model.h>
+#include <warpchol/fem/warp_canceling_model.h>
+
+#include <deal.II/grid/grid_tools.h>
+
+#include <cmath>
+
+namespace warpchol::app
+{
+  std::unique_ptr<fem::ElasticityModel>
+  create_model(const parameters::Model &model, const fem::ElasticBody &body,
+               const fem::SystemCoefficients            &coefficients,
+               const cholesky::SparseCholesky::Settings &solver_settings)
+  {
+    if (model.type == "linear")
+      return std::make_unique<fem::LinearModel>(body, coefficients, solver_settings);
+    if (model.type == "corotational")
+      return std::make_unique<fem::CorotationalModel>(body, coefficients, solver_settings);
+    if (model.type == "stiffness_warping")
+      return std::make_unique<fem::StiffnessWarpingModel>(body, coefficients, solver_settings);
+    if (model.type == "warp_canceling")
+      return std::make_unique<fem::WarpCancelingModel>(body, coefficients, solver_settings,
+                                                       model.update_threshold);
+    throw InputError("unknown model type '" + model.type + "'");
+  }
+
+  namespace
+  {
+    /** Volume of the tetrahedra of @p triangulation, from their vertices. */
+    double tetrahedral_volume(const dealii::Triangulation<3> &triangulation)
+    {
+      double volume = 0;
+      for (const auto &cell : triangulation.active_cell_iterators())
+        {
+          const dealii::Tensor<1, 3> a = cell->vertex(1) - cell->vertex(0);
+          const dealii::Tensor<1, 3> b = cell->vertex(2) - cell->vertex(0);
+          const dealii::Tensor<1, 3> c = cell->vertex(3) - cell->vertex(0);
+          volume += std::abs(dealii::scalar_product(a, dealii::cross_product_3d(b, c))) / 6;
+        }
+      return volume;
+    }
+  } // namespace
+
+  void Scene::build_mesh()
+  {
+    const auto &mesh = all.mesh;
+    if (mesh.source == "torus")
+      {
+        fem::create_torus(triangulation, mesh.torus);
+        mesh_text = "generated torus (R " + format_number(mesh.torus.major_radius) + ", r " +
+                    format_number(mesh.torus.minor_radius) + ", " +
+                    std::to_string(mesh.torus.toroidal_cells) + " toroidal cells, " +
+                    std::to_string(mesh.torus.refinements) + " refinements)";
+      }
+    else if (mesh.source == "box")
+      {
+        fem::create_box(triangulation, mesh.box);
+        mesh_text = "generated box";
+      }
+    else
+      {
+        numbering = fem::read_mesh(all.mesh_file_path(), triangulation);
+        if (mesh.scale != 1)
+          dealii::GridTools::scale(mesh.scale, triangulation);
+        mesh_text = mesh.file_name;
+      }
+    if (numbering.vertex_of_file_vertex.empty())
+      for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+        numbering.vertex_of_file_vertex.push_back(v);
+  }
+
+  std::vector<unsigned int> Scene::select_vertices(const RegionParameters &region,
+                                                   const std::string      &subsection) const
+  {
+    std::vector<unsigned int> selected;
+    if (region.kind == "none")
+      return selected;
+    const auto where = [&](const std::string &entry) { return all.file.where(subsection, entry); };
+    if (region.kind == "ids")
+      {
+        const long n_file_vertices = numbering.vertex_of_file_vertex.size();
+        for (const long id : region.vertex_ids)
+          {
+            if (id < 0 || id >= n_file_vertices)
+              throw InputError(where("Vertex ids") + ": vertex " + std::to_string(id) +
+                               " does not exist (the mesh has " +
+                               std::to_string(n_file_vertices) + " vertices, ids from 0)");
+            const long vertex = numbering.vertex_of_file_vertex[id];
+            if (vertex < 0)
+              throw InputError(where("Vertex ids") + ": vertex " + std::to_string(id) +
+                               " belongs to no tetrahedron");
+            selected.push_back(vertex);
+          }
+        std::sort(selected.begin(), selected.end());
+        selected.erase(std::unique(selected.begin(), selected.end()), selected.end());
+        return selected;
+      }
+    const auto &rest = triangulation.get_vertices();
+    for (unsigned int v = 0; v < rest.size(); ++v)
+      {
+        const fem::Vector3 x(rest[v][0], rest[v][1], rest[v][2]);
+        const bool         inside =
+          region.kind == "box" ?
+                    (x.array() >= region.box_lower_corner.array()).all() &&
+              (x.array() <= region.box_upper_corner.array()).all() :
+                    (x - region.sphere_center).norm() <= region.sphere_radius;
+        if (inside)
+          selected.push_back(v);
+      }
+    if (selected.empty())
+      throw InputError(where("Region") + " = " + region.kind + ": the region holds no vertex of the mesh");
+    return selected;
+  }
+
+  Scene::Scene(const AllParameters &parameters)
+    : all(parameters)
+  {
+    build_mesh();
+
+    fixed = select_vertices(all.fixed_vertices.region, "Fixed vertices");
+    std::vector<bool> is_fixed(triangulation.n_vertices(), false);
+    for (const unsigned int v : fixed)
+      is_fixed[v] = true;
+
+    fem::Material material{all.material.youngs_modulus, all.material.poisson_ratio,
+                           all.material.density};
+    if (all.material.total_mass > 0)
+      material.density = all.material.total_mass / tetrahedral_volume(triangulation);
+    elastic_body = std::make_unique<fem::ElasticBody>(triangulation, material,
+                                                      all.material.mass_matrix, is_fixed);
+
+    scene_loads.gravity = all.gravity.acceleration;
+    const auto force_vertices = select_vertices(all.region_force.region, "Region force");
+    if (!force_vertices.empty() && all.region_force.total_force.norm() > 0)
+      {
+        scene_loads.vertex_forces.assign(triangulation.n_vertices(), fem::Vector3::Zero());
+        for (const unsigned int v : force_vertices)
+          scene_loads.vertex_forces[v] =
+            all.region_force.total_force / static_cast<double>(force_vertices.size());
+      }
+    scene_loads.tool.vertices  = select_vertices(all.tool.region, "Tool");
+    scene_loads.tool.stiffness = all.tool.spring_stiffness;
+    scene_loads.tool.velocity  = all.tool.velocity;
+    scene_loads.tool.duration  = all.tool.duration;
+
+    if (all.time_stepping.rest_kinetic_energy > 0 && fixed.empty() &&
+        scene_loads.tool.vertices.empty() && scene_loads.has_static_load())
+      throw InputError(all.file.where("Time stepping", "Rest kinetic energy") + " = " +
+                       format_number(all.time_stepping.rest_kinetic_energy) +
+                       ": waiting for rest needs a fixed vertex (Fixed vertices/Region) when "
+                       "gravity or a region force acts: the body would fall forever");
+
+    const fem::SystemCoefficients coefficients = fem::ImplicitEuler::coefficients(
+      *elastic_body, all.time_stepping.time_step, all.time_stepping.rayleigh_mass,
+      all.time_stepping.rayleigh_stiffness, scene_loads);
+    elasticity_model = create_model(all.model, *elastic_body, coefficients, all.solver.settings);
+    time_integrator  = std::make_unique<fem::ImplicitEuler>(*elastic_body, *elasticity_model,
+                                                           scene_loads, all.time_stepping.time_step);
+  }
+
+  const AllParameters &Scene::parameters() const
+  {
+    return all;
+  }
+
+  const fem::ElasticBody &Scene::body() const
+  {
+    return *elastic_body;
+  }
+
+  fem::ElasticityModel &Scene::model()
+  {
+    return *elasticity_model;
+  }
+
+  const fem::ElasticityModel &Scene::model() const
+  {
+    return *elasticity_model;
+  }
+
+  fem::ImplicitEuler &Scene::integrator()
+  {
+    return *time_integrator;
+  }
+
+  const fem::ImplicitEuler &Scene::integrator() const
+  {
+    return *time_integrator;
+  }
+
+  const fem::Loads &Scene::loads() const
+  {
+    return scene_loads;
+  }
+
+  const std::vector<unsigned int> &Scene::fixed_vertices() const
+  {
+    return fixed;
+  }
+
+  const std::string &Scene::mesh_description() const
+  {
+    return mesh_text;
+  }
+} // namespace warpchol::app

@@ -1,0 +1,53 @@
+#include <warpchol/base/stopwatch.h>
+#include <warpchol/fem/corotational_model.h>
+
+namespace warpchol::fem
+{
+  CorotationalModel::CorotationalModel(const ElasticBody &body,
+                                       const SystemCoefficients &coefficients,
+                                       const cholesky::SparseCholesky::Settings &solver_settings)
+    : ElasticityModel(body, coefficients, solver_settings)
+  {
+    // Ordering and symbolic analysis once (the pattern never changes); the numeric factor
+    // of the rest matrix is replaced in the first step.
+    Stopwatch stopwatch;
+    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
+      matrix = rest_element_matrix(body, e, coefficients);
+    });
+    StepStatistics setup;
+    factorize(setup);
+    setup_time = stopwatch.seconds();
+  }
+
+  std::string CorotationalModel::name() const
+  {
+    return "corotational";
+  }
+
+  void CorotationalModel::prepare_step(const std::vector<Vector3> &positions,
+                                       const std::vector<Vector3> &, StepStatistics &statistics)
+  {
+    Stopwatch stopwatch;
+    body.compute_element_rotations(positions, element_rotations);
+    statistics.t_rotations += stopwatch.seconds();
+
+    stopwatch.restart();
+    // The nodal rotations of the general warped form are the identity here.
+    const std::array<Matrix3, 4> identity{
+      {Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity()}};
+    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
+      matrix = warped_element_matrix(body, e, coefficients, identity, element_rotations[e]);
+    });
+    statistics.t_assembly += stopwatch.seconds();
+    statistics.elements_updated = body.n_elements();
+    record_updates(true);
+
+    factorize(statistics);
+  }
+
+  void CorotationalModel::add_elastic_forces(const std::vector<Vector3> &positions,
+                                             std::vector<Vector3>       &forces) const
+  {
+    body.add_elastic_forces(positions, &element_rotations, forces);
+  }
+} // namespace warpchol::fem

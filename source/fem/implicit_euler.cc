@@ -1,0 +1,144 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+#include <warpchol/fem/implicit_euler.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace warpchol::fem
+{
+  Vector3 PullingTool::target_offset(const double time) const
+  {
+    return velocity * std::min(time, duration);
+  }
+
+  bool Loads::has_static_load() const
+  {
+    if (gravity.norm() > 0)
+      return true;
+    return std::any_of(vertex_forces.begin(), vertex_forces.end(),
+                       [](const Vector3 &force) { return force.norm() > 0; });
+  }
+
+  SystemCoefficients ImplicitEuler::coefficients(const ElasticBody &body, const double time_step,
+                                                 const double rayleigh_mass,
+                                                 const double rayleigh_stiffness,
+                                                 const Loads &loads)
+  {
+    SystemCoefficients result =
+      SystemCoefficients::implicit_euler(time_step, rayleigh_mass, rayleigh_stiffness);
+    if (!loads.tool.vertices.empty() && loads.tool.stiffness > 0)
+      {
+        result.vertex_diagonal.assign(body.n_vertices(), 0.0);
+        for (const unsigned int v : loads.tool.vertices)
+          result.vertex_diagonal[v] = time_step * time_step * loads.tool.stiffness;
+      }
+    return result;
+  }
+
+  ImplicitEuler::ImplicitEuler(const ElasticBody &body, ElasticityModel &model,
+                               const Loads &loads, const double time_step)
+    : body(body)
+    , model(model)
+    , loads(loads)
+    , time_step(time_step)
+    , x(body.rest_positions())
+    , v(body.n_vertices(), Vector3::Zero())
+    , constant_forces(body.n_vertices(), Vector3::Zero())
+  {
+    if (!(time_step > 0))
+      throw InputError("the time step must be > 0, got " + format_number(time_step));
+    if (!loads.vertex_forces.empty() && loads.vertex_forces.size() != body.n_vertices())
+      throw InputError("vertex forces: " + std::to_string(loads.vertex_forces.size()) +
+                       " given for " + std::to_string(body.n_vertices()) + " vertices");
+    for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      {
+        constant_forces[i] = body.vertex_mass(i) * loads.gravity;
+        if (!loads.vertex_forces.empty())
+          constant_forces[i] += loads.vertex_forces[i];
+      }
+  }
+
+  void ImplicitEuler::advance(StepStatistics &statistics)
+  {
+    const unsigned int step     = steps_done + 1;
+    const double       new_time = current_time + time_step;
+    try
+      {
+        model.prepare_step(x, v, statistics);
+      }
+    catch (const MatrixError &error)
+      {
+        throw MatrixError("step " + std::to_string(step) + ": " + error.what());
+      }
+
+    // rhs = M v + dt (f_ext + f_el(x) + k (target(t + dt) - x)).
+    std::vector<Vector3> forces = constant_forces;
+    model.add_elastic_forces(x, forces);
+    if (!loads.tool.vertices.empty())
+      {
+        const Vector3 offset = loads.tool.target_offset(new_time);
+        for (const unsigned int i : loads.tool.vertices)
+          forces[i] += loads.tool.stiffness * (body.rest_positions()[i] + offset - x[i]);
+      }
+    std::vector<Vector3> right_hand_side(body.n_vertices(), Vector3::Zero());
+    body.add_mass_times(v, right_hand_side);
+    for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      right_hand_side[i] += time_step * forces[i];
+
+    std::vector<Vector3> new_velocities;
+    model.solve(right_hand_side, new_velocities, statistics);
+    for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      if (!new_velocities[i].allFinite())
+        throw MatrixError("step " + std::to_string(step) + ": the velocity of vertex " +
+                          std::to_string(i) + " is not finite: the simulation diverged");
+
+    v = std::move(new_velocities);
+    for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      x[i] += time_step * v[i];
+    current_time = new_time;
+    steps_done   = step;
+  }
+
+  const std::vector<Vector3> &ImplicitEuler::positions() const
+  {
+    return x;
+  }
+
+  const std::vector<Vector3> &ImplicitEuler::velocities() const
+  {
+    return v;
+  }
+
+  std::vector<Vector3> ImplicitEuler::displacements() const
+  {
+    std::vector<Vector3> result(x.size());
+    for (unsigned int i = 0; i < x.size(); ++i)
+      result[i] = x[i] - body.rest_positions()[i];
+    return result;
+  }
+
+  double ImplicitEuler::time() const
+  {
+    return current_time;
+  }
+
+  unsigned int ImplicitEuler::step_number() const
+  {
+    return steps_done;
+  }
+
+  double ImplicitEuler::kinetic_energy() const
+  {
+    return body.kinetic_energy(v);
+  }
+
+  double ImplicitEuler::elastic_energy() const
+  {
+    if (!model.uses_rotations())
+      return body.elastic_energy(x, nullptr);
+    std::vector<Matrix3> rotations;
+    body.compute_element_rotations(x, rotations);
+    return body.elastic_energy(x, &rotations);
+  }
+} // namespace warpchol::fem

@@ -1,0 +1,42 @@
+#include <warpchol/base/stopwatch.h>
+#include <warpchol/fem/linear_model.h>
+
+namespace warpchol::fem
+{
+  LinearModel::LinearModel(const ElasticBody &body, const SystemCoefficients &coefficients,
+                           const cholesky::SparseCholesky::Settings &solver_settings)
+    : ElasticityModel(body, coefficients, solver_settings)
+  {
+    Stopwatch stopwatch;
+    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
+      matrix = rest_element_matrix(body, e, coefficients);
+    });
+    StepStatistics setup;
+    factorize(setup);
+    setup_time = stopwatch.seconds();
+  }
+
+  std::string LinearModel::name() const
+  {
+    return "linear";
+  }
+
+  bool LinearModel::uses_rotations() const
+  {
+    return false;
+  }
+
+  void LinearModel::prepare_step(const std::vector<Vector3> &, const std::vector<Vector3> &,
+                                 StepStatistics &statistics)
+  {
+    record_updates(false);
+    statistics.n_columns  = body.n_unknowns();
+    statistics.flops_full = cholesky_solver.statistics().flops;
+  }
+
+  void LinearModel::add_elastic_forces(const std::vector<Vector3> &positions,
+                                       std::vector<Vector3>       &forces) const
+  {
+    body.add_elastic_forces(positions, nullptr, forces);
+  }
+} // namespace warpchol::fem

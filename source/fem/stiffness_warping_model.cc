@@ -1,0 +1,43 @@
+#include <warpchol/base/stopwatch.h>
+#include <warpchol/fem/stiffness_warping_model.h>
+
+namespace warpchol::fem
+{
+  StiffnessWarpingModel::StiffnessWarpingModel(
+    const ElasticBody &body, const SystemCoefficients &coefficients,
+    const cholesky::SparseCholesky::Settings &solver_settings)
+    : ElasticityModel(body, coefficients, solver_settings)
+  {
+    Stopwatch stopwatch;
+    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
+      matrix = rest_element_matrix(body, e, coefficients);
+    });
+    StepStatistics setup;
+    factorize(setup);
+    setup_time  = stopwatch.seconds();
+    solve_frame = &nodal_rotations;
+  }
+
+  std::string StiffnessWarpingModel::name() const
+  {
+    return "stiffness_warping";
+  }
+
+  void StiffnessWarpingModel::prepare_step(const std::vector<Vector3> &positions,
+                                           const std::vector<Vector3> &, StepStatistics &statistics)
+  {
+    Stopwatch stopwatch;
+    body.compute_element_rotations(positions, element_rotations);
+    body.compute_nodal_rotations(element_rotations, nodal_rotations);
+    statistics.t_rotations += stopwatch.seconds();
+    statistics.n_columns  = body.n_unknowns();
+    statistics.flops_full = cholesky_solver.statistics().flops;
+    record_updates(false);
+  }
+
+  void StiffnessWarpingModel::add_elastic_forces(const std::vector<Vector3> &positions,
+                                                 std::vector<Vector3>       &forces) const
+  {
+    body.add_elastic_forces(positions, &element_rotations, forces);
+  }
+} // namespace warpchol::fem
