@@ -44,6 +44,11 @@ namespace warpchol::cholesky
      */
     constexpr Index update_block_columns = 32;
     constexpr Index update_block_doubles = 1 << 15;
+    /**
+     * Updates from descendants at least this wide are compute-bound: one dgemm without
+     * column blocking (blocking would repack the descendant's whole panel for every block).
+     */
+    constexpr Index wide_update = 64;
     /** Column block of the threaded dense Cholesky of a large supernode. */
     constexpr Index panel_block = 256;
 
@@ -259,7 +264,8 @@ namespace warpchol::cholesky
           relative[r] = map[rows[p1 + r]];
         // Rows of d within s's columns map to local columns: relative[c] is column c's.
         double     *update = workspace.update.data();
-        const Index step   = std::max<Index>(update_block_columns, update_block_doubles / rows2);
+        const Index step =
+          width >= wide_update ? rows1 : std::max<Index>(update_block_columns, update_block_doubles / rows2);
         for (Index c0 = 0; c0 < rows1; c0 += step)
           {
             const Index c1 = std::min(c0 + step, rows1), width1 = c1 - c0, m = rows2 - c0;
