@@ -3,19 +3,33 @@
  * after changing a random fraction of its columns, solve, and print one line of
  * key=value fields that scripts can read.
  *
- *   warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] [--method left|up]
- *                              [--changed-fraction P] [--seed S]
+ *   warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] [--method left|up|supernodal]
+ *                              [--supernodal on|off] [--threads N] [--changed-fraction P]
+ *                              [--seed S] [--repeat R] [--compare cholmod]
+ *                              [--relaxation off|N0,N1,N2,Z0,Z1,Z2]
+ *
+ * Times are the best of R runs (the machine is shared and noisy). With --compare cholmod,
+ * CHOLMOD's supernodal factorization runs in the same process on the same matrix with the
+ * same permutation and BLAS, alternating with ours, and the ratios ours/CHOLMOD are
+ * printed.
  */
 
+#include <warpchol/app/command_line.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/base/stopwatch.h>
+#include <warpchol/cholesky/blas.h>
+#include <warpchol/cholesky/cholmod_reference.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/sparse/matrix_market.h>
 #include <warpchol/sparse/residual.h>
 #include <warpchol/sparse/spd_perturbation.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <iostream>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -29,52 +43,72 @@ namespace
     cholesky::SparseCholesky::Settings       solver;
     double                                   changed_fraction = 0.1;
     std::uint64_t                            seed             = 1;
+    int                                      repeat           = 1;
+    bool                                     compare_cholmod  = false;
   };
 
   const char *usage = "usage: warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] "
-                      "[--method left|up] [--changed-fraction P] [--seed S]";
-
-  double parse_number(const std::string &option, const std::string &text)
-  {
-    std::size_t  used  = 0;
-    double       value = 0;
-    try
-      {
-        value = std::stod(text, &used);
-      }
-    catch (...)
-      {
-        used = 0;
-      }
-    if (used != text.size() || !std::isfinite(value))
-      throw InputError(option + ": '" + text + "' is not a number");
-    return value;
-  }
+                      "[--method left|up|supernodal] [--supernodal on|off] [--threads N] "
+                      "[--changed-fraction P] [--seed S] [--repeat R] [--compare cholmod] "
+                      "[--relaxation off|N0,N1,N2,Z0,Z1,Z2]";
 
   Options parse_command_line(const int argc, char **argv)
   {
-    Options options;
-    for (int a = 1; a < argc; ++a)
+    Options          options;
+    app::CommandLine command_line(argc, argv);
+    while (command_line.has_next())
       {
-        const std::string argument = argv[a];
-        auto              value    = [&]() -> std::string {
-          if (a + 1 >= argc)
-            throw InputError(argument + " needs a value");
-          return argv[++a];
-        };
+        const std::string argument = command_line.next();
         if (argument == "--ordering")
-          options.solver.ordering.method = cholesky::parse_ordering_method(value());
+          options.solver.ordering.method = cholesky::parse_ordering_method(command_line.value_of(argument));
         else if (argument == "--method")
-          options.solver.method = cholesky::parse_factorization_method(value());
+          options.solver.method = cholesky::parse_factorization_method(command_line.value_of(argument));
+        else if (argument == "--supernodal")
+          {
+            const std::string on_off = command_line.value_of(argument);
+            if (on_off != "on" && on_off != "off")
+              throw InputError("--supernodal: expected on or off, got '" + on_off + "'");
+            options.solver.method = on_off == "on" ? cholesky::FactorizationMethod::supernodal :
+                                                     cholesky::FactorizationMethod::left_looking;
+          }
+        else if (argument == "--threads")
+          options.solver.n_threads = static_cast<unsigned int>(command_line.integer_of(argument, 1, 256));
         else if (argument == "--changed-fraction")
           {
-            options.changed_fraction = parse_number(argument, value());
+            options.changed_fraction = command_line.number_of(argument);
             if (options.changed_fraction < 0 || options.changed_fraction > 1)
               throw InputError("--changed-fraction must lie in [0, 1], got " +
                                format_number(options.changed_fraction));
           }
         else if (argument == "--seed")
-          options.seed = static_cast<std::uint64_t>(parse_number(argument, value()));
+          options.seed = static_cast<std::uint64_t>(command_line.integer_of(argument, 0, 1L << 62));
+        else if (argument == "--repeat")
+          options.repeat = static_cast<int>(command_line.integer_of(argument, 1, 1000));
+        else if (argument == "--relaxation")
+          {
+            // Supernode amalgamation: off, or CHOLMOD's nrelax[3] and zrelax[3].
+            const std::string text = command_line.value_of(argument);
+            auto             &relaxation = options.solver.relaxation;
+            char              tail       = 0;
+            long              n[3]       = {0, 0, 0};
+            if (text == "off")
+              relaxation.enabled = false;
+            else if (std::sscanf(text.c_str(), "%ld,%ld,%ld,%lf,%lf,%lf%c", &n[0], &n[1], &n[2], &relaxation.zrelax[0],
+                                 &relaxation.zrelax[1], &relaxation.zrelax[2], &tail) == 6 &&
+                     n[0] >= 0 && n[1] >= 0 && n[2] >= 0)
+              for (int i = 0; i < 3; ++i)
+                relaxation.nrelax[i] = n[i];
+            else
+              throw InputError("--relaxation: expected off or N0,N1,N2,Z0,Z1,Z2 (CHOLMOD's 4,16,48,0.8,0.1,0.05), got '" +
+                               text + "'");
+          }
+        else if (argument == "--compare")
+          {
+            const std::string peer = command_line.value_of(argument);
+            if (peer != "cholmod")
+              throw InputError("--compare: only 'cholmod' is supported, got '" + peer + "'");
+            options.compare_cholmod = true;
+          }
         else if (argument == "--help" || argument == "-h")
           {
             std::cout << usage << "\n";
@@ -85,8 +119,7 @@ namespace
         else if (options.matrix_file.empty())
           options.matrix_file = argument;
         else
-          throw InputError("more than one matrix file given ('" + options.matrix_file +
-                           "', '" + argument + "')");
+          throw InputError("more than one matrix file given ('" + options.matrix_file + "', '" + argument + "')");
       }
     if (options.matrix_file.empty())
       throw InputError(std::string("no matrix file given; ") + usage);
@@ -95,17 +128,39 @@ namespace
 
   void run(const Options &options)
   {
-    sparse::CSCMatrix matrix = sparse::read_matrix_market(options.matrix_file);
+    sparse::CSCMatrix        matrix = sparse::read_matrix_market(options.matrix_file);
     cholesky::SparseCholesky solver(options.solver);
     solver.analyze(matrix);
-    solver.factorize(matrix);
-    const double factor_seconds = solver.statistics().factorize_seconds;
+    // With --compare cholmod, CHOLMOD's supernodal factorization of the same matrix with
+    // the same permutation alternates with ours, so that both see the same machine load.
+    std::unique_ptr<cholesky::CholmodReference> cholmod;
+    if (options.compare_cholmod)
+      {
+        cholmod = std::make_unique<cholesky::CholmodReference>(true);
+        cholmod->analyze(matrix, solver.permutation());
+      }
+    double factor_seconds = 1e300, cholmod_seconds = 1e300;
+    for (int r = 0; r < options.repeat; ++r)
+      {
+        solver.factorize(matrix);
+        factor_seconds = std::min(factor_seconds, solver.statistics().factorize_seconds);
+        if (cholmod)
+          {
+            cholmod->factorize(matrix);
+            cholmod_seconds = std::min(cholmod_seconds, cholmod->factorize_seconds);
+          }
+      }
 
     // Change a random set of columns (and rows), keeping A symmetric positive definite.
     const auto n_changed = static_cast<Index>(std::llround(options.changed_fraction * matrix.n_cols));
     const std::vector<Index> changed = sparse::random_columns(matrix.n_cols, n_changed, options.seed);
     sparse::perturb_columns_spd(matrix, changed, options.seed);
-    solver.refactorize(matrix, changed);
+    double refactor_seconds = 1e300;
+    for (int r = 0; r < options.repeat; ++r)
+      {
+        solver.refactorize(matrix, changed);
+        refactor_seconds = std::min(refactor_seconds, solver.statistics().refactorize_seconds);
+      }
 
     // b = A x_true with x_true = 1, solve with the updated factor.
     const std::vector<double> ones(matrix.n_cols, 1.);
@@ -117,40 +172,37 @@ namespace
     const double n     = static_cast<double>(stats.n);
     std::cout << "n=" << stats.n << " nnz_a=" << stats.nnz_a << " nnz_l=" << stats.nnz_l
               << " fill=" << format_number(stats.fill(), 6)
-              << " fill_full=" << format_number(static_cast<double>(stats.nnz_l) /
-                                                  (2. * stats.nnz_a - n), 6)
+              << " fill_full=" << format_number(static_cast<double>(stats.nnz_l) / (2. * stats.nnz_a - n), 6)
               << " flops=" << format_number(stats.flops, 6)
               << " ordering=" << cholesky::to_string(options.solver.ordering.method)
               << " method=" << cholesky::to_string(options.solver.method)
+              << " threads=" << options.solver.n_threads
               << " vertex_block=" << stats.vertex_block_size
+              << " supernodes=" << stats.n_supernodes
               << " analyze_s=" << format_number(stats.analyze_seconds, 4)
               << " factor_s=" << format_number(factor_seconds, 4)
-              << " refactor_s=" << format_number(stats.refactorize_seconds, 4)
+              << " refactor_s=" << format_number(refactor_seconds, 4)
               << " solve_s=" << format_number(stats.solve_seconds, 4)
               << " changed_cols=" << format_number(static_cast<double>(changed.size()) / n, 4)
-              << " cols_recomputed=" << format_number(stats.columns_recomputed / n, 4)
-              << " flops_recomputed=" << format_number(stats.flops_recomputed / stats.flops, 4)
+              << " cols_recomputed=" << format_number(static_cast<double>(stats.columns_recomputed) / n, 4)
+              << " supernodes_recomputed="
+              << format_number(stats.n_supernodes > 0 ? static_cast<double>(stats.supernodes_recomputed) / stats.n_supernodes : 0., 4)
+              << " flops_recomputed=" << format_number(stats.flops_recomputed / stats.method_flops, 4)
+              << " factor_bytes=" << stats.factor_bytes
               << " residual=" << format_number(sparse::relative_residual(matrix, x, b), 3)
-              << " backward_error=" << format_number(sparse::backward_error(matrix, x, b), 3)
-              << "\n";
+              << " backward_error=" << format_number(sparse::backward_error(matrix, x, b), 3);
+
+    if (cholmod)
+      std::cout << " cholmod_factor_s=" << format_number(cholmod_seconds, 4)
+                << " factor_ratio=" << format_number(factor_seconds / cholmod_seconds, 3)
+                << " cholmod_bytes=" << cholmod->factor_bytes()
+                << " memory_ratio=" << format_number(static_cast<double>(stats.factor_bytes) / cholmod->factor_bytes(), 3);
+    std::cout << "\n";
   }
 } // namespace
 
 int main(int argc, char **argv)
 {
-  try
-    {
-      run(parse_command_line(argc, argv));
-    }
-  catch (const warpchol::InputError &error)
-    {
-      std::cerr << "warpchol-factor: " << error.what() << "\n";
-      return 2;
-    }
-  catch (const std::exception &error)
-    {
-      std::cerr << "warpchol-factor: " << error.what() << "\n";
-      return 1;
-    }
-  return 0;
+  warpchol::cholesky::blas::restart_with_single_threaded_libraries(argv);
+  return warpchol::app::run_program("warpchol-factor", [&] { run(parse_command_line(argc, argv)); });
 }

@@ -10,6 +10,7 @@
  * (so A is symmetric positive definite). --dofs picks the resolution with about N dofs.
  */
 
+#include <warpchol/app/command_line.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/fem/elastic_body.h>
@@ -42,35 +43,21 @@ namespace
 
   Options parse_command_line(const int argc, char **argv)
   {
-    Options options;
-    for (int a = 1; a < argc; ++a)
+    Options          options;
+    app::CommandLine command_line(argc, argv);
+    while (command_line.has_next())
       {
-        const std::string argument = argv[a];
-        auto              value    = [&]() -> std::string {
-          if (a + 1 >= argc)
-            throw InputError(argument + " needs a value");
-          return argv[++a];
-        };
+        const std::string argument = command_line.next();
         if (argument == "--dofs")
           {
-            const std::string text = value();
-            std::size_t       used = 0;
-            try
-              {
-                options.target_dofs = std::stod(text, &used);
-              }
-            catch (...)
-              {
-                used = 0;
-              }
-            if (used != text.size() || !(options.target_dofs >= 30) ||
-                !std::isfinite(options.target_dofs))
-              throw InputError("--dofs: '" + text + "' is not a number of dofs >= 30");
+            options.target_dofs = command_line.number_of(argument);
+            if (!(options.target_dofs >= 30))
+              throw InputError("--dofs: expected a number of dofs >= 30, got " + format_number(options.target_dofs));
           }
         else if (argument == "--mesh")
-          options.mesh_file = value();
+          options.mesh_file = command_line.value_of(argument);
         else if (argument == "--output")
-          options.output_file = value();
+          options.output_file = command_line.value_of(argument);
         else if (argument == "--help" || argument == "-h")
           {
             std::cout << usage << std::endl;
@@ -86,7 +73,7 @@ namespace
     return options;
   }
 
-  int run(const Options &options)
+  void run(const Options &options)
   {
     dealii::Triangulation<3> triangulation;
     if (options.mesh_file.empty())
@@ -115,24 +102,10 @@ namespace
     std::cout << "vertices " << body.n_vertices() << ", tets " << body.n_elements() << ", n "
               << system.size() << ", nnz(lower) " << lower.n_nonzeros() << " -> "
               << options.output_file << std::endl;
-    return 0;
   }
 } // namespace
 
 int main(int argc, char **argv)
 {
-  try
-    {
-      return run(parse_command_line(argc, argv));
-    }
-  catch (const warpchol::Error &error)
-    {
-      std::cerr << "warpchol-torus-matrix: " << error.what() << std::endl;
-      return 1;
-    }
-  catch (const std::exception &error)
-    {
-      std::cerr << "warpchol-torus-matrix: " << error.what() << std::endl;
-      return 1;
-    }
+  return warpchol::app::run_program("warpchol-torus-matrix", [&] { run(parse_command_line(argc, argv)); });
 }

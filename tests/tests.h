@@ -12,11 +12,16 @@
 
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/sparse/csc_matrix.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
 #include <cstdlib>
 #include <functional>
 #include <iostream>
 #include <string>
+#include <vector>
 
 namespace tests
 {
@@ -58,5 +63,114 @@ namespace tests
       {
         std::cout << label << ": " << error.what() << std::endl;
       }
+  }
+
+  /** A small deterministic generator (splitmix64), the same on every platform. */
+  class Random
+  {
+  public:
+    explicit Random(const std::uint64_t seed)
+      : state(seed)
+    {}
+
+    std::uint64_t next()
+    {
+      std::uint64_t x = (state += 0x9e3779b97f4a7c15ULL);
+      x               = (x ^ (x >> 30)) * 0xbf58476d1ce4e5b9ULL;
+      x               = (x ^ (x >> 27)) * 0x94d049bb133111ebULL;
+      return x ^ (x >> 31);
+    }
+
+    /** Uniform in [0, 1). */
+    double uniform()
+    {
+      return static_cast<double>(next() >> 11) * 0x1.0p-53;
+    }
+
+    /** Uniform in [0, n). */
+    warpchol::Index below(const warpchol::Index n)
+    {
+      return static_cast<warpchol::Index>(uniform() * static_cast<double>(n));
+    }
+
+  private:
+    std::uint64_t state;
+  };
+
+  /**
+   * A random sparse SPD matrix with lower storage: about @p per_column off-diagonal entries
+   * per column in [-1, 1], and a diagonal that makes it strictly diagonally dominant.
+   */
+  inline warpchol::sparse::CSCMatrix random_spd(const warpchol::Index n, const int per_column,
+                                                const std::uint64_t seed)
+  {
+    using warpchol::Index;
+    Random                           random(seed);
+    std::vector<std::vector<Index>>  rows(n);
+    for (Index j = 0; j < n; ++j)
+      for (int e = 0; e < per_column && j + 1 < n; ++e)
+        rows[j].push_back(j + 1 + random.below(n - j - 1));
+    warpchol::sparse::CSCMatrix matrix =
+      warpchol::sparse::CSCMatrix::zero(n, n, warpchol::sparse::Storage::lower);
+    std::vector<double> row_sums(n, 0.);
+    std::vector<std::vector<double>> values(n);
+    for (Index j = 0; j < n; ++j)
+      {
+        std::sort(rows[j].begin(), rows[j].end());
+        rows[j].erase(std::unique(rows[j].begin(), rows[j].end()), rows[j].end());
+        for (const Index i : rows[j])
+          {
+            const double v = 2. * random.uniform() - 1.;
+            values[j].push_back(v);
+            row_sums[i] += std::abs(v);
+            row_sums[j] += std::abs(v);
+          }
+      }
+    for (Index j = 0; j < n; ++j)
+      {
+        matrix.row_index.push_back(j);
+        matrix.values.push_back(row_sums[j] + 0.5 + random.uniform());
+        for (std::size_t e = 0; e < rows[j].size(); ++e)
+          {
+            matrix.row_index.push_back(rows[j][e]);
+            matrix.values.push_back(values[j][e]);
+          }
+        matrix.column_start[j + 1] = static_cast<Index>(matrix.row_index.size());
+      }
+    return matrix;
+  }
+
+  /** Dense column-major copy of the (full) matrix represented by @p matrix. */
+  inline std::vector<double> to_dense(const warpchol::sparse::CSCMatrix &matrix)
+  {
+    using warpchol::Index;
+    std::vector<double> dense(matrix.n_rows * matrix.n_cols, 0.);
+    for (Index j = 0; j < matrix.n_cols; ++j)
+      for (Index k = matrix.column_start[j]; k < matrix.column_start[j + 1]; ++k)
+        {
+          const Index i = matrix.row_index[k];
+          dense[i + j * matrix.n_rows] = matrix.values[k];
+          if (matrix.storage == warpchol::sparse::Storage::lower)
+            dense[j + i * matrix.n_rows] = matrix.values[k];
+        }
+    return dense;
+  }
+
+  /** The textbook dense Cholesky factor (column-major, lower), as an independent reference. */
+  inline std::vector<double> dense_cholesky(std::vector<double> a, const warpchol::Index n)
+  {
+    using warpchol::Index;
+    for (Index j = 0; j < n; ++j)
+      {
+        for (Index k = 0; k < j; ++k)
+          for (Index i = j; i < n; ++i)
+            a[i + j * n] -= a[i + k * n] * a[j + k * n];
+        const double d = std::sqrt(a[j + j * n]);
+        for (Index i = j; i < n; ++i)
+          a[i + j * n] /= d;
+        for (Index i = 0; i < j; ++i)
+          a[i + j * n] = 0.;
+      }
+    return a;
   }
 } // namespace tests

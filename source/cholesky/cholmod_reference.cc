@@ -1,5 +1,6 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/stopwatch.h>
+#include <warpchol/cholesky/blas.h>
 #include <warpchol/cholesky/cholmod_reference.h>
 
 #include <cholmod.h>
@@ -35,6 +36,7 @@ namespace warpchol::cholesky
   CholmodReference::CholmodReference(const bool supernodal)
     : implementation(std::make_unique<Implementation>())
   {
+    blas::use_single_threaded_blas();
     cholmod_common &common = implementation->common;
     cholmod_l_start(&common);
     common.nmethods           = 1;

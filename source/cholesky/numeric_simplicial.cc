@@ -83,8 +83,7 @@ namespace warpchol::cholesky
   {
     const Index n = symbolic.n;
     l_values.assign(symbolic.nnz_l(), 0.);
-    const sparse::CSCMatrix upper = sparse::transpose(sparse::CSCMatrix{
-      n, n, lower.column_start, lower.row_index, lower.values, sparse::Storage::full});
+    const sparse::CSCMatrix upper = sparse::upper_triangle(lower);
 
     std::vector<double> work(n, 0.);
     std::vector<Index>  next_free(symbolic.column_start.begin(), symbolic.column_start.end() - 1);

@@ -1,5 +1,6 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/stopwatch.h>
+#include <warpchol/cholesky/blas.h>
 #include <warpchol/cholesky/numeric_simplicial.h>
 #include <warpchol/cholesky/partial.h>
 #include <warpchol/cholesky/solve.h>
@@ -11,7 +12,16 @@ namespace warpchol::cholesky
 {
   std::string to_string(const FactorizationMethod method)
   {
-    return method == FactorizationMethod::left_looking ? "left" : "up";
+    switch (method)
+      {
+        case FactorizationMethod::left_looking:
+          return "left";
+        case FactorizationMethod::up_looking:
+          return "up";
+        case FactorizationMethod::supernodal:
+          return "supernodal";
+      }
+    return "unknown";
   }
 
   FactorizationMethod parse_factorization_method(const std::string &name)
@@ -20,7 +30,9 @@ namespace warpchol::cholesky
       return FactorizationMethod::left_looking;
     if (name == "up" || name == "up_looking")
       return FactorizationMethod::up_looking;
-    throw InputError("unknown factorization method '" + name + "' (expected left or up)");
+    if (name == "supernodal")
+      return FactorizationMethod::supernodal;
+    throw InputError("unknown factorization method '" + name + "' (expected left, up or supernodal)");
   }
 
   double SparseCholesky::Statistics::fill() const
@@ -34,7 +46,9 @@ namespace warpchol::cholesky
 
   SparseCholesky::SparseCholesky(const Settings &settings)
     : solver_settings(settings)
-  {}
+  {
+    blas::use_single_threaded_blas();
+  }
 
   void SparseCholesky::analyze(const sparse::CSCMatrix &matrix)
   {
@@ -50,23 +64,44 @@ namespace warpchol::cholesky
     // every subtree becomes a contiguous range of columns (supernodes, locality).
     const Ordering ordering = compute_ordering(matrix, solver_settings.ordering);
     permuted_matrix.setup(matrix, ordering.permutation);
-    const std::vector<Index> postorder = postorder_tree(elimination_tree(permuted_matrix.lower()));
+    const std::vector<Index> postorder = postorder_tree(cholesky::elimination_tree(permuted_matrix.lower()));
     fill_reducing_permutation = compose_permutations(ordering.permutation, postorder);
     inverse_permutation       = invert_permutation(fill_reducing_permutation);
     permuted_matrix.setup(matrix, fill_reducing_permutation);
 
-    symbolic_factorization = analyze_left_looking(permuted_matrix.lower());
-    l_values.assign(symbolic_factorization.nnz_l(), 0.);
-
     stats                   = Statistics();
     stats.n                 = matrix.n_cols;
     stats.nnz_a             = permuted_matrix.n_nonzeros();
-    stats.nnz_l             = symbolic_factorization.nnz_l();
-    stats.flops             = symbolic_factorization.flops;
     stats.vertex_block_size = ordering.vertex_block_size;
-    stats.factor_bytes      = l_values.size() * sizeof(double) +
-                         symbolic_factorization.row_index.size() * sizeof(Index) +
-                         symbolic_factorization.column_start.size() * sizeof(Index);
+    if (solver_settings.method == FactorizationMethod::supernodal)
+      {
+        symbolic_factorization = SymbolicFactorization();
+        l_values.clear();
+        supernodal_structure = analyze_supernodal(permuted_matrix.lower(),
+                                                  cholesky::elimination_tree(permuted_matrix.lower()),
+                                                  solver_settings.relaxation);
+        supernodal_factor.initialize(supernodal_structure);
+        stats.nnz_l        = supernodal_structure.nnz_l();
+        stats.flops        = supernodal_structure.exact_flops;
+        stats.method_flops = supernodal_structure.flops;
+        stats.n_supernodes = supernodal_structure.n_supernodes();
+        stats.factor_bytes = supernodal_structure.n_stored_values() * sizeof(double) +
+                             (supernodal_structure.row_index.size() + supernodal_structure.row_start.size() +
+                              supernodal_structure.value_start.size() + supernodal_structure.first_column.size()) *
+                               sizeof(Index);
+      }
+    else
+      {
+        supernodal_structure   = SupernodalSymbolic();
+        symbolic_factorization = analyze_left_looking(permuted_matrix.lower());
+        l_values.assign(symbolic_factorization.nnz_l(), 0.);
+        stats.nnz_l        = symbolic_factorization.nnz_l();
+        stats.flops        = symbolic_factorization.flops;
+        stats.method_flops = symbolic_factorization.flops;
+        stats.factor_bytes = l_values.size() * sizeof(double) +
+                             symbolic_factorization.row_index.size() * sizeof(Index) +
+                             symbolic_factorization.column_start.size() * sizeof(Index);
+      }
     stats.analyze_seconds = stopwatch.seconds();
     analyzed              = true;
   }
@@ -77,14 +112,42 @@ namespace warpchol::cholesky
     try
       {
         double flops = 0;
-        if (solver_settings.method == FactorizationMethod::up_looking)
+        switch (solver_settings.method)
           {
-            factorize_up_looking(symbolic_factorization, permuted_matrix.lower(), l_values);
-            flops = symbolic_factorization.flops;
+            case FactorizationMethod::up_looking:
+              factorize_up_looking(symbolic_factorization, permuted_matrix.lower(), l_values);
+              flops = symbolic_factorization.flops;
+              stats.supernodes_recomputed = 0;
+              stats.columns_recomputed    = stats.n;
+              break;
+            case FactorizationMethod::left_looking:
+              flops = factorize_left_looking(symbolic_factorization, permuted_matrix.lower(), columns, l_values);
+              stats.supernodes_recomputed = 0;
+              stats.columns_recomputed    = columns.empty() ? stats.n : static_cast<Index>(columns.size());
+              break;
+            case FactorizationMethod::supernodal:
+              {
+                // A dirty supernode is recomputed from its first dirty column on: the
+                // columns before it depend on nothing that changed.
+                std::vector<Index> supernodes, offsets;
+                stats.columns_recomputed = columns.empty() ? stats.n : 0;
+                for (const Index j : columns)
+                  {
+                    const Index s = supernodal_structure.supernode_of[j];
+                    if (supernodes.empty() || supernodes.back() != s)
+                      {
+                        supernodes.push_back(s);
+                        offsets.push_back(j - supernodal_structure.first_column[s]);
+                        stats.columns_recomputed += supernodal_structure.first_column[s + 1] - j;
+                      }
+                  }
+                stats.supernodes_recomputed = columns.empty() ? stats.n_supernodes :
+                                                                static_cast<Index>(supernodes.size());
+                flops = supernodal_factor.factorize(supernodal_structure, permuted_matrix.lower(), supernodes,
+                                                    offsets, solver_settings.n_threads);
+                break;
+              }
           }
-        else
-          flops = factorize_left_looking(symbolic_factorization, permuted_matrix.lower(), columns,
-                                         l_values);
         factor_valid = true;
         return flops;
       }
@@ -101,7 +164,7 @@ namespace warpchol::cholesky
       analyze(matrix);
     const Stopwatch stopwatch;
     permuted_matrix.load(matrix);
-    run_numeric({});
+    stats.flops_recomputed = run_numeric({});
     last_recomputed_columns.clear();
     ++stats.n_factorizations;
     stats.factorize_seconds = stopwatch.seconds();
@@ -121,27 +184,29 @@ namespace warpchol::cholesky
     if (!factor_valid || solver_settings.method == FactorizationMethod::up_looking)
       {
         // No factor to update (or a method that cannot update): factor everything.
-        run_numeric({});
+        stats.flops_recomputed = run_numeric({});
         last_recomputed_columns.resize(stats.n);
         for (Index j = 0; j < stats.n; ++j)
           last_recomputed_columns[j] = j;
-        stats.flops_recomputed  = stats.flops;
         stats.factorize_seconds = stopwatch.seconds();
       }
     else
       {
         for (const Index column : changed_columns)
           seeds.push_back(inverse_permutation[column]);
-        last_recomputed_columns = etree_closure(symbolic_factorization.parent, seeds);
-        stats.flops_recomputed  = last_recomputed_columns.empty() ? 0. : run_numeric(last_recomputed_columns);
+        last_recomputed_columns = etree_closure(elimination_tree(), seeds);
+        stats.columns_recomputed    = 0;
+        stats.supernodes_recomputed = 0;
+        stats.flops_recomputed = last_recomputed_columns.empty() ? 0. : run_numeric(last_recomputed_columns);
       }
-    stats.columns_recomputed  = static_cast<Index>(last_recomputed_columns.size());
     stats.refactorize_seconds = stopwatch.seconds();
     ++stats.n_refactorizations;
   }
 
   void SparseCholesky::solve(const std::vector<double> &b, std::vector<double> &x) const
   {
+    if (!factor_valid)
+      throw Error("solve() called without a valid factorization");
     if (static_cast<Index>(b.size()) != stats.n)
       throw InputError("right-hand side has " + std::to_string(b.size()) + " entries, expected " +
                        std::to_string(stats.n));
@@ -159,7 +224,10 @@ namespace warpchol::cholesky
     for (Index r = 0; r < n_rhs; ++r)
       for (Index k = 0; k < n; ++k)
         y[r * n + k] = b[r * n + fill_reducing_permutation[k]];
-    solve_simplicial(symbolic_factorization, l_values, y.data(), n_rhs);
+    if (solver_settings.method == FactorizationMethod::supernodal)
+      supernodal_factor.solve(supernodal_structure, y.data(), n_rhs);
+    else
+      solve_simplicial(symbolic_factorization, l_values, y.data(), n_rhs);
     for (Index r = 0; r < n_rhs; ++r)
       for (Index k = 0; k < n; ++k)
         x[r * n + fill_reducing_permutation[k]] = y[r * n + k];
@@ -168,6 +236,8 @@ namespace warpchol::cholesky
 
   sparse::CSCMatrix SparseCholesky::factor() const
   {
+    if (solver_settings.method == FactorizationMethod::supernodal)
+      return supernodal_factor.to_csc(supernodal_structure);
     sparse::CSCMatrix l;
     l.n_rows       = stats.n;
     l.n_cols       = stats.n;
@@ -186,6 +256,17 @@ namespace warpchol::cholesky
   const SymbolicFactorization &SparseCholesky::symbolic() const
   {
     return symbolic_factorization;
+  }
+
+  const SupernodalSymbolic &SparseCholesky::supernodal_symbolic() const
+  {
+    return supernodal_structure;
+  }
+
+  const std::vector<Index> &SparseCholesky::elimination_tree() const
+  {
+    return solver_settings.method == FactorizationMethod::supernodal ? supernodal_structure.parent :
+                                                                        symbolic_factorization.parent;
   }
 
   const std::vector<Index> &SparseCholesky::recomputed_columns() const

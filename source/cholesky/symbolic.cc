@@ -16,9 +16,7 @@ namespace warpchol::cholesky
     // Liu's algorithm needs the entries of row k left of the diagonal: the upper triangle
     // by columns, i.e. the transpose of the lower triangle.
     const Index              n = lower.n_cols;
-    const sparse::CSCMatrix upper = sparse::transpose(sparse::CSCMatrix{
-      lower.n_rows, lower.n_cols, lower.column_start, lower.row_index, lower.values,
-      sparse::Storage::full});
+    const sparse::CSCMatrix upper = sparse::upper_triangle(lower);
     std::vector<Index> parent(n, -1), ancestor(n, -1);
     for (Index k = 0; k < n; ++k)
       for (Index p = upper.column_start[k]; p < upper.column_start[k + 1]; ++p)
@@ -75,6 +73,63 @@ namespace warpchol::cholesky
     return order;
   }
 
+  std::vector<Index> column_counts(const sparse::CSCMatrix &lower, const std::vector<Index> &parent,
+                                   const std::vector<Index> &postorder)
+  {
+    const Index n = lower.n_cols;
+    // count[j] starts as delta[j], the correction at j; summing deltas up the tree gives
+    // the number of row subtrees that contain j, i.e. the entries of column j of L.
+    std::vector<Index> count(n), first(n, -1), max_first(n, -1), previous_leaf(n, -1), ancestor(n);
+    // first[j]: postorder index of the first descendant of j; leaves start with delta 1.
+    for (Index k = 0; k < n; ++k)
+      {
+        Index j  = postorder[k];
+        count[j] = first[j] == -1 ? 1 : 0;
+        for (; j != -1 && first[j] == -1; j = parent[j])
+          first[j] = k;
+      }
+    for (Index i = 0; i < n; ++i)
+      ancestor[i] = i;
+    for (Index k = 0; k < n; ++k)
+      {
+        const Index j = postorder[k];
+        if (parent[j] != -1)
+          --count[parent[j]]; // j is not a root
+        // Each A(i,j) with i > j: is j a leaf of the row subtree of i?
+        for (Index p = lower.column_start[j]; p < lower.column_start[j + 1]; ++p)
+          {
+            const Index i = lower.row_index[p];
+            if (i <= j || first[j] <= max_first[i])
+              continue; // j is not a (new) leaf of row subtree i
+            max_first[i]              = first[j];
+            const Index previous      = previous_leaf[i];
+            previous_leaf[i]          = j;
+            ++count[j]; // A(i,j) belongs to the skeleton matrix
+            if (previous == -1)
+              continue; // first leaf of row subtree i
+            // Subsequent leaf: the overlap starts at the least common ancestor q of
+            // previous and j, found by union-find with path compression.
+            Index q = previous;
+            while (q != ancestor[q])
+              q = ancestor[q];
+            for (Index s = previous; s != q;)
+              {
+                const Index next = ancestor[s];
+                ancestor[s]      = q;
+                s                = next;
+              }
+            --count[q];
+          }
+        if (parent[j] != -1)
+          ancestor[j] = parent[j];
+      }
+    // Sum the deltas up the tree (parents come after their children).
+    for (Index j = 0; j < n; ++j)
+      if (parent[j] != -1)
+        count[parent[j]] += count[j];
+    return count;
+  }
+
   SymbolicFactorization analyze_left_looking(const sparse::CSCMatrix &lower)
   {
     if (lower.storage != sparse::Storage::lower || lower.n_rows != lower.n_cols)
@@ -86,8 +141,7 @@ namespace warpchol::cholesky
     symbolic.column_counts.assign(n, 1);
 
     // The upper part of column k of C is row k of its lower triangle.
-    const sparse::CSCMatrix upper = sparse::transpose(sparse::CSCMatrix{
-      n, n, lower.column_start, lower.row_index, lower.values, sparse::Storage::full});
+    const sparse::CSCMatrix upper = sparse::upper_triangle(lower);
 
     // 1. Row structure and parents. Walking from each i with C(i,k) != 0 (i < k) up the
     //    tree built so far visits exactly the columns of row k of L; a node without a

@@ -55,8 +55,8 @@ namespace warpchol::fem
     statistics.refactorized        = true;
     statistics.n_columns           = solver_statistics.n;
     statistics.columns_recomputed  = solver_statistics.n;
-    statistics.flops_full          = solver_statistics.flops;
-    statistics.flops_recomputed    = solver_statistics.flops;
+    statistics.flops_full          = solver_statistics.method_flops;
+    statistics.flops_recomputed    = solver_statistics.method_flops;
     statistics.t_factor           += stopwatch.seconds();
   }
 
@@ -69,7 +69,7 @@ namespace warpchol::fem
     statistics.refactorized        = true;
     statistics.n_columns           = solver_statistics.n;
     statistics.columns_recomputed  = solver_statistics.columns_recomputed;
-    statistics.flops_full          = solver_statistics.flops;
+    statistics.flops_full          = solver_statistics.method_flops;
     statistics.flops_recomputed    = solver_statistics.flops_recomputed;
     statistics.t_factor           += stopwatch.seconds();
   }

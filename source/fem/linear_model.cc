@@ -31,7 +31,7 @@ namespace warpchol::fem
   {
     record_updates(false);
     statistics.n_columns  = body.n_unknowns();
-    statistics.flops_full = cholesky_solver.statistics().flops;
+    statistics.flops_full = cholesky_solver.statistics().method_flops;
   }
 
   void LinearModel::add_elastic_forces(const std::vector<Vector3> &positions,

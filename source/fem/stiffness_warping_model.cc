@@ -31,7 +31,7 @@ namespace warpchol::fem
     body.compute_nodal_rotations(element_rotations, nodal_rotations);
     statistics.t_rotations += stopwatch.seconds();
     statistics.n_columns  = body.n_unknowns();
-    statistics.flops_full = cholesky_solver.statistics().flops;
+    statistics.flops_full = cholesky_solver.statistics().method_flops;
     record_updates(false);
   }
 

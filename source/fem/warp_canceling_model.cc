@@ -116,7 +116,7 @@ namespace warpchol::fem
     body.compute_nodal_rotations(element_rotations, nodal_rotations);
     statistics.t_rotations += stopwatch.seconds();
     statistics.n_columns  = body.n_unknowns();
-    statistics.flops_full = cholesky_solver.statistics().flops;
+    statistics.flops_full = cholesky_solver.statistics().method_flops;
 
     const unsigned int n_elements = body.n_elements();
     const auto         contribution_of = [&](const unsigned int e, ElementMatrix &matrix) {

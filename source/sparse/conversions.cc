@@ -111,6 +111,19 @@ namespace warpchol::sparse
     return result;
   }
 
+  CSCMatrix upper_triangle(const CSCMatrix &lower)
+  {
+    if (lower.storage != Storage::lower)
+      throw MatrixError("upper_triangle() needs a matrix with lower storage");
+    CSCMatrix upper;
+    upper.n_rows  = lower.n_cols;
+    upper.n_cols  = lower.n_rows;
+    upper.storage = Storage::full;
+    transpose_structure(lower.n_cols, lower.n_rows, lower.column_start, lower.row_index, lower.values,
+                        upper.column_start, upper.row_index, upper.values);
+    return upper;
+  }
+
   CSCMatrix lower_triangle(const CSCMatrix &matrix)
   {
     if (matrix.storage == Storage::lower)

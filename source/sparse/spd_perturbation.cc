@@ -1,4 +1,5 @@
 #include <warpchol/base/exceptions.h>
+#include <warpchol/sparse/conversions.h>
 #include <warpchol/sparse/spd_perturbation.h>
 
 #include <algorithm>
@@ -87,5 +88,48 @@ namespace warpchol::sparse
     all.resize(selected);
     std::sort(all.begin(), all.end());
     return all;
+  }
+
+  std::vector<Index> local_vertex_columns(const CSCMatrix &matrix, const int block_size,
+                                          const Index n_vertices, const std::uint64_t seed)
+  {
+    const CSCMatrix full       = to_full_storage(matrix);
+    const Index     n_total    = full.n_cols / block_size;
+    const Index     wanted     = std::min(n_vertices, n_total);
+    std::vector<bool>  reached(n_total, false);
+    std::vector<Index> queue;
+    // Breadth first from a random vertex; if its component is exhausted, restart from the
+    // next unreached vertex.
+    Index start = static_cast<Index>(unit_interval(mix(seed)) * static_cast<double>(n_total));
+    for (std::size_t head = 0; static_cast<Index>(queue.size()) < wanted;)
+      {
+        if (head == queue.size())
+          {
+            while (reached[start])
+              start = (start + 1) % n_total;
+            reached[start] = true;
+            queue.push_back(start);
+          }
+        const Index vertex = queue[head++];
+        for (Index c = 0; c < block_size; ++c)
+          {
+            const Index j = vertex * block_size + c;
+            for (Index k = full.column_start[j]; k < full.column_start[j + 1]; ++k)
+              {
+                const Index neighbour = full.row_index[k] / block_size;
+                if (!reached[neighbour] && static_cast<Index>(queue.size()) < wanted)
+                  {
+                    reached[neighbour] = true;
+                    queue.push_back(neighbour);
+                  }
+              }
+          }
+      }
+    std::vector<Index> columns;
+    for (const Index vertex : queue)
+      for (Index c = 0; c < block_size; ++c)
+        columns.push_back(vertex * block_size + c);
+    std::sort(columns.begin(), columns.end());
+    return columns;
   }
 } // namespace warpchol::sparse

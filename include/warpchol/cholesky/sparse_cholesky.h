@@ -1,8 +1,10 @@
 #pragma once
 
 #include <warpchol/base/types.h>
+#include <warpchol/cholesky/numeric_supernodal.h>
 #include <warpchol/cholesky/ordering.h>
 #include <warpchol/cholesky/permuted_matrix.h>
+#include <warpchol/cholesky/supernodal_symbolic.h>
 #include <warpchol/cholesky/symbolic.h>
 #include <warpchol/sparse/csc_matrix.h>
 
@@ -22,13 +24,15 @@ namespace warpchol::cholesky
     /** Column by column, left-looking: the one that refactorizes partially. */
     left_looking,
     /** Row by row (CSparse's cs_chol), the report's baseline: refactorization is full. */
-    up_looking
+    up_looking,
+    /** Left-looking by supernodes with BLAS-3 kernels: the fast one, also refactorizes partially. */
+    supernodal
   };
 
-  /** "left" or "up". */
+  /** "left", "up" or "supernodal". */
   std::string to_string(FactorizationMethod method);
 
-  /** Parse "left" / "left_looking" or "up" / "up_looking"; throws InputError otherwise. */
+  /** Parse "left" / "left_looking", "up" / "up_looking" or "supernodal"; throws InputError otherwise. */
   FactorizationMethod parse_factorization_method(const std::string &name);
 
   /**
@@ -58,6 +62,10 @@ namespace warpchol::cholesky
     {
       OrderingSettings    ordering;
       FactorizationMethod method = FactorizationMethod::left_looking;
+      /** Supernode amalgamation (supernodal method). */
+      SupernodeRelaxation relaxation;
+      /** Threads of the supernodal factorization (1: serial, no TBB). */
+      unsigned int        n_threads = 1;
     };
 
     /** What the last calls did and cost. Times are wall-clock seconds. */
@@ -68,8 +76,12 @@ namespace warpchol::cholesky
       Index  nnz_a             = 0;
       /** Entries of L, diagonal included. */
       Index  nnz_l             = 0;
-      /** Flops of a full factorization (sum of squared column counts). */
+      /** Flops of a factorization without padding (sum of squared column counts, CHOLMOD's fl). */
       double flops             = 0;
+      /** Flops a full factorization by the chosen method spends (supernodes: padding included). */
+      double method_flops      = 0;
+      /** Supernodes (supernodal method; 0 otherwise). */
+      Index  n_supernodes      = 0;
       int    vertex_block_size = 1;
       double analyze_seconds   = 0;
       /** The last factorize(), or a refactorize() that had to factor everything. */
@@ -80,6 +92,8 @@ namespace warpchol::cholesky
       double solve_seconds       = 0;
       /** Columns of L the last refactorize() recomputed. */
       Index  columns_recomputed  = 0;
+      /** Supernodes the last refactorize() recomputed (wholly or from a column on). */
+      Index  supernodes_recomputed = 0;
       /** Flops the last refactorize() spent. */
       double flops_recomputed    = 0;
       Index  n_factorizations    = 0;
@@ -133,7 +147,14 @@ namespace warpchol::cholesky
     /** perm[k] = column of A that is column k of P^T A P. */
     const std::vector<Index> &permutation() const;
 
+    /** The column-by-column structure (left- and up-looking methods; empty for supernodal). */
     const SymbolicFactorization &symbolic() const;
+
+    /** The supernodal structure (supernodal method; empty otherwise). */
+    const SupernodalSymbolic &supernodal_symbolic() const;
+
+    /** Parent of each column of P^T A P in the elimination tree. */
+    const std::vector<Index> &elimination_tree() const;
 
     /** The columns of L (permuted numbering, sorted) that the last refactorize() recomputed. */
     const std::vector<Index> &recomputed_columns() const;
@@ -150,8 +171,10 @@ namespace warpchol::cholesky
     std::vector<Index>    fill_reducing_permutation;
     std::vector<Index>    inverse_permutation;
     SymbolicFactorization symbolic_factorization;
+    SupernodalSymbolic    supernodal_structure;
     PermutedMatrix        permuted_matrix;
     std::vector<double>   l_values;
+    SupernodalFactor      supernodal_factor;
     std::vector<Index>    last_recomputed_columns;
     bool                  analyzed     = false;
     bool                  factor_valid = false;

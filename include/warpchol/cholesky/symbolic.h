@@ -60,6 +60,14 @@ namespace warpchol::cholesky
   std::vector<Index> postorder_tree(const std::vector<Index> &parent);
 
   /**
+   * Column counts of L (diagonal included) for the lower-stored matrix @p lower with
+   * elimination tree @p parent and its @p postorder, without forming L: the skeleton-matrix
+   * algorithm of Gilbert, Ng and Peyton (as CSparse's cs_counts), O(nnz(A) alpha(n)).
+   */
+  std::vector<Index> column_counts(const sparse::CSCMatrix &lower, const std::vector<Index> &parent,
+                                   const std::vector<Index> &postorder);
+
+  /**
    * The report's left-looking symbolic factorization of the lower-stored matrix @p lower:
    * for k = 0..n-1, walk the upper part of column k of C (= row k of its lower triangle)
    * up the elimination tree to get the structure of row k of L and the parents it

@@ -32,6 +32,13 @@ namespace warpchol::sparse
   /** Both triangles of a symmetric matrix stored with lower storage (full stays full). */
   CSCMatrix to_full_storage(const CSCMatrix &matrix);
 
+  /**
+   * The upper triangle by columns of a symmetric matrix given by its lower triangle: column
+   * k lists the entries of row k of @p lower (the entries left of the diagonal, and the
+   * diagonal). Full storage, as it is a triangular matrix.
+   */
+  CSCMatrix upper_triangle(const CSCMatrix &lower);
+
   /** The lower triangle (i >= j) of a matrix, with lower storage. */
   CSCMatrix lower_triangle(const CSCMatrix &matrix);
 } // namespace warpchol::sparse

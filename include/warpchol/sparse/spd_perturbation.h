@@ -28,4 +28,13 @@ namespace warpchol::sparse
    * given @p seed.
    */
   std::vector<Index> random_columns(Index n, Index count, std::uint64_t seed);
+
+  /**
+   * The columns of @p n_vertices mesh vertices around a random one, as a local mesh update
+   * touches them: vertices are groups of @p block_size consecutive columns, grown breadth
+   * first through the graph of @p matrix from a vertex drawn with @p seed (sorted;
+   * deterministic for a given seed).
+   */
+  std::vector<Index> local_vertex_columns(const CSCMatrix &matrix, int block_size, Index n_vertices,
+                                          std::uint64_t seed);
 } // namespace warpchol::sparse

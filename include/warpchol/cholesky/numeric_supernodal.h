@@ -1,0 +1,65 @@
+#pragma once
+
+#include <warpchol/base/types.h>
+#include <warpchol/cholesky/supernodal_symbolic.h>
+#include <warpchol/sparse/csc_matrix.h>
+
+#include <memory>
+#include <vector>
+
+/**
+ * @file
+ * Supernodal left-looking numeric factorization (CHOLMOD's cholmod_super_numeric concern)
+ * and its partial variant, with the supernodal triangular solves.
+ */
+namespace warpchol::cholesky
+{
+  /**
+   * The numeric supernodal factor and the workspaces that compute it.
+   *
+   * For each supernode s, in elimination-tree order: gather the columns of C into the
+   * dense block of s; subtract the update L_d(rows, :) L_d(cols, :)^T of every descendant d
+   * whose rows meet the columns of s (dsyrk + dgemm into a workspace, then a scatter through
+   * a map from rows to local positions; straight into the block when d's rows are
+   * contiguous in s); then dpotrf on the diagonal block and dtrsm below it.
+   *
+   * Independent subtrees run in parallel (TBB), and the supernodes at the top of the tree,
+   * where the subtrees have joined, split their dense work into row blocks. Every entry is
+   * summed in the same order whatever the thread count.
+   */
+  class SupernodalFactor
+  {
+  public:
+    SupernodalFactor();
+    ~SupernodalFactor();
+    SupernodalFactor(const SupernodalFactor &other);
+    SupernodalFactor &operator=(const SupernodalFactor &other);
+
+    /** Allocate the values for the structure @p symbolic (which every later call is given too). */
+    void initialize(const SupernodalSymbolic &symbolic);
+
+    /**
+     * Compute the listed @p supernodes (sorted; all of them if empty) from the lower-stored
+     * permuted matrix @p lower. Supernode supernodes[k] is recomputed from its column
+     * first_column + start_offsets[k] on (all of it if @p start_offsets is empty): the
+     * columns before it must be valid already, as must every descendant that is not listed.
+     * The list must be closed under supernodal-tree ancestry. Returns the flops spent.
+     * Throws NotPositiveDefinite with the permuted column of a failed pivot.
+     */
+    double factorize(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &lower,
+                     const std::vector<Index> &supernodes,
+                     const std::vector<Index> &start_offsets, unsigned int n_threads);
+
+    /** Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x. */
+    void solve(const SupernodalSymbolic &symbolic, double *x, Index n_rhs) const;
+
+    /** L as a CSC matrix (entries of every dense block on and below the diagonal). */
+    sparse::CSCMatrix to_csc(const SupernodalSymbolic &symbolic) const;
+
+    const std::vector<double> &values() const;
+
+  private:
+    struct Implementation;
+    std::unique_ptr<Implementation> implementation;
+  };
+} // namespace warpchol::cholesky

@@ -1,0 +1,86 @@
+#include <warpchol/cholesky/blas.h>
+
+#include <cstdlib>
+#include <unistd.h>
+
+extern "C"
+{
+  void dgemm_(const char *transa, const char *transb, const int *m, const int *n, const int *k,
+              const double *alpha, const double *a, const int *lda, const double *b, const int *ldb,
+              const double *beta, double *c, const int *ldc);
+  void dsyrk_(const char *uplo, const char *trans, const int *n, const int *k, const double *alpha,
+              const double *a, const int *lda, const double *beta, double *c, const int *ldc);
+  void dtrsm_(const char *side, const char *uplo, const char *transa, const char *diag, const int *m,
+              const int *n, const double *alpha, const double *a, const int *lda, double *b,
+              const int *ldb);
+  void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info);
+  void openblas_set_num_threads(int n_threads);
+}
+
+namespace warpchol::cholesky::blas
+{
+  void use_single_threaded_blas()
+  {
+    static const bool pinned = [] {
+      openblas_set_num_threads(1);
+      return true;
+    }();
+    (void)pinned;
+  }
+
+  void restart_with_single_threaded_libraries(char **argv)
+  {
+    if (std::getenv("OPENBLAS_NUM_THREADS") != nullptr && std::getenv("OMP_THREAD_LIMIT") != nullptr)
+      return;
+    ::setenv("OPENBLAS_NUM_THREADS", "1", 0);
+    ::setenv("OMP_THREAD_LIMIT", "1", 0);
+    ::execv("/proc/self/exe", argv); // returns only on failure: then run as we are
+  }
+
+  void gemm(const bool transpose_a, const bool transpose_b, const int m, const int n, const int k,
+            const double alpha, const double *a, const int lda, const double *b, const int ldb,
+            const double beta, double *c, const int ldc)
+  {
+    if (m > 0 && n > 0)
+      dgemm_(transpose_a ? "T" : "N", transpose_b ? "T" : "N", &m, &n, &k, &alpha, a, &lda, b, &ldb,
+             &beta, c, &ldc);
+  }
+
+  void gemm_nt(const int m, const int n, const int k, const double alpha, const double *a,
+               const int lda, const double *b, const int ldb, const double beta, double *c,
+               const int ldc)
+  {
+    gemm(false, true, m, n, k, alpha, a, lda, b, ldb, beta, c, ldc);
+  }
+
+  void syrk_lower(const int n, const int k, const double alpha, const double *a, const int lda,
+                  const double beta, double *c, const int ldc)
+  {
+    if (n > 0)
+      dsyrk_("L", "N", &n, &k, &alpha, a, &lda, &beta, c, &ldc);
+  }
+
+  void trsm_right_lower_transpose(const int m, const int n, const double *l, const int ldl,
+                                  double *b, const int ldb)
+  {
+    const double one = 1.;
+    if (m > 0 && n > 0)
+      dtrsm_("R", "L", "T", "N", &m, &n, &one, l, &ldl, b, &ldb);
+  }
+
+  void trsm_left_lower(const bool transpose, const int n, const int nrhs, const double *l,
+                       const int ldl, double *b, const int ldb)
+  {
+    const double one = 1.;
+    if (n > 0 && nrhs > 0)
+      dtrsm_("L", "L", transpose ? "T" : "N", "N", &n, &nrhs, &one, l, &ldl, b, &ldb);
+  }
+
+  int potrf_lower(const int n, double *a, const int lda)
+  {
+    int info = 0;
+    if (n > 0)
+      dpotrf_("L", &n, a, &lda, &info);
+    return info;
+  }
+} // namespace warpchol::cholesky::blas
