@@ -1,7 +1,7 @@
 // Every bad input is rejected with one line that names the file, line, entry, cell or step,
-// and warpchol exits with status 1: malformed or out-of-range parameters, unknown entries,
+// and warpchol exits with status 2: malformed or out-of-range parameters, unknown entries,
 // missing or broken mesh files, inverted and degenerate tetrahedra, a missing fixed vertex
-// where rest is awaited, a failed factorization.
+// where rest is awaited. A failed factorization names the step, column and vertex.
 
 #include "simulation_tests.h"
 

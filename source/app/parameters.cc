@@ -348,15 +348,24 @@ namespace warpchol::app
       prm.leave_subsection();
     }
 
+    Solver::Solver()
+    {
+      settings.method = cholesky::FactorizationMethod::supernodal;
+    }
+
     void Solver::declare_parameters(ParameterHandler &prm)
     {
       prm.enter_subsection("Solver");
       prm.declare_entry("Ordering", "metis", Patterns::Anything(),
                         "Fill-reducing ordering of the sparse Cholesky solver: natural, amd or "
                         "metis (nested dissection: the best for partial refactorizations)");
-      prm.declare_entry("Method", "left_looking", Patterns::Anything(),
-                        "Numeric factorization of the sparse Cholesky solver: left_looking (the "
-                        "one that refactorizes partially) or up_looking (always in full)");
+      prm.declare_entry("Method", "supernodal", Patterns::Anything(),
+                        "Numeric factorization of the sparse Cholesky solver: supernodal "
+                        "(left-looking by supernodes with BLAS-3 kernels, refactorizes "
+                        "partially), left_looking (column by column, refactorizes partially) or "
+                        "up_looking (CSparse's, always in full)");
+      prm.declare_entry("Threads", "1", Patterns::Integer(1, 1024),
+                        "Threads of the supernodal factorization (1: serial)");
       prm.leave_subsection();
     }
 
@@ -379,6 +388,7 @@ namespace warpchol::app
         {
           file.fail(prm, "Solver", "Method", error.what());
         }
+      settings.n_threads = prm.get_integer("Threads");
       prm.leave_subsection();
     }
 

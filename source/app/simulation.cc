@@ -204,8 +204,16 @@ namespace warpchol::app
     if (reference_scene)
       out << "  trajectory error against corotational: max " << n(t.max_error_vs_corotational, 2)
           << ", at the end " << n(t.last_error_vs_corotational, 2) << "\n";
-    out << "  energy at the end: kinetic " << n(integrator.kinetic_energy()) << " J, elastic "
-        << n(integrator.elastic_energy()) << " J\n";
+    // An energy below 1e-12 of the total is rounding (a translated body's elastic energy):
+    // printed as such, not as digits that change with the order of the operations.
+    const double kinetic_energy = integrator.kinetic_energy();
+    const double elastic_energy = integrator.elastic_energy();
+    const auto   energy = [&](const double value) {
+      return value <= 1e-12 * (kinetic_energy + elastic_energy) ? std::string("0 (rounding)") :
+                                                                  n(value) + " J";
+    };
+    out << "  energy at the end: kinetic " << energy(kinetic_energy) << ", elastic "
+        << energy(elastic_energy) << "\n";
     if (timings)
       {
         const double steps = std::max(1u, t.steps);
@@ -281,6 +289,12 @@ namespace warpchol::app
                                                "unexpected arguments (see warpchol --help)");
         run_parameter_file(arguments[0], out);
         return 0;
+      }
+    catch (const InputError &error)
+      {
+        out << std::flush;
+        err << "warpchol: error: " << error.what() << std::endl;
+        return 2;
       }
     catch (const Error &error)
       {

@@ -96,48 +96,54 @@ namespace warpchol::fem
     pattern.copy_from(dynamic_pattern);
     system_matrix.reinit(pattern);
     system_csc = sparse::to_csc(system_matrix);
-  }
 
-  template <typename Keep>
-  void SystemMatrix::add_element(const unsigned int element, const ElementMatrix &contribution,
-                                 const Keep &keep)
-  {
-    const auto &vertices = body.element_vertices(element);
-    for (unsigned int a = 0; a < 4; ++a)
+    // Where every element entry lands: found once, so that assembly is a scatter.
+    element_entries.resize(body.n_elements());
+    for (unsigned int e = 0; e < body.n_elements(); ++e)
       {
-        const Index row = body.first_unknown(vertices[a]);
-        if (row < 0)
-          continue;
-        for (unsigned int i = 0; i < 3; ++i)
-          {
-            std::array<dealii::types::global_dof_index, 12> columns;
-            std::array<double, 12>                          values;
-            unsigned int                                    n_columns = 0;
-            for (unsigned int b = 0; b < 4; ++b)
-              {
-                const Index col = body.first_unknown(vertices[b]);
-                if (col < 0 || !keep(vertices[a], vertices[b]))
-                  continue;
-                for (unsigned int j = 0; j < 3; ++j)
-                  {
-                    columns[n_columns] = col + j;
-                    values[n_columns]  = contribution(3 * a + i, 3 * b + j);
-                    ++n_columns;
-                  }
-              }
-            if (n_columns > 0)
-              system_matrix.add(row + i, n_columns, columns.data(), values.data(), false, false);
-          }
+        const auto &vertices = body.element_vertices(e);
+        for (unsigned int c = 0; c < 12; ++c)
+          for (unsigned int r = 0; r < 12; ++r)
+            {
+              const Index row = body.first_unknown(vertices[r / 3]);
+              const Index col = body.first_unknown(vertices[c / 3]);
+              element_entries[e][12 * c + r] =
+                row < 0 || col < 0 ? -1 : static_cast<std::int64_t>(pattern(row + r % 3, col + c % 3));
+            }
       }
+    diagonal_entries.resize(body.n_vertices());
+    for (unsigned int v = 0; v < body.n_vertices(); ++v)
+      for (unsigned int i = 0; i < 3; ++i)
+        {
+          const Index first      = body.first_unknown(v);
+          diagonal_entries[v][i] = first < 0 ? -1 : static_cast<std::int64_t>(pattern(first + i, first + i));
+        }
+    csc_position.resize(pattern.n_nonzero_elements());
+    for (Index i = 0; i < n; ++i)
+      for (auto entry = pattern.begin(i); entry != pattern.end(i); ++entry)
+        {
+          const Index column = entry->column();
+          const auto  begin  = system_csc.row_index.begin() + system_csc.column_start[column];
+          const auto  end    = system_csc.row_index.begin() + system_csc.column_start[column + 1];
+          csc_position[entry->global_index()] = std::lower_bound(begin, end, i) - system_csc.row_index.begin();
+        }
   }
 
-  void SystemMatrix::add_vertex_diagonal(const unsigned int v)
+  void SystemMatrix::add_to_entry(const std::int64_t k, const double value)
   {
-    const Index first = body.first_unknown(v);
-    if (coefficients.vertex_diagonal.empty() || first < 0 || coefficients.vertex_diagonal[v] == 0)
-      return;
-    for (unsigned int i = 0; i < 3; ++i)
-      system_matrix.add(first + i, first + i, coefficients.vertex_diagonal[v]);
+    // Entry k of the SparsityPattern is value k of the SparseMatrix.
+    dealii::SparseMatrix<double>::iterator(&system_matrix, k)->value() += value;
+  }
+
+  void SystemMatrix::set_entry(const std::int64_t k, const double value)
+  {
+    dealii::SparseMatrix<double>::iterator(&system_matrix, k)->value() = value;
+  }
+
+  void SystemMatrix::copy_to_csc(const std::int64_t k)
+  {
+    system_csc.values[csc_position[k]] =
+      dealii::SparseMatrix<double>::const_iterator(&system_matrix, k)->value();
   }
 
   void SystemMatrix::assemble(const ElementMatrixFunction &element_matrix)
@@ -147,10 +153,16 @@ namespace warpchol::fem
     for (unsigned int e = 0; e < body.n_elements(); ++e)
       {
         element_matrix(e, contribution);
-        add_element(e, contribution, [](unsigned int, unsigned int) { return true; });
+        const auto &entries = element_entries[e];
+        for (unsigned int k = 0; k < 144; ++k)
+          if (entries[k] >= 0)
+            add_to_entry(entries[k], contribution.data()[k]);
       }
-    for (unsigned int v = 0; v < body.n_vertices(); ++v)
-      add_vertex_diagonal(v);
+    if (!coefficients.vertex_diagonal.empty())
+      for (unsigned int v = 0; v < body.n_vertices(); ++v)
+        for (const auto k : diagonal_entries[v])
+          if (k >= 0)
+            add_to_entry(k, coefficients.vertex_diagonal[v]);
     sparse::copy_values(system_matrix, system_csc);
   }
 
@@ -170,44 +182,66 @@ namespace warpchol::fem
           }
     std::sort(touched_vertices.begin(), touched_vertices.end());
 
-    // Zero every entry in a row or a column of a touched vertex (the pattern is symmetric).
-    std::vector<Index> changed_columns;
-    for (const unsigned int v : touched_vertices)
-      {
-        const Index first = body.first_unknown(v);
-        if (first < 0)
-          continue;
-        for (unsigned int i = 0; i < 3; ++i)
-          {
-            changed_columns.push_back(first + i);
-            for (auto entry = system_matrix.begin(first + i); entry != system_matrix.end(first + i);
-                 ++entry)
-              {
-                entry->value() = 0;
-                system_matrix.set(entry->column(), first + i, 0.0);
-              }
-          }
-      }
-
-    // Add back, in element order, what every element around them gives to those entries.
+    // The elements around them, in increasing order.
     std::vector<unsigned int> around;
     for (const unsigned int v : touched_vertices)
       around.insert(around.end(), body.elements_of_vertex(v).begin(),
                     body.elements_of_vertex(v).end());
     std::sort(around.begin(), around.end());
     around.erase(std::unique(around.begin(), around.end()), around.end());
+    // An entry (r, c) changes only if an updated element holds both vertices r and c, so
+    // both are touched: an entry with one untouched vertex sums elements that were not
+    // updated. Recompute the blocks (a, b) of two touched vertices, from every element
+    // around them. Per element around, bit a of its mask says whether local vertex a is
+    // touched.
+    std::vector<unsigned int> touched_mask(around.size(), 0);
+    for (std::size_t i = 0; i < around.size(); ++i)
+      for (unsigned int a = 0; a < 4; ++a)
+        if (touched[body.element_vertices(around[i])[a]])
+          touched_mask[i] |= 1u << a;
+    const auto for_each_recomputed = [&](const std::size_t i, const auto &action) {
+      const auto &entries = element_entries[around[i]];
+      for (unsigned int b = 0; b < 4; ++b)
+        for (unsigned int a = 0; a < 4; ++a)
+          if ((touched_mask[i] >> a) & (touched_mask[i] >> b) & 1u)
+            for (unsigned int j = 0; j < 3; ++j)
+              for (unsigned int l = 0; l < 3; ++l)
+                {
+                  const unsigned int k = 12 * (3 * b + j) + 3 * a + l;
+                  if (entries[k] >= 0)
+                    action(k, entries[k]);
+                }
+    };
+
+    // Zero them, then add, in the order of a full assembly: the sums come out bitwise
+    // equal to those of assemble(), and every other entry keeps its value.
+    std::vector<std::int64_t> recomputed_entries;
+    for (std::size_t i = 0; i < around.size(); ++i)
+      for_each_recomputed(i, [&](unsigned int, const std::int64_t entry) {
+        set_entry(entry, 0);
+        recomputed_entries.push_back(entry);
+      });
     ElementMatrix contribution;
-    for (const unsigned int e : around)
+    for (std::size_t i = 0; i < around.size(); ++i)
       {
-        element_matrix(e, contribution);
-        add_element(e, contribution,
-                    [&](unsigned int row_vertex, unsigned int column_vertex) {
-                      return touched[row_vertex] || touched[column_vertex];
-                    });
+        element_matrix(around[i], contribution);
+        for_each_recomputed(i, [&](const unsigned int k, const std::int64_t entry) {
+          add_to_entry(entry, contribution.data()[k]);
+        });
       }
+    if (!coefficients.vertex_diagonal.empty())
+      for (const unsigned int v : touched_vertices)
+        for (const auto k : diagonal_entries[v])
+          if (k >= 0)
+            add_to_entry(k, coefficients.vertex_diagonal[v]);
+    for (const std::int64_t entry : recomputed_entries)
+      copy_to_csc(entry);
+
+    std::vector<Index> changed_columns;
     for (const unsigned int v : touched_vertices)
-      add_vertex_diagonal(v);
-    sparse::copy_values(system_matrix, system_csc);
+      if (body.first_unknown(v) >= 0)
+        for (unsigned int i = 0; i < 3; ++i)
+          changed_columns.push_back(body.first_unknown(v) + i);
     return changed_columns;
   }
 

@@ -128,6 +128,9 @@ namespace warpchol::app
     {
       cholesky::SparseCholesky::Settings settings;
 
+      /** The supernodal method by default: the fast one, which refactorizes partially. */
+      Solver();
+
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
     };

@@ -75,7 +75,9 @@ namespace warpchol::app
 
   /**
    * The warpchol program: "warpchol PARAMS.prm", "warpchol --print-parameters [FILE]",
-   * "warpchol --help". Prints a one-line error on @p err and returns 1 on failure.
+   * "warpchol --help". Prints a one-line error on @p err and returns 2 for bad input
+   * (InputError: parameters, mesh files), 1 for another failure (a factorization that
+   * fails, a diverging simulation), 0 on success: the convention of the other programs.
    */
   int main(int argc, const char *const *argv, std::ostream &out, std::ostream &err);
 } // namespace warpchol::app

@@ -9,6 +9,7 @@
 #include <deal.II/lac/sparsity_pattern.h>
 
 #include <array>
+#include <cstdint>
 #include <functional>
 #include <vector>
 
@@ -78,10 +79,11 @@ namespace warpchol::fem
     void assemble(const ElementMatrixFunction &element_matrix);
 
     /**
-     * Recompute the entries of A in the rows and columns of the vertices of
-     * @p changed_elements (sorted, unique), from @p element_matrix of every element around
-     * them; entries elsewhere keep their values. Returns the columns (unknowns, sorted) whose
-     * entries changed: the dofs of the free vertices of @p changed_elements.
+     * Recompute the entries of A that couple two vertices of @p changed_elements (sorted,
+     * unique), from @p element_matrix of every element around them; every other entry
+     * keeps its value (no element that contributes to it changed). Returns the columns
+     * (unknowns, sorted) whose entries changed: the dofs of the free vertices of
+     * @p changed_elements.
      */
     std::vector<Index> reassemble(const std::vector<unsigned int> &changed_elements,
                                   const ElementMatrixFunction     &element_matrix);
@@ -92,15 +94,27 @@ namespace warpchol::fem
     Index                    size() const;
 
   private:
-    /** Add the rows of @p element's free vertices, only entries that @p keep accepts. */
-    template <typename Keep>
-    void add_element(unsigned int element, const ElementMatrix &contribution, const Keep &keep);
-    void add_vertex_diagonal(unsigned int v);
+    /** Entry @p k (SparsityPattern numbering) of the deal.II matrix += @p value. */
+    void add_to_entry(std::int64_t k, double value);
+    void set_entry(std::int64_t k, double value);
+    /** Copy entry @p k of the deal.II matrix into the CSC form. */
+    void copy_to_csc(std::int64_t k);
 
     const ElasticBody           &body;
     SystemCoefficients           coefficients;
     dealii::SparsityPattern      pattern;
     dealii::SparseMatrix<double> system_matrix;
     sparse::CSCMatrix            system_csc;
+
+    /**
+     * Per element, where entry (r, c) of its 12x12 contribution goes: the index
+     * SparsityPattern::operator()(row, column) gives into the matrix' values, stored at
+     * 12 c + r (Eigen's column-major order); -1 where a vertex is fixed.
+     */
+    std::vector<std::array<std::int64_t, 144>> element_entries;
+    /** Per vertex, the indices of its 3 diagonal entries (-1 if fixed). */
+    std::vector<std::array<std::int64_t, 3>> diagonal_entries;
+    /** Where entry k of the deal.II matrix sits in the CSC values. */
+    std::vector<Index> csc_position;
   };
 } // namespace warpchol::fem
