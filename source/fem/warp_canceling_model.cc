@@ -31,6 +31,10 @@ namespace warpchol::fem
     factorize(setup);
     setup_time  = stopwatch.seconds();
     solve_frame = &nodal_rotations;
+    // Estimates exist only between the two limits (0: all updated, inf: none); at rest
+    // they are 0.
+    if (update_threshold > 0 && !std::isinf(update_threshold))
+      record.error_estimate.assign(body.n_elements(), 0.0);
   }
 
   std::string WarpCancelingModel::name() const
@@ -144,7 +148,6 @@ namespace warpchol::fem
       }
 
     stopwatch.restart();
-    record.error_estimate.resize(n_elements);
     const std::vector<unsigned int> update = elements_to_update(positions, velocities);
     statistics.t_error_estimate += stopwatch.seconds();
     record_updates(update);

@@ -1,0 +1,91 @@
+// What a run leaves on disk: the CSV log (header, one row per step), the VTU files every
+// N steps with their fields and the PVD series listing them, and nothing else (no
+// temporary file). And --print-parameters writes documented defaults that read back.
+
+#include "simulation_tests.h"
+
+#include <warpchol/app/simulation.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <sstream>
+
+using namespace warpchol;
+
+namespace
+{
+  int run(const std::vector<std::string> &arguments)
+  {
+    std::vector<const char *> argv{"warpchol"};
+    for (const auto &argument : arguments)
+      argv.push_back(argument.c_str());
+    std::ostringstream out, err;
+    const int          status = app::main(argv.size(), argv.data(), out, err);
+    if (status != 0)
+      std::cout << "exit " << status << ": " << err.str();
+    return status;
+  }
+
+  std::string read(const std::string &filename)
+  {
+    std::ifstream      file(filename);
+    std::ostringstream text;
+    text << file.rdbuf();
+    return text.str();
+  }
+} // namespace
+
+int main()
+{
+  tests::write_file("scene.prm", "subsection Mesh\n  set Source = box\n  set Box subdivisions = 2, 1, 1\nend\n"
+                                 "subsection Time stepping\n  set Number of steps = 4\nend\n"
+                                 "subsection Fixed vertices\n  set Region = box\n"
+                                 "  set Box lower corner = -1, -1, -1\n  set Box upper corner = 0, 1, 1\nend\n"
+                                 "subsection Gravity\n  set Acceleration = 0, -9.81, 0\nend\n"
+                                 "subsection Output\n  set Directory = results\n  set Scene = box_scene\n"
+                                 "  set VTU interval = 2\n  set Write log = true\n  set Progress = off\nend\n");
+  tests::check("warpchol scene.prm exits with 0", run({"scene.prm"}) == 0);
+
+  const std::string directory = "results/box_scene/";
+  std::istringstream log(read(directory + "log.csv"));
+  std::string        header, line;
+  std::getline(log, header);
+  std::cout << "log header: " << header << std::endl;
+  unsigned int rows = 0, well_formed = 0;
+  while (std::getline(log, line))
+    {
+      ++rows;
+      well_formed += std::count(line.begin(), line.end(), ',') == std::count(header.begin(), header.end(), ',');
+    }
+  tests::check("log: 4 rows with a value per column", rows == 4 && well_formed == 4);
+
+  const std::string pvd = read(directory + "box_scene.pvd");
+  for (const std::string name : {"box_scene-00000.vtu", "box_scene-00002.vtu", "box_scene-00004.vtu"})
+    {
+      const std::string vtu = read(directory + name);
+      bool fields = true;
+      for (const std::string field : {"displacement", "velocity", "updated", "steps_since_update", "error_estimate"})
+        fields = fields && vtu.find("Name=\"" + field + "\"") != std::string::npos;
+      tests::check(name + " is in the series and has every field",
+                   pvd.find("file=\"" + name + "\"") != std::string::npos && fields);
+    }
+  unsigned int n_files = 0;
+  for (const auto &entry : std::filesystem::directory_iterator(directory))
+    {
+      (void)entry;
+      ++n_files;
+    }
+  tests::check("the folder holds the log, the series and 3 VTU files, nothing else", n_files == 5);
+
+  tests::check("--print-parameters defaults.prm exits with 0", run({"--print-parameters", "defaults.prm"}) == 0);
+  std::ostringstream printed;
+  app::AllParameters::print_defaults(printed);
+  tests::check("the file holds the documented defaults", read("defaults.prm") == printed.str() &&
+                                                            printed.str().find("# ") != std::string::npos);
+  tests::expect_error("the defaults read back", [] {
+    const app::AllParameters parameters("defaults.prm");
+    if (parameters.model.type == "warp_canceling" && parameters.solver.settings.method ==
+                                                       cholesky::FactorizationMethod::supernodal)
+      throw Error("(read back, no error)");
+  });
+}
