@@ -149,14 +149,14 @@ namespace warpchol::fem
   void SystemMatrix::assemble(const ElementMatrixFunction &element_matrix)
   {
     system_matrix = 0;
-    ElementMatrix contribution;
+    contributions.resize(body.n_elements());
     for (unsigned int e = 0; e < body.n_elements(); ++e)
       {
-        element_matrix(e, contribution);
+        element_matrix(e, contributions[e]);
         const auto &entries = element_entries[e];
         for (unsigned int k = 0; k < 144; ++k)
           if (entries[k] >= 0)
-            add_to_entry(entries[k], contribution.data()[k]);
+            add_to_entry(entries[k], contributions[e].data()[k]);
       }
     if (!coefficients.vertex_diagonal.empty())
       for (unsigned int v = 0; v < body.n_vertices(); ++v)
@@ -169,73 +169,28 @@ namespace warpchol::fem
   std::vector<Index> SystemMatrix::reassemble(const std::vector<unsigned int> &changed_elements,
                                               const ElementMatrixFunction     &element_matrix)
   {
-    if (changed_elements.empty())
-      return {};
-    std::vector<bool>         touched(body.n_vertices(), false);
+    if (contributions.empty())
+      throw MatrixError("system matrix: reassemble() before assemble()");
     std::vector<unsigned int> touched_vertices;
+    ElementMatrix             updated;
     for (const unsigned int e : changed_elements)
-      for (const unsigned int v : body.element_vertices(e))
-        if (!touched[v])
-          {
-            touched[v] = true;
-            touched_vertices.push_back(v);
-          }
-    std::sort(touched_vertices.begin(), touched_vertices.end());
-
-    // The elements around them, in increasing order.
-    std::vector<unsigned int> around;
-    for (const unsigned int v : touched_vertices)
-      around.insert(around.end(), body.elements_of_vertex(v).begin(),
-                    body.elements_of_vertex(v).end());
-    std::sort(around.begin(), around.end());
-    around.erase(std::unique(around.begin(), around.end()), around.end());
-    // An entry (r, c) changes only if an updated element holds both vertices r and c, so
-    // both are touched: an entry with one untouched vertex sums elements that were not
-    // updated. Recompute the blocks (a, b) of two touched vertices, from every element
-    // around them. Per element around, bit a of its mask says whether local vertex a is
-    // touched.
-    std::vector<unsigned int> touched_mask(around.size(), 0);
-    for (std::size_t i = 0; i < around.size(); ++i)
-      for (unsigned int a = 0; a < 4; ++a)
-        if (touched[body.element_vertices(around[i])[a]])
-          touched_mask[i] |= 1u << a;
-    const auto for_each_recomputed = [&](const std::size_t i, const auto &action) {
-      const auto &entries = element_entries[around[i]];
-      for (unsigned int b = 0; b < 4; ++b)
-        for (unsigned int a = 0; a < 4; ++a)
-          if ((touched_mask[i] >> a) & (touched_mask[i] >> b) & 1u)
-            for (unsigned int j = 0; j < 3; ++j)
-              for (unsigned int l = 0; l < 3; ++l)
-                {
-                  const unsigned int k = 12 * (3 * b + j) + 3 * a + l;
-                  if (entries[k] >= 0)
-                    action(k, entries[k]);
-                }
-    };
-
-    // Zero them, then add, in the order of a full assembly: the sums come out bitwise
-    // equal to those of assemble(), and every other entry keeps its value.
-    std::vector<std::int64_t> recomputed_entries;
-    for (std::size_t i = 0; i < around.size(); ++i)
-      for_each_recomputed(i, [&](unsigned int, const std::int64_t entry) {
-        set_entry(entry, 0);
-        recomputed_entries.push_back(entry);
-      });
-    ElementMatrix contribution;
-    for (std::size_t i = 0; i < around.size(); ++i)
       {
-        element_matrix(around[i], contribution);
-        for_each_recomputed(i, [&](const unsigned int k, const std::int64_t entry) {
-          add_to_entry(entry, contribution.data()[k]);
-        });
+        element_matrix(e, updated);
+        const ElementMatrix difference = updated - contributions[e];
+        contributions[e]               = updated;
+        const auto &entries            = element_entries[e];
+        for (unsigned int k = 0; k < 144; ++k)
+          if (entries[k] >= 0)
+            {
+              add_to_entry(entries[k], difference.data()[k]);
+              copy_to_csc(entries[k]);
+            }
+        for (const unsigned int v : body.element_vertices(e))
+          touched_vertices.push_back(v);
       }
-    if (!coefficients.vertex_diagonal.empty())
-      for (const unsigned int v : touched_vertices)
-        for (const auto k : diagonal_entries[v])
-          if (k >= 0)
-            add_to_entry(k, coefficients.vertex_diagonal[v]);
-    for (const std::int64_t entry : recomputed_entries)
-      copy_to_csc(entry);
+    std::sort(touched_vertices.begin(), touched_vertices.end());
+    touched_vertices.erase(std::unique(touched_vertices.begin(), touched_vertices.end()),
+                           touched_vertices.end());
 
     std::vector<Index> changed_columns;
     for (const unsigned int v : touched_vertices)
@@ -243,6 +198,11 @@ namespace warpchol::fem
         for (unsigned int i = 0; i < 3; ++i)
           changed_columns.push_back(body.first_unknown(v) + i);
     return changed_columns;
+  }
+
+  const ElementMatrix &SystemMatrix::contribution(const unsigned int e) const
+  {
+    return contributions.at(e);
   }
 
   const dealii::SparseMatrix<double> &SystemMatrix::matrix() const

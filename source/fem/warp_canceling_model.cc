@@ -23,10 +23,9 @@ namespace warpchol::fem
                                   {{Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity(),
                                     Matrix3::Identity()}});
     stored_element_rotation.assign(body.n_elements(), Matrix3::Identity());
-    contribution.resize(body.n_elements());
-    for (unsigned int e = 0; e < body.n_elements(); ++e)
-      contribution[e] = rest_element_matrix(body, e, coefficients);
-    system.assemble([&](const unsigned int e, ElementMatrix &matrix) { matrix = contribution[e]; });
+    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
+      matrix = rest_element_matrix(body, e, coefficients);
+    });
     StepStatistics setup;
     factorize(setup);
     setup_time  = stopwatch.seconds();
@@ -83,7 +82,7 @@ namespace warpchol::fem
                 world += (coefficients.mass * mass(a, b)) * velocities[vertices[b]];
             exact.segment<3>(3 * a) = nodal_rotations[vertices[a]].transpose() * world;
           }
-        error[e] = (exact - contribution[e] * z).norm();
+        error[e] = (exact - system.contribution(e) * z).norm();
         impulse_sum += exact.norm() + coefficients.time_step *
                                         (body.rest_stiffness(e) * unrotated_displacement).norm();
       }
@@ -107,8 +106,12 @@ namespace warpchol::fem
     for (unsigned int a = 0; a < 4; ++a)
       stored_nodal_rotations[e][a] = nodal_rotations[vertices[a]];
     stored_element_rotation[e] = element_rotations[e];
-    contribution[e] = warped_element_matrix(body, e, coefficients, stored_nodal_rotations[e],
-                                            stored_element_rotation[e]);
+  }
+
+  ElementMatrix WarpCancelingModel::stored_contribution(const unsigned int e) const
+  {
+    return warped_element_matrix(body, e, coefficients, stored_nodal_rotations[e],
+                                 stored_element_rotation[e]);
   }
 
   void WarpCancelingModel::prepare_step(const std::vector<Vector3> &positions,
@@ -124,7 +127,7 @@ namespace warpchol::fem
 
     const unsigned int n_elements = body.n_elements();
     const auto         contribution_of = [&](const unsigned int e, ElementMatrix &matrix) {
-      matrix = contribution[e];
+      matrix = stored_contribution(e);
     };
 
     if (threshold == 0)

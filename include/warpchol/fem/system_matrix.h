@@ -63,9 +63,10 @@ namespace warpchol::fem
    * mesh: one 3x3 block per pair of free vertices that share an element), with a copy in the
    * solver's CSC form kept up to date.
    *
-   * Assembly visits the elements in increasing order, so that reassemble() yields entries
-   * that are bitwise equal to those of a full assembly: the factorization can then trust
-   * that an entry it was not told about did not change.
+   * The matrix keeps the contribution of every element, so that re-assembling a few
+   * elements adds the difference of their contributions to their own entries and touches
+   * nothing else: the entries of the other elements' vertices keep their values exactly,
+   * and the columns that changed are those of the changed elements' vertices.
    */
   class SystemMatrix
   {
@@ -79,14 +80,16 @@ namespace warpchol::fem
     void assemble(const ElementMatrixFunction &element_matrix);
 
     /**
-     * Recompute the entries of A that couple two vertices of @p changed_elements (sorted,
-     * unique), from @p element_matrix of every element around them; every other entry
-     * keeps its value (no element that contributes to it changed). Returns the columns
-     * (unknowns, sorted) whose entries changed: the dofs of the free vertices of
+     * Replace the contributions of @p changed_elements (sorted, unique) by
+     * @p element_matrix: A changes by their differences, in their entries only. Returns the
+     * columns (unknowns, sorted) whose entries changed: the dofs of the free vertices of
      * @p changed_elements.
      */
     std::vector<Index> reassemble(const std::vector<unsigned int> &changed_elements,
                                   const ElementMatrixFunction     &element_matrix);
+
+    /** What element @p e contributes to A now. */
+    const ElementMatrix &contribution(unsigned int e) const;
 
     const dealii::SparseMatrix<double> &matrix() const;
     /** A in CSC form with full storage, same values as matrix(). */
@@ -116,5 +119,7 @@ namespace warpchol::fem
     std::vector<std::array<std::int64_t, 3>> diagonal_entries;
     /** Where entry k of the deal.II matrix sits in the CSC values. */
     std::vector<Index> csc_position;
+    /** The contribution of every element, as last assembled. */
+    std::vector<ElementMatrix> contributions;
   };
 } // namespace warpchol::fem

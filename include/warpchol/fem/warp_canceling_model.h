@@ -62,8 +62,11 @@ namespace warpchol::fem
     std::vector<unsigned int> elements_to_update(const std::vector<Vector3> &positions,
                                                  const std::vector<Vector3> &velocities);
 
-    /** Store the current rotations of @p e and recompute its contribution. */
+    /** Store the current rotations of @p e (its contribution follows them). */
     void update_element(unsigned int e);
+
+    /** A_e with the stored rotations: what element @p e contributes to A when updated. */
+    ElementMatrix stored_contribution(unsigned int e) const;
 
     const double threshold;
 
@@ -73,7 +76,5 @@ namespace warpchol::fem
     /** S_a and Q_e of the last update of each element. */
     std::vector<std::array<Matrix3, 4>> stored_nodal_rotations;
     std::vector<Matrix3>                stored_element_rotation;
-    /** A_e with the stored rotations: what the element contributes to A now. */
-    std::vector<ElementMatrix> contribution;
   };
 } // namespace warpchol::fem
