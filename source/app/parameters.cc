@@ -365,7 +365,8 @@ namespace warpchol::app
                         "partially), left_looking (column by column, refactorizes partially) or "
                         "up_looking (CSparse's, always in full)");
       prm.declare_entry("Threads", "1", Patterns::Integer(1, 1024),
-                        "Threads of the supernodal factorization (1: serial)");
+                        "Threads of the supernodal factorization and of the element loops "
+                        "(rotations, error estimates); 1: serial");
       prm.leave_subsection();
     }
 

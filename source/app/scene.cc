@@ -7,6 +7,7 @@
 #include <warpchol/fem/stiffness_warping_model.h>
 #include <warpchol/fem/warp_canceling_model.h>
 
+#include <deal.II/base/multithread_info.h>
 #include <deal.II/grid/grid_tools.h>
 
 #include <cmath>
@@ -164,6 +165,9 @@ namespace warpchol::app
     const fem::SystemCoefficients coefficients = fem::ImplicitEuler::coefficients(
       *elastic_body, all.time_stepping.time_step, all.time_stepping.rayleigh_mass,
       all.time_stepping.rayleigh_stiffness, scene_loads);
+    // The element loops (rotations, error estimates) run on deal.II's threads: as many as
+    // the solver is given.
+    dealii::MultithreadInfo::set_thread_limit(all.solver.settings.n_threads);
     elasticity_model = create_model(all.model, *elastic_body, coefficients, all.solver.settings);
     time_integrator  = std::make_unique<fem::ImplicitEuler>(*elastic_body, *elasticity_model,
                                                            scene_loads, all.time_stepping.time_step);

@@ -3,6 +3,7 @@
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/rotations.h>
 
+#include <deal.II/base/parallel.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/fe/fe_values.h>
@@ -302,21 +303,32 @@ namespace warpchol::fem
                                               std::vector<Matrix3> &element_rotations) const
   {
     element_rotations.resize(n_elements());
-    for (unsigned int e = 0; e < n_elements(); ++e)
-      element_rotations[e] = rotation_of(deformation_gradient(e, positions));
+    // Independent per element: on the threads deal.II's MultithreadInfo allows.
+    dealii::parallel::apply_to_subranges(
+      0u, n_elements(),
+      [&](const unsigned int begin, const unsigned int end) {
+        for (unsigned int e = begin; e < end; ++e)
+          element_rotations[e] = rotation_of(deformation_gradient(e, positions));
+      },
+      512);
   }
 
   void ElasticBody::compute_nodal_rotations(const std::vector<Matrix3> &element_rotations,
                                             std::vector<Matrix3>       &nodal_rotations) const
   {
     nodal_rotations.resize(n_vertices());
-    for (unsigned int v = 0; v < n_vertices(); ++v)
-      {
-        Matrix3 weighted_sum = Matrix3::Zero();
-        for (const unsigned int e : elements_around_vertex[v])
-          weighted_sum += volumes[e] * element_rotations[e];
-        nodal_rotations[v] = rotation_of(weighted_sum);
-      }
+    dealii::parallel::apply_to_subranges(
+      0u, n_vertices(),
+      [&](const unsigned int begin, const unsigned int end) {
+        for (unsigned int v = begin; v < end; ++v)
+          {
+            Matrix3 weighted_sum = Matrix3::Zero();
+            for (const unsigned int e : elements_around_vertex[v])
+              weighted_sum += volumes[e] * element_rotations[e];
+            nodal_rotations[v] = rotation_of(weighted_sum);
+          }
+      },
+      256);
   }
 
   ElementVector ElasticBody::gather(const unsigned int e, const std::vector<Vector3> &field) const

@@ -3,6 +3,8 @@
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/fem/warp_canceling_model.h>
 
+#include <deal.II/base/parallel.h>
+
 #include <cmath>
 
 namespace warpchol::fem
@@ -52,40 +54,51 @@ namespace warpchol::fem
   {
     const unsigned int  n_elements = body.n_elements();
     std::vector<double> error(n_elements);
-    double              impulse_sum = 0;
-    for (unsigned int e = 0; e < n_elements; ++e)
-      {
-        const auto &vertices = body.element_vertices(e);
-        const Matrix3 &element_rotation = element_rotations[e];
-        // z = R^T v_e in the nodal frames; exact product A_e[R, R_e] z computed without
-        // forming the matrix: the stiffness part is S_a^T R_e K_e R_e^T v (since S_b S_b^T
-        // = I), the mass part m_ab S_a^T v_b.
-        ElementVector z;
-        ElementVector unrotated_velocity;
-        ElementVector unrotated_displacement;
-        for (unsigned int a = 0; a < 4; ++a)
+    std::vector<double> impulse(n_elements);
+    // Independent per element (threads as deal.II's MultithreadInfo allows); the sum of
+    // the impulses follows, in element order, so the result does not depend on threads.
+    dealii::parallel::apply_to_subranges(
+      0u, n_elements,
+      [&](const unsigned int begin, const unsigned int end) {
+        for (unsigned int e = begin; e < end; ++e)
           {
-            const unsigned int v = vertices[a];
-            z.segment<3>(3 * a) = nodal_rotations[v].transpose() * velocities[v];
-            unrotated_velocity.segment<3>(3 * a) = element_rotation.transpose() * velocities[v];
-            unrotated_displacement.segment<3>(3 * a) =
-              element_rotation.transpose() * positions[v] - body.rest_positions()[v];
+            const auto    &vertices         = body.element_vertices(e);
+            const Matrix3 &element_rotation = element_rotations[e];
+            // z = R^T v_e in the nodal frames; exact product A_e[R, R_e] z computed without
+            // forming the matrix: the stiffness part is S_a^T R_e K_e R_e^T v (since
+            // S_b S_b^T = I), the mass part m_ab S_a^T v_b.
+            ElementVector z;
+            ElementVector unrotated_velocity;
+            ElementVector unrotated_displacement;
+            for (unsigned int a = 0; a < 4; ++a)
+              {
+                const unsigned int v = vertices[a];
+                z.segment<3>(3 * a)  = nodal_rotations[v].transpose() * velocities[v];
+                unrotated_velocity.segment<3>(3 * a) = element_rotation.transpose() * velocities[v];
+                unrotated_displacement.segment<3>(3 * a) =
+                  element_rotation.transpose() * positions[v] - body.rest_positions()[v];
+              }
+            const ElementVector local_force = body.rest_stiffness(e) * unrotated_velocity;
+            const auto         &mass        = body.element_mass(e);
+            ElementVector       exact;
+            for (unsigned int a = 0; a < 4; ++a)
+              {
+                Vector3 world =
+                  coefficients.stiffness * (element_rotation * local_force.segment<3>(3 * a));
+                for (unsigned int b = 0; b < 4; ++b)
+                  if (mass(a, b) != 0)
+                    world += (coefficients.mass * mass(a, b)) * velocities[vertices[b]];
+                exact.segment<3>(3 * a) = nodal_rotations[vertices[a]].transpose() * world;
+              }
+            error[e]   = (exact - system.contribution(e) * z).norm();
+            impulse[e] = exact.norm() + coefficients.time_step *
+                                          (body.rest_stiffness(e) * unrotated_displacement).norm();
           }
-        const ElementVector local_force = body.rest_stiffness(e) * unrotated_velocity;
-        const auto         &mass        = body.element_mass(e);
-        ElementVector       exact;
-        for (unsigned int a = 0; a < 4; ++a)
-          {
-            Vector3 world = coefficients.stiffness * (element_rotation * local_force.segment<3>(3 * a));
-            for (unsigned int b = 0; b < 4; ++b)
-              if (mass(a, b) != 0)
-                world += (coefficients.mass * mass(a, b)) * velocities[vertices[b]];
-            exact.segment<3>(3 * a) = nodal_rotations[vertices[a]].transpose() * world;
-          }
-        error[e] = (exact - system.contribution(e) * z).norm();
-        impulse_sum += exact.norm() + coefficients.time_step *
-                                        (body.rest_stiffness(e) * unrotated_displacement).norm();
-      }
+      },
+      512);
+    double impulse_sum = 0;
+    for (const double value : impulse)
+      impulse_sum += value;
 
     const double scale = impulse_sum / n_elements;
     std::vector<unsigned int> update;
