@@ -1,6 +1,7 @@
 // What a run leaves on disk: the CSV log (header, one row per step), the VTU files every
 // N steps with their fields and the PVD series listing them, and nothing else (no
-// temporary file). And --print-parameters writes documented defaults that read back.
+// temporary file); when a step fails, what the steps before it wrote. And
+// --print-parameters writes documented defaults that read back.
 
 #include "simulation_tests.h"
 
@@ -8,20 +9,23 @@
 
 #include <algorithm>
 #include <filesystem>
+#include <regex>
 #include <sstream>
 
 using namespace warpchol;
 
 namespace
 {
-  int run(const std::vector<std::string> &arguments)
+  int run(const std::vector<std::string> &arguments, std::string *error_message = nullptr)
   {
     std::vector<const char *> argv{"warpchol"};
     for (const auto &argument : arguments)
       argv.push_back(argument.c_str());
     std::ostringstream out, err;
     const int          status = app::main(argv.size(), argv.data(), out, err);
-    if (status != 0)
+    if (error_message)
+      *error_message = err.str();
+    else if (status != 0)
       std::cout << "exit " << status << ": " << err.str();
     return status;
   }
@@ -76,6 +80,30 @@ int main()
       ++n_files;
     }
   tests::check("the folder holds the log, the series and 3 VTU files, nothing else", n_files == 5);
+
+  // Stiffness warping under a violent pull diverges (the report's "explosion"): the run
+  // stops with status 1 at the step that failed, and the log keeps every step before it.
+  tests::write_file("diverging.prm",
+                    "subsection Mesh\n  set Source = torus\n  set Torus toroidal cells = 8\nend\n"
+                    "subsection Time stepping\n  set Time step = 0.02\n  set Number of steps = 400\nend\n"
+                    "subsection Model\n  set Type = stiffness_warping\nend\n"
+                    "subsection Fixed vertices\n  set Region = box\n"
+                    "  set Box lower corner = -1, -1, -1\n  set Box upper corner = -0.33, 1, 1\nend\n"
+                    "subsection Tool\n  set Region = sphere\n  set Sphere center = 0.4, 0, 0\n"
+                    "  set Sphere radius = 0.06\n  set Spring stiffness = 200\n"
+                    "  set Velocity = 0, 3, -3\n  set Duration = 1\nend\n"
+                    "subsection Output\n  set Directory = results\n  set Write log = true\nend\n");
+  std::string message;
+  const int   status = run({"diverging.prm"}, &message);
+  std::smatch step;
+  const bool  named  = std::regex_search(message, step, std::regex(R"(step (\d+): .* diverged)"));
+  tests::check("a diverging run exits with 1, naming the step", status == 1 && named);
+  std::istringstream partial_log(read("results/diverging/log.csv"));
+  unsigned int       logged_rows = 0;
+  while (std::getline(partial_log, line))
+    ++logged_rows;
+  tests::check("its log holds the header and every step before the failing one",
+               named && logged_rows == std::stoul(step[1].str()));
 
   tests::check("--print-parameters defaults.prm exits with 0", run({"--print-parameters", "defaults.prm"}) == 0);
   std::ostringstream printed;

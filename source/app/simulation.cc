@@ -104,7 +104,14 @@ namespace warpchol::app
         if (reference_scene)
           {
             fem::StepStatistics reference_statistics;
-            reference_scene->integrator().advance(reference_statistics);
+            try
+              {
+                reference_scene->integrator().advance(reference_statistics);
+              }
+            catch (const MatrixError &error)
+              {
+                throw MatrixError(std::string("the corotational reference run: ") + error.what());
+              }
             const auto &x         = integrator.positions();
             const auto &reference = reference_scene->integrator().positions();
             double      difference = 0, motion = 0;

@@ -69,7 +69,8 @@ namespace warpchol::fem
 
     /**
      * Advance by one time step. Throws MatrixError "step N: ..." if the factorization
-     * fails or the solution is not finite (the simulation diverged).
+     * fails or a velocity is not finite, or so large that its square overflows (the
+     * simulation diverged).
      */
     void advance(StepStatistics &statistics);
 
