@@ -21,10 +21,6 @@ namespace warpchol::fem
                        format_number(update_threshold));
     // At rest every rotation is the identity: A is the rest matrix.
     Stopwatch stopwatch;
-    stored_nodal_rotations.assign(body.n_elements(),
-                                  {{Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity(),
-                                    Matrix3::Identity()}});
-    stored_element_rotation.assign(body.n_elements(), Matrix3::Identity());
     system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
       matrix = rest_element_matrix(body, e, coefficients);
     });
@@ -113,18 +109,13 @@ namespace warpchol::fem
     return update;
   }
 
-  void WarpCancelingModel::update_element(const unsigned int e)
+  ElementMatrix WarpCancelingModel::current_contribution(const unsigned int e) const
   {
-    const auto &vertices = body.element_vertices(e);
+    const auto            &vertices = body.element_vertices(e);
+    std::array<Matrix3, 4> vertex_rotations;
     for (unsigned int a = 0; a < 4; ++a)
-      stored_nodal_rotations[e][a] = nodal_rotations[vertices[a]];
-    stored_element_rotation[e] = element_rotations[e];
-  }
-
-  ElementMatrix WarpCancelingModel::stored_contribution(const unsigned int e) const
-  {
-    return warped_element_matrix(body, e, coefficients, stored_nodal_rotations[e],
-                                 stored_element_rotation[e]);
+      vertex_rotations[a] = nodal_rotations[vertices[a]];
+    return warped_element_matrix(body, e, coefficients, vertex_rotations, element_rotations[e]);
   }
 
   void WarpCancelingModel::prepare_step(const std::vector<Vector3> &positions,
@@ -138,17 +129,17 @@ namespace warpchol::fem
     statistics.n_columns  = body.n_unknowns();
     statistics.flops_full = cholesky_solver.statistics().method_flops;
 
+    // Updating an element stores its contribution with the current rotations: the system
+    // matrix keeps it, the S_a and Q_e it was made with, until the next update.
     const unsigned int n_elements = body.n_elements();
     const auto         contribution_of = [&](const unsigned int e, ElementMatrix &matrix) {
-      matrix = stored_contribution(e);
+      matrix = current_contribution(e);
     };
 
     if (threshold == 0)
       {
         // Every element is updated: exact corotation, assembled and factored in full.
         stopwatch.restart();
-        for (unsigned int e = 0; e < n_elements; ++e)
-          update_element(e);
         system.assemble(contribution_of);
         statistics.t_assembly += stopwatch.seconds();
         statistics.elements_updated = n_elements;
@@ -172,8 +163,6 @@ namespace warpchol::fem
       return;
 
     stopwatch.restart();
-    for (const unsigned int e : update)
-      update_element(e);
     const std::vector<Index> changed_columns = system.reassemble(update, contribution_of);
     statistics.t_assembly += stopwatch.seconds();
     if (!changed_columns.empty())

@@ -13,7 +13,8 @@ namespace warpchol::fem
 {
   /**
    * Warp-canceling corotation (WCC). Every element e keeps the nodal rotations S_a of its
-   * vertices and its own rotation Q_e from the step it was last *updated*, and contributes
+   * vertices and its own rotation Q_e from the step it was last *updated* (in the
+   * contribution the SystemMatrix keeps for it), and contributes
    *   A_e = c_M diag(S_a^T) M_e diag(S_b) + c_K diag(S_a^T Q_e) K_e diag(Q_e^T S_b)
    * to A. The step solves R A R^T v = rhs with the current nodal rotations R: where an
    * element is up to date (S = R, Q_e = R_e) this is exact corotation; where it is not, the
@@ -62,19 +63,16 @@ namespace warpchol::fem
     std::vector<unsigned int> elements_to_update(const std::vector<Vector3> &positions,
                                                  const std::vector<Vector3> &velocities);
 
-    /** Store the current rotations of @p e (its contribution follows them). */
-    void update_element(unsigned int e);
-
-    /** A_e with the stored rotations: what element @p e contributes to A when updated. */
-    ElementMatrix stored_contribution(unsigned int e) const;
+    /**
+     * A_e with the current rotations (S_a = R of its vertices, Q_e = R_e): what element
+     * @p e contributes to A once updated. The system matrix keeps it, and so the
+     * rotations it was made with, until the next update of e.
+     */
+    ElementMatrix current_contribution(unsigned int e) const;
 
     const double threshold;
 
     std::vector<Matrix3> element_rotations;
     std::vector<Matrix3> nodal_rotations;
-
-    /** S_a and Q_e of the last update of each element. */
-    std::vector<std::array<Matrix3, 4>> stored_nodal_rotations;
-    std::vector<Matrix3>                stored_element_rotation;
   };
 } // namespace warpchol::fem
