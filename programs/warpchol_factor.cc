@@ -27,7 +27,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <iostream>
 #include <memory>
 #include <string>
@@ -59,49 +58,18 @@ namespace
     while (command_line.has_next())
       {
         const std::string argument = command_line.next();
-        if (argument == "--ordering")
-          options.solver.ordering.method = cholesky::parse_ordering_method(command_line.value_of(argument));
-        else if (argument == "--method")
-          options.solver.method = cholesky::parse_factorization_method(command_line.value_of(argument));
-        else if (argument == "--supernodal")
-          {
-            const std::string on_off = command_line.value_of(argument);
-            if (on_off != "on" && on_off != "off")
-              throw InputError("--supernodal: expected on or off, got '" + on_off + "'");
-            options.solver.method = on_off == "on" ? cholesky::FactorizationMethod::supernodal :
-                                                     cholesky::FactorizationMethod::left_looking;
-          }
-        else if (argument == "--threads")
-          options.solver.n_threads = static_cast<unsigned int>(command_line.integer_of(argument, 1, 256));
-        else if (argument == "--changed-fraction")
+        if (command_line.read_solver_option(argument, options.solver))
+          continue;
+        if (argument == "--changed-fraction")
           {
             options.changed_fraction = command_line.number_of(argument);
             if (options.changed_fraction < 0 || options.changed_fraction > 1)
-              throw InputError("--changed-fraction must lie in [0, 1], got " +
-                               format_number(options.changed_fraction));
+              throw InputError("--changed-fraction must lie in [0, 1], got " + format_number(options.changed_fraction));
           }
         else if (argument == "--seed")
           options.seed = static_cast<std::uint64_t>(command_line.integer_of(argument, 0, 1L << 62));
         else if (argument == "--repeat")
           options.repeat = static_cast<int>(command_line.integer_of(argument, 1, 1000));
-        else if (argument == "--relaxation")
-          {
-            // Supernode amalgamation: off, or CHOLMOD's nrelax[3] and zrelax[3].
-            const std::string text = command_line.value_of(argument);
-            auto             &relaxation = options.solver.relaxation;
-            char              tail       = 0;
-            long              n[3]       = {0, 0, 0};
-            if (text == "off")
-              relaxation.enabled = false;
-            else if (std::sscanf(text.c_str(), "%ld,%ld,%ld,%lf,%lf,%lf%c", &n[0], &n[1], &n[2], &relaxation.zrelax[0],
-                                 &relaxation.zrelax[1], &relaxation.zrelax[2], &tail) == 6 &&
-                     n[0] >= 0 && n[1] >= 0 && n[2] >= 0)
-              for (int i = 0; i < 3; ++i)
-                relaxation.nrelax[i] = n[i];
-            else
-              throw InputError("--relaxation: expected off or N0,N1,N2,Z0,Z1,Z2 (CHOLMOD's 4,16,48,0.8,0.1,0.05), got '" +
-                               text + "'");
-          }
         else if (argument == "--compare")
           {
             const std::string peer = command_line.value_of(argument);
@@ -109,17 +77,8 @@ namespace
               throw InputError("--compare: only 'cholmod' is supported, got '" + peer + "'");
             options.compare_cholmod = true;
           }
-        else if (argument == "--help" || argument == "-h")
-          {
-            std::cout << usage << "\n";
-            std::exit(0);
-          }
-        else if (!argument.empty() && argument[0] == '-')
-          throw InputError("unknown option '" + argument + "'");
-        else if (options.matrix_file.empty())
-          options.matrix_file = argument;
         else
-          throw InputError("more than one matrix file given ('" + options.matrix_file + "', '" + argument + "')");
+          command_line.read_help_or_input_file(argument, usage, options.matrix_file);
       }
     if (options.matrix_file.empty())
       throw InputError(std::string("no matrix file given; ") + usage);

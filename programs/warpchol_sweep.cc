@@ -51,29 +51,16 @@ namespace
     while (command_line.has_next())
       {
         const std::string argument = command_line.next();
-        if (argument == "--ordering")
-          options.solver.ordering.method = cholesky::parse_ordering_method(command_line.value_of(argument));
-        else if (argument == "--method")
-          options.solver.method = cholesky::parse_factorization_method(command_line.value_of(argument));
-        else if (argument == "--threads")
-          options.solver.n_threads = static_cast<unsigned int>(command_line.integer_of(argument, 1, 256));
-        else if (argument == "--repeat")
+        if (command_line.read_solver_option(argument, options.solver))
+          continue;
+        if (argument == "--repeat")
           options.repeat = static_cast<int>(command_line.integer_of(argument, 1, 1000));
         else if (argument == "--seed")
           options.seed = static_cast<std::uint64_t>(command_line.integer_of(argument, 0, 1L << 62));
         else if (argument == "--csv")
           options.csv = true;
-        else if (argument == "--help" || argument == "-h")
-          {
-            std::cout << usage << "\n";
-            std::exit(0);
-          }
-        else if (!argument.empty() && argument[0] == '-')
-          throw InputError("unknown option '" + argument + "'");
-        else if (options.matrix_file.empty())
-          options.matrix_file = argument;
         else
-          throw InputError("more than one matrix file given");
+          command_line.read_help_or_input_file(argument, usage, options.matrix_file);
       }
     if (options.matrix_file.empty())
       throw InputError(std::string("no matrix file given; ") + usage);

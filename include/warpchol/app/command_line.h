@@ -1,5 +1,7 @@
 #pragma once
 
+#include <warpchol/cholesky/sparse_cholesky.h>
+
 #include <functional>
 #include <string>
 #include <vector>
@@ -38,6 +40,21 @@ namespace warpchol::app
 
     /** The value of @p option as an integer in [min, max]; InputError naming the option otherwise. */
     long integer_of(const std::string &option, long min, long max);
+
+    /**
+     * If @p argument is one of the solver options, read its value into @p settings and
+     * return true: --ordering natural|amd|metis, --method left|up|supernodal,
+     * --supernodal on|off, --threads N, --relaxation off|N0,N1,N2,Z0,Z1,Z2 (supernode
+     * amalgamation, CHOLMOD's nrelax and zrelax).
+     */
+    bool read_solver_option(const std::string &argument, cholesky::SparseCholesky::Settings &settings);
+
+    /**
+     * The arguments every tool treats alike: --help prints @p usage and exits, another
+     * option is unknown (InputError), anything else is the one input file, stored in
+     * @p input_file (a second one is an InputError).
+     */
+    void read_help_or_input_file(const std::string &argument, const std::string &usage, std::string &input_file);
 
   private:
     std::vector<std::string> arguments;
