@@ -122,6 +122,11 @@ namespace warpchol::app
   Scene::Scene(const AllParameters &parameters)
     : all(parameters)
   {
+    // The element loops (rotations, error estimates) run on deal.II's threads: as many as
+    // the solver is given. Set first: deal.II's finite element set-up does not give the
+    // same last bits before and after a change of the thread limit, and two scenes with
+    // the same parameters must give the same results.
+    dealii::MultithreadInfo::set_thread_limit(all.solver.settings.n_threads);
     build_mesh();
 
     fixed = select_vertices(all.fixed_vertices.region, "Fixed vertices");
@@ -165,9 +170,6 @@ namespace warpchol::app
     const fem::SystemCoefficients coefficients = fem::ImplicitEuler::coefficients(
       *elastic_body, all.time_stepping.time_step, all.time_stepping.rayleigh_mass,
       all.time_stepping.rayleigh_stiffness, scene_loads);
-    // The element loops (rotations, error estimates) run on deal.II's threads: as many as
-    // the solver is given.
-    dealii::MultithreadInfo::set_thread_limit(all.solver.settings.n_threads);
     elasticity_model = create_model(all.model, *elastic_body, coefficients, all.solver.settings);
     time_integrator  = std::make_unique<fem::ImplicitEuler>(*elastic_body, *elasticity_model,
                                                            scene_loads, all.time_stepping.time_step);
