@@ -10,13 +10,7 @@ namespace warpchol::fem
   {
     // Ordering and symbolic analysis once (the pattern never changes); the numeric factor
     // of the rest matrix is replaced in the first step.
-    Stopwatch stopwatch;
-    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
-      matrix = rest_element_matrix(body, e, coefficients);
-    });
-    StepStatistics setup;
-    factorize(setup);
-    setup_time = stopwatch.seconds();
+    set_up_rest_system();
   }
 
   std::string CorotationalModel::name() const

@@ -1,4 +1,3 @@
-#include <warpchol/base/stopwatch.h>
 #include <warpchol/fem/linear_model.h>
 
 namespace warpchol::fem
@@ -7,13 +6,7 @@ namespace warpchol::fem
                            const cholesky::SparseCholesky::Settings &solver_settings)
     : ElasticityModel(body, coefficients, solver_settings)
   {
-    Stopwatch stopwatch;
-    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
-      matrix = rest_element_matrix(body, e, coefficients);
-    });
-    StepStatistics setup;
-    factorize(setup);
-    setup_time = stopwatch.seconds();
+    set_up_rest_system();
   }
 
   std::string LinearModel::name() const
@@ -30,8 +23,7 @@ namespace warpchol::fem
                                  StepStatistics &statistics)
   {
     record_updates(false);
-    statistics.n_columns  = body.n_unknowns();
-    statistics.flops_full = cholesky_solver.statistics().method_flops;
+    record_no_refactorization(statistics);
   }
 
   void LinearModel::add_elastic_forces(const std::vector<Vector3> &positions,

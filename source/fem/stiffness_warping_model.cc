@@ -8,13 +8,7 @@ namespace warpchol::fem
     const cholesky::SparseCholesky::Settings &solver_settings)
     : ElasticityModel(body, coefficients, solver_settings)
   {
-    Stopwatch stopwatch;
-    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
-      matrix = rest_element_matrix(body, e, coefficients);
-    });
-    StepStatistics setup;
-    factorize(setup);
-    setup_time  = stopwatch.seconds();
+    set_up_rest_system();
     solve_frame = &nodal_rotations;
   }
 
@@ -30,8 +24,7 @@ namespace warpchol::fem
     body.compute_element_rotations(positions, element_rotations);
     body.compute_nodal_rotations(element_rotations, nodal_rotations);
     statistics.t_rotations += stopwatch.seconds();
-    statistics.n_columns  = body.n_unknowns();
-    statistics.flops_full = cholesky_solver.statistics().method_flops;
+    record_no_refactorization(statistics);
     record_updates(false);
   }
 

@@ -20,13 +20,7 @@ namespace warpchol::fem
       throw InputError("the WCC update threshold must be >= 0 (or inf), got " +
                        format_number(update_threshold));
     // At rest every rotation is the identity: A is the rest matrix.
-    Stopwatch stopwatch;
-    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
-      matrix = rest_element_matrix(body, e, coefficients);
-    });
-    StepStatistics setup;
-    factorize(setup);
-    setup_time  = stopwatch.seconds();
+    set_up_rest_system();
     solve_frame = &nodal_rotations;
     // Estimates exist only between the two limits (0: all updated, inf: none); at rest
     // they are 0.
@@ -126,8 +120,7 @@ namespace warpchol::fem
     body.compute_element_rotations(positions, element_rotations);
     body.compute_nodal_rotations(element_rotations, nodal_rotations);
     statistics.t_rotations += stopwatch.seconds();
-    statistics.n_columns  = body.n_unknowns();
-    statistics.flops_full = cholesky_solver.statistics().method_flops;
+    record_no_refactorization(statistics);
 
     // Updating an element stores its contribution with the current rotations: the system
     // matrix keeps it, the S_a and Q_e it was made with, until the next update.

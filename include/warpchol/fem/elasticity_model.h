@@ -103,10 +103,19 @@ namespace warpchol::fem
     double setup_seconds() const;
 
   protected:
+    /**
+     * Assemble A at rest (every rotation the identity) and factor it, timing it as the
+     * model's set-up: what every model starts from.
+     */
+    void set_up_rest_system();
+
     /** Full numeric factorization of the current A (analyzed on the first call). */
     void factorize(StepStatistics &statistics);
     /** Partial refactorization after @p changed_columns of A changed. */
     void refactorize(const std::vector<Index> &changed_columns, StepStatistics &statistics);
+
+    /** The sizes a step that does not refactorize reports (columns and full flops). */
+    void record_no_refactorization(StepStatistics &statistics) const;
 
     /** Record that @p updated (sorted) were recomputed this step, the others not. */
     void record_updates(const std::vector<unsigned int> &updated);
@@ -130,5 +139,8 @@ namespace warpchol::fem
     /** Run @p factor; a failed pivot becomes a MatrixError naming column and vertex. */
     template <typename Factor>
     void checked(const Factor &factor);
+
+    /** Copy what the solver's last (re)factorization did into @p statistics. */
+    void record_refactorization(StepStatistics &statistics) const;
   };
 } // namespace warpchol::fem
