@@ -131,15 +131,4 @@ namespace warpchol::cholesky
              3 * (l->nsuper + 1) * sizeof(Index);
     return l->nzmax * (sizeof(double) + sizeof(Index)) + (2 * l->n + 1) * sizeof(Index);
   }
-
-  double CholmodReference::nnz_l() const
-  {
-    const cholmod_factor *l = implementation->factor;
-    return l->is_super ? static_cast<double>(l->xsize) : static_cast<double>(l->nzmax);
-  }
-
-  double CholmodReference::flops() const
-  {
-    return implementation->common.fl;
-  }
 } // namespace warpchol::cholesky

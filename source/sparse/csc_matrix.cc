@@ -2,7 +2,6 @@
 #include <warpchol/sparse/csc_matrix.h>
 
 #include <algorithm>
-#include <cmath>
 #include <string>
 
 namespace warpchol::sparse
@@ -43,18 +42,6 @@ namespace warpchol::sparse
           if (storage == Storage::lower && i != j)
             y[j] += values[k] * x[i];
         }
-  }
-
-  double CSCMatrix::frobenius_norm() const
-  {
-    double sum = 0.;
-    for (Index j = 0; j < n_cols; ++j)
-      for (Index k = column_start[j]; k < column_start[j + 1]; ++k)
-        {
-          const double weight = (storage == Storage::lower && row_index[k] != j) ? 2. : 1.;
-          sum += weight * values[k] * values[k];
-        }
-    return std::sqrt(sum);
   }
 
   void CSCMatrix::check_consistency() const

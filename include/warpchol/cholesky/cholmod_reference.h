@@ -42,12 +42,6 @@ namespace warpchol::cholesky
     /** Bytes CHOLMOD holds for the numeric factor (values, row indices, pointers). */
     std::size_t factor_bytes() const;
 
-    /** Entries of L that CHOLMOD stores (with supernodal padding). */
-    double nnz_l() const;
-
-    /** CHOLMOD's flop count of the analysis. */
-    double flops() const;
-
     double analyze_seconds   = 0;
     double factorize_seconds = 0;
 

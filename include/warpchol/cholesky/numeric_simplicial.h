@@ -40,10 +40,4 @@ namespace warpchol::cholesky
   void factorize_up_looking(const SymbolicFactorization &symbolic,
                             const sparse::CSCMatrix     &lower,
                             std::vector<double>         &l_values);
-
-  /**
-   * Flops the left-looking factorization spends on column j: the cmod updates from every
-   * column k in row j of L plus the cdiv of column j.
-   */
-  double left_looking_column_flops(const SymbolicFactorization &symbolic, Index j);
 } // namespace warpchol::cholesky

@@ -45,9 +45,6 @@ namespace warpchol::sparse
     /** y = A x (a symmetric product when only the lower triangle is stored). */
     void vmult(const double *x, double *y) const;
 
-    /** Frobenius norm of the represented (full) matrix. */
-    double frobenius_norm() const;
-
     /**
      * Throw MatrixError unless the arrays describe a valid matrix: sizes agree, column
      * starts are non-decreasing, row indices are in range, sorted and unique, and with
