@@ -37,11 +37,8 @@ namespace
     cholmod.factorize(matrix);
     tests::check_below("  |L_left - L_cholmod| / |L_left|", sparse::relative_difference(l_left, cholmod.factor()), 1e-12);
 
-    std::vector<double> x_true(matrix.n_cols), b(matrix.n_cols), x;
-    tests::Random       random(7);
-    for (double &value : x_true)
-      value = random.uniform() - 0.5;
-    matrix.vmult(x_true.data(), b.data());
+    const std::vector<double> b = tests::right_hand_side_of_random_solution(matrix, 7);
+    std::vector<double>       x;
     left.solve(b, x);
     tests::check_below("  left-looking residual ||Ax-b||/||b||", sparse::relative_residual(matrix, x, b), 1e-12);
     up.solve(b, x);
@@ -50,7 +47,8 @@ namespace
     // Several right-hand sides at once give the same solutions as one at a time.
     std::vector<double> two_b(2 * matrix.n_cols), two_x(2 * matrix.n_cols);
     std::copy(b.begin(), b.end(), two_b.begin());
-    std::copy(x_true.begin(), x_true.end(), two_b.begin() + matrix.n_cols);
+    const std::vector<double> other_b = tests::right_hand_side_of_random_solution(matrix, 8);
+    std::copy(other_b.begin(), other_b.end(), two_b.begin() + matrix.n_cols);
     left.solve(two_b.data(), two_x.data(), 2);
     left.solve(b, x);
     tests::check("  two right-hand sides: first solution as alone",

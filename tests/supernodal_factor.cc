@@ -56,11 +56,8 @@ namespace
     tests::check_below("  |L_supernodal - L_left| / |L_left|", sparse::relative_difference(left.factor(), l_supernodal), 1e-12);
     tests::check_below("  |L_2threads - L_1thread| / |L|", sparse::relative_difference(l_supernodal, threaded.factor()), 1e-14);
 
-    std::vector<double> x_true(matrix.n_cols), b(matrix.n_cols), x;
-    tests::Random       random(5);
-    for (double &value : x_true)
-      value = random.uniform() - 0.5;
-    matrix.vmult(x_true.data(), b.data());
+    const std::vector<double> b = tests::right_hand_side_of_random_solution(matrix, 5);
+    std::vector<double>       x;
     supernodal.solve(b, x);
     tests::check_below("  residual ||Ax-b||/||b||", sparse::relative_residual(matrix, x, b), 1e-12);
     threaded.solve(b, x);

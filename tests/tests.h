@@ -140,6 +140,18 @@ namespace tests
     return matrix;
   }
 
+  /** b = A x for a solution x with entries uniform in [-0.5, 0.5), drawn with @p seed. */
+  inline std::vector<double> right_hand_side_of_random_solution(const warpchol::sparse::CSCMatrix &matrix,
+                                                                const std::uint64_t               seed)
+  {
+    Random              random(seed);
+    std::vector<double> x(matrix.n_cols), b(matrix.n_rows);
+    for (double &value : x)
+      value = random.uniform() - 0.5;
+    matrix.vmult(x.data(), b.data());
+    return b;
+  }
+
   /** Dense column-major copy of the (full) matrix represented by @p matrix. */
   inline std::vector<double> to_dense(const warpchol::sparse::CSCMatrix &matrix)
   {
