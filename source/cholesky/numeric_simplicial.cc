@@ -16,6 +16,19 @@ namespace warpchol::cholesky
     }
   } // namespace
 
+  double left_looking_column_flops(const SymbolicFactorization &symbolic, const Index j)
+  {
+    // cdiv(j): the square root and the divisions.
+    double flops = static_cast<double>(symbolic.column_start[j + 1] - symbolic.column_start[j]);
+    for (Index p = symbolic.row_start[j]; p < symbolic.row_start[j + 1]; ++p)
+      {
+        // cmod(j,k): a multiply-add for each entry of column k at or below row j.
+        const Index k = symbolic.row_column[p];
+        flops += 2. * static_cast<double>(symbolic.column_start[k + 1] - symbolic.row_entry[p]);
+      }
+    return flops;
+  }
+
   double factorize_left_looking(const SymbolicFactorization &symbolic,
                                 const sparse::CSCMatrix     &lower,
                                 const std::vector<Index>    &columns,

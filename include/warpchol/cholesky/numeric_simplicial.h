@@ -32,6 +32,9 @@ namespace warpchol::cholesky
                                 const std::vector<Index>    &columns,
                                 std::vector<double>         &l_values);
 
+  /** The flops factorize_left_looking() spends on column @p j (permuted numbering). */
+  double left_looking_column_flops(const SymbolicFactorization &symbolic, Index j);
+
   /**
    * Up-looking numeric factorization (CSparse's cs_chol): row k of L by a sparse
    * triangular solve with the rows above it, the row pattern found by walking the
