@@ -7,6 +7,7 @@
 #include <warpchol/cholesky/sparse_cholesky.h>
 
 #include <algorithm>
+#include <iterator>
 
 namespace warpchol::cholesky
 {
@@ -55,6 +56,11 @@ namespace warpchol::cholesky
     const Stopwatch stopwatch;
     analyzed     = false;
     factor_valid = false;
+    pending_columns.clear();
+    stale_columns.clear();
+    if (!(solver_settings.top_flops_fraction >= 0. && solver_settings.top_flops_fraction <= 1.))
+      throw InputError("top_flops_fraction " + std::to_string(solver_settings.top_flops_fraction) +
+                       " is not in [0, 1]");
     if (matrix.n_rows != matrix.n_cols)
       throw MatrixError("matrix is not square: " + std::to_string(matrix.n_rows) + "x" +
                         std::to_string(matrix.n_cols));
@@ -85,6 +91,13 @@ namespace warpchol::cholesky
         stats.flops        = supernodal_structure.exact_flops;
         stats.method_flops = supernodal_structure.flops;
         stats.n_supernodes = supernodal_structure.n_supernodes();
+        top_supernode      = cholesky::top_supernodes(supernodal_structure, solver_settings.top_flops_fraction);
+        for (Index s = 0; s < stats.n_supernodes; ++s)
+          if (top_supernode[s])
+            {
+              ++stats.n_top_supernodes;
+              stats.top_flops += supernodal_structure.supernode_flops[s];
+            }
         stats.factor_bytes = supernodal_structure.n_stored_values() * sizeof(double) +
                              (supernodal_structure.row_index.size() + supernodal_structure.row_start.size() +
                               supernodal_structure.value_start.size() + supernodal_structure.first_column.size()) *
@@ -93,6 +106,7 @@ namespace warpchol::cholesky
     else
       {
         supernodal_structure   = SupernodalSymbolic();
+        top_supernode.clear();
         symbolic_factorization = analyze_left_looking(permuted_matrix.lower());
         l_values.assign(symbolic_factorization.nnz_l(), 0.);
         stats.nnz_l        = symbolic_factorization.nnz_l();
@@ -106,8 +120,13 @@ namespace warpchol::cholesky
     analyzed              = true;
   }
 
-  double SparseCholesky::run_numeric(const std::vector<Index> &columns)
+  double SparseCholesky::run_numeric(const RefreshPlan &plan)
   {
+    stats.columns_recomputed    = 0;
+    stats.supernodes_recomputed = 0;
+    // Nothing to do; the factorizations would take an empty list for "everything".
+    if (!plan.full && plan.columns.empty())
+      return 0.;
     factor_valid = false;
     try
       {
@@ -116,37 +135,22 @@ namespace warpchol::cholesky
           {
             case FactorizationMethod::up_looking:
               factorize_up_looking(symbolic_factorization, permuted_matrix.lower(), l_values);
-              flops = symbolic_factorization.flops;
-              stats.supernodes_recomputed = 0;
-              stats.columns_recomputed    = stats.n;
+              flops                    = symbolic_factorization.flops;
+              stats.columns_recomputed = stats.n;
               break;
             case FactorizationMethod::left_looking:
-              flops = factorize_left_looking(symbolic_factorization, permuted_matrix.lower(), columns, l_values);
-              stats.supernodes_recomputed = 0;
-              stats.columns_recomputed    = columns.empty() ? stats.n : static_cast<Index>(columns.size());
+              flops = factorize_left_looking(symbolic_factorization, permuted_matrix.lower(),
+                                             plan.full ? std::vector<Index>() : plan.columns, l_values);
+              stats.columns_recomputed = plan.full ? stats.n : static_cast<Index>(plan.columns.size());
               break;
             case FactorizationMethod::supernodal:
-              {
-                // A dirty supernode is recomputed from its first dirty column on: the
-                // columns before it depend on nothing that changed.
-                std::vector<Index> supernodes, offsets;
-                stats.columns_recomputed = columns.empty() ? stats.n : 0;
-                for (const Index j : columns)
-                  {
-                    const Index s = supernodal_structure.supernode_of[j];
-                    if (supernodes.empty() || supernodes.back() != s)
-                      {
-                        supernodes.push_back(s);
-                        offsets.push_back(j - supernodal_structure.first_column[s]);
-                        stats.columns_recomputed += supernodal_structure.first_column[s + 1] - j;
-                      }
-                  }
-                stats.supernodes_recomputed = columns.empty() ? stats.n_supernodes :
-                                                                static_cast<Index>(supernodes.size());
-                flops = supernodal_factor.factorize(supernodal_structure, permuted_matrix.lower(), supernodes,
-                                                    offsets, solver_settings.n_threads);
-                break;
-              }
+              stats.columns_recomputed    = plan.full ? stats.n : plan.supernodes.n_columns;
+              stats.supernodes_recomputed = plan.full ? stats.n_supernodes :
+                                                        static_cast<Index>(plan.supernodes.supernodes.size());
+              flops = supernodal_factor.factorize(supernodal_structure, permuted_matrix.lower(),
+                                                  plan.supernodes.supernodes, plan.supernodes.start_offsets,
+                                                  solver_settings.n_threads);
+              break;
           }
         factor_valid = true;
         return flops;
@@ -164,43 +168,156 @@ namespace warpchol::cholesky
       analyze(matrix);
     const Stopwatch stopwatch;
     permuted_matrix.load(matrix);
-    stats.flops_recomputed = run_numeric({});
+    pending_columns.clear();
+    stale_columns.clear();
+    RefreshPlan everything;
+    everything.full        = true;
+    stats.flops_recomputed = run_numeric(everything);
     last_recomputed_columns.clear();
+    update_backlog_statistics();
     ++stats.n_factorizations;
     stats.factorize_seconds = stopwatch.seconds();
   }
 
-  void SparseCholesky::refactorize(const sparse::CSCMatrix  &matrix,
-                                   const std::vector<Index> &changed_columns)
+  void SparseCholesky::check_request(const std::vector<Index> &changed_columns, const Refresh refresh) const
   {
-    if (!analyzed)
-      throw Error("refactorize() called before analyze()");
     for (const Index column : changed_columns)
       if (column < 0 || column >= stats.n)
         throw InputError("changed column " + std::to_string(column) + " out of range [0, " +
                          std::to_string(stats.n) + ")");
-    const Stopwatch    stopwatch;
-    std::vector<Index> seeds = permuted_matrix.load(matrix);
-    if (!factor_valid || solver_settings.method == FactorizationMethod::up_looking)
+    if (refresh == Refresh::below_top && solver_settings.method != FactorizationMethod::supernodal)
+      throw InputError("Refresh::below_top needs the supernodal method, not " + to_string(solver_settings.method));
+  }
+
+  std::vector<Index> SparseCholesky::pending_with(const std::vector<Index> &changed_columns) const
+  {
+    std::vector<Index> changes = pending_columns;
+    for (const Index column : changed_columns)
+      changes.push_back(inverse_permutation[column]);
+    std::sort(changes.begin(), changes.end());
+    changes.erase(std::unique(changes.begin(), changes.end()), changes.end());
+    return changes;
+  }
+
+  SparseCholesky::RefreshPlan SparseCholesky::plan_refresh(const std::vector<Index> &changes,
+                                                           const Refresh             refresh) const
+  {
+    RefreshPlan plan;
+    if (!factor_valid || (solver_settings.method == FactorizationMethod::up_looking && refresh != Refresh::none))
       {
         // No factor to update (or a method that cannot update): factor everything.
-        stats.flops_recomputed = run_numeric({});
+        plan.full = true;
+        switch (solver_settings.method)
+          {
+            case FactorizationMethod::up_looking:
+              plan.flops = symbolic_factorization.flops;
+              break;
+            case FactorizationMethod::left_looking:
+              for (Index j = 0; j < stats.n; ++j)
+                plan.flops += left_looking_column_flops(symbolic_factorization, j);
+              break;
+            case FactorizationMethod::supernodal:
+              plan.flops = supernodal_structure.flops;
+              break;
+          }
+        return plan;
+      }
+
+    plan.stale_columns = stale_columns;
+    if (refresh == Refresh::none)
+      return plan;
+    const std::vector<Index> dirty = etree_closure(elimination_tree(), changes);
+    if (refresh == Refresh::below_top)
+      {
+        // The dirty top columns wait for a Refresh::all. The top is upward-closed, so no
+        // column below it depends on one in it, and between a recomputed column and a
+        // recomputed ancestor every column is recomputed too.
+        std::vector<Index> dirty_top;
+        for (const Index j : dirty)
+          (top_supernode[supernodal_structure.supernode_of[j]] ? dirty_top : plan.columns).push_back(j);
+        std::vector<Index> stale;
+        std::set_union(stale_columns.begin(), stale_columns.end(), dirty_top.begin(), dirty_top.end(),
+                       std::back_inserter(stale));
+        plan.stale_columns = std::move(stale);
+      }
+    else
+      {
+        // Both sets are upward-closed (unions of elimination-tree paths to the root), and so
+        // is their union.
+        std::set_union(dirty.begin(), dirty.end(), stale_columns.begin(), stale_columns.end(),
+                       std::back_inserter(plan.columns));
+        plan.stale_columns.clear();
+      }
+
+    if (solver_settings.method == FactorizationMethod::supernodal)
+      {
+        plan.supernodes = dirty_supernodes(supernodal_structure, plan.columns);
+        plan.flops      = plan.supernodes.flops;
+      }
+    else
+      for (const Index j : plan.columns)
+        plan.flops += left_looking_column_flops(symbolic_factorization, j);
+    return plan;
+  }
+
+  void SparseCholesky::refactorize(const sparse::CSCMatrix  &matrix,
+                                   const std::vector<Index> &changed_columns,
+                                   const Refresh             refresh)
+  {
+    if (!analyzed)
+      throw Error("refactorize() called before analyze()");
+    check_request(changed_columns, refresh);
+    const Stopwatch          stopwatch;
+    const std::vector<Index> unlisted = permuted_matrix.load(matrix);
+    const std::vector<Index> listed   = pending_with(changed_columns);
+    std::vector<Index>       changes;
+    std::set_union(listed.begin(), listed.end(), unlisted.begin(), unlisted.end(), std::back_inserter(changes));
+
+    const RefreshPlan plan = plan_refresh(changes, refresh);
+    if (refresh == Refresh::none && !plan.full)
+      pending_columns = std::move(changes);
+    else
+      pending_columns.clear();
+    stale_columns          = plan.stale_columns;
+    stats.flops_recomputed = run_numeric(plan);
+    if (plan.full)
+      {
         last_recomputed_columns.resize(stats.n);
         for (Index j = 0; j < stats.n; ++j)
           last_recomputed_columns[j] = j;
         stats.factorize_seconds = stopwatch.seconds();
       }
     else
-      {
-        for (const Index column : changed_columns)
-          seeds.push_back(inverse_permutation[column]);
-        last_recomputed_columns = etree_closure(elimination_tree(), seeds);
-        stats.columns_recomputed    = 0;
-        stats.supernodes_recomputed = 0;
-        stats.flops_recomputed = last_recomputed_columns.empty() ? 0. : run_numeric(last_recomputed_columns);
-      }
+      last_recomputed_columns = plan.columns;
+    update_backlog_statistics();
     stats.refactorize_seconds = stopwatch.seconds();
     ++stats.n_refactorizations;
+  }
+
+  double SparseCholesky::predicted_flops(const std::vector<Index> &changed_columns, const Refresh refresh) const
+  {
+    if (!analyzed)
+      throw Error("predicted_flops() called before analyze()");
+    check_request(changed_columns, refresh);
+    return plan_refresh(pending_with(changed_columns), refresh).flops;
+  }
+
+  bool SparseCholesky::factor_is_exact() const
+  {
+    return factor_valid && pending_columns.empty() && stale_columns.empty();
+  }
+
+  void SparseCholesky::update_backlog_statistics()
+  {
+    stats.pending_columns = static_cast<Index>(pending_columns.size());
+    stats.stale_supernodes = 0;
+    stats.stale_flops      = 0;
+    if (!stale_columns.empty())
+      {
+        const DirtySupernodes stale = dirty_supernodes(supernodal_structure, stale_columns);
+        stats.stale_supernodes      = static_cast<Index>(stale.supernodes.size());
+        stats.stale_flops           = stale.flops;
+      }
   }
 
   void SparseCholesky::solve(const std::vector<double> &b, std::vector<double> &x) const
@@ -272,6 +389,11 @@ namespace warpchol::cholesky
   const std::vector<Index> &SparseCholesky::recomputed_columns() const
   {
     return last_recomputed_columns;
+  }
+
+  const std::vector<bool> &SparseCholesky::top_supernodes() const
+  {
+    return top_supernode;
   }
 
   const SparseCholesky::Statistics &SparseCholesky::statistics() const

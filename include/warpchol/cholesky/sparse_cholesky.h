@@ -3,6 +3,7 @@
 #include <warpchol/base/types.h>
 #include <warpchol/cholesky/numeric_supernodal.h>
 #include <warpchol/cholesky/ordering.h>
+#include <warpchol/cholesky/partial.h>
 #include <warpchol/cholesky/permuted_matrix.h>
 #include <warpchol/cholesky/supernodal_symbolic.h>
 #include <warpchol/cholesky/symbolic.h>
@@ -36,6 +37,26 @@ namespace warpchol::cholesky
   FactorizationMethod parse_factorization_method(const std::string &name);
 
   /**
+   * How much of the factor SparseCholesky::refactorize() brings up to date. With nested
+   * dissection every changed column's elimination-tree path runs through the top
+   * separators, which hold most of the flops: a caller that uses the factor as a
+   * preconditioner may refresh them only every few steps.
+   */
+  enum class Refresh
+  {
+    /** Every column that depends on a change since the factor was last exact: L is the exact factor of A. */
+    all,
+    /**
+     * Only the supernodes below the top (see Settings::top_flops_fraction); the dirty top
+     * supernodes stay stale (remembered) until a later Refresh::all. Supernodal method only
+     * (InputError otherwise).
+     */
+    below_top,
+    /** Nothing: the values are loaded and the changes remembered as pending. */
+    none
+  };
+
+  /**
    * A sparse Cholesky solver for symmetric positive definite matrices, A = P L L^T P^T,
    * whose factor can be *updated* when some columns of A change: refactorize() recomputes
    * the changed columns of C = P^T A P and their elimination-tree ancestors, and reuses
@@ -50,6 +71,11 @@ namespace warpchol::cholesky
    *   solver.refactorize(A, changed_columns);
    *   solver.solve(b, x);
    * @endcode
+   *
+   * A caller that uses the factor as a preconditioner may bring it up to date only in part
+   * (supernodal method): refactorize(A, changed_columns, Refresh::below_top) every step and
+   * refactorize(A, {}, Refresh::all) every few steps recompute the top supernodes, which
+   * hold most of the flops, only then.
    *
    * The matrix is given in CSC form, either with both triangles stored (then its pattern
    * and values must be symmetric) or with the lower triangle only.
@@ -66,6 +92,13 @@ namespace warpchol::cholesky
       SupernodeRelaxation relaxation;
       /** Threads of the supernodal factorization (1: serial, no TBB). */
       unsigned int        n_threads = 1;
+      /**
+       * The top of the supernodal elimination tree, which Refresh::below_top leaves stale,
+       * is the smallest upward-closed set of supernodes holding at least this fraction of
+       * the factorization flops: 0 makes it empty (Refresh::below_top is then
+       * Refresh::all), 1 makes it every supernode. Supernodal method.
+       */
+      double              top_flops_fraction = 0.5;
     };
 
     /** What the last calls did and cost. Times are wall-clock seconds. */
@@ -100,6 +133,14 @@ namespace warpchol::cholesky
       Index  n_refactorizations  = 0;
       /** Bytes held by the numeric factor (values and the structure that indexes them). */
       std::size_t factor_bytes   = 0;
+      /** Supernodes in the top (Settings::top_flops_fraction) and their flops (share: top_flops / method_flops). */
+      Index  n_top_supernodes    = 0;
+      double top_flops           = 0;
+      /** Columns of C changed (loaded) but not yet refactored, after the last call. */
+      Index  pending_columns     = 0;
+      /** Top supernodes that are stale after the last call, and the flops a Refresh::all would spend on them alone. */
+      Index  stale_supernodes    = 0;
+      double stale_flops         = 0;
 
       /** nnz(L) / nnz(tril(A)). */
       double fill() const;
@@ -127,12 +168,36 @@ namespace warpchol::cholesky
      * @p matrix changed: recompute exactly the columns of L on the elimination-tree paths
      * from those columns (permuted) to the root, reuse the others. A column of C whose
      * values changed without being listed is found while loading the values and recomputed
-     * as well, so the factor always matches @p matrix. Throws InputError for a column out of
-     * range, and what factorize() throws. If no valid factor exists yet, factors fully.
+     * as well, so the factor always matches @p matrix.
+     *
+     * With @p refresh other than Refresh::all the factor is brought up to date only in part
+     * (see Refresh) and is then the exact factor of no matrix, though still a valid
+     * preconditioner (L L^T is SPD); what it leaves out is remembered and recomputed by a
+     * later Refresh::all, so the changes need to be listed only once.
+     *
+     * Throws InputError for a column out of range or Refresh::below_top with a method other
+     * than the supernodal one, and what factorize() throws. If no valid factor exists yet,
+     * factors fully whatever @p refresh.
      */
-    void refactorize(const sparse::CSCMatrix &matrix, const std::vector<Index> &changed_columns);
+    void refactorize(const sparse::CSCMatrix  &matrix,
+                     const std::vector<Index> &changed_columns,
+                     Refresh                   refresh = Refresh::all);
 
-    /** Solve A x = b for one right-hand side. */
+    /**
+     * The flops refactorize(matrix, @p changed_columns, @p refresh) would spend now: on the
+     * listed columns (user numbering) and on what is pending or stale. Changes the next load
+     * finds without their being listed are not foreseen. Throws as refactorize() does.
+     */
+    double predicted_flops(const std::vector<Index> &changed_columns, Refresh refresh) const;
+
+    /** Whether L is the exact factor of the last loaded matrix: nothing pending, nothing stale. */
+    bool factor_is_exact() const;
+
+    /**
+     * Solve A x = b for one right-hand side; with a factor that is not exact
+     * (factor_is_exact()), solve L L^T x = b, a preconditioner for A: every pivot is
+     * positive, so L L^T is SPD. Throws Error only when no factor exists.
+     */
     void solve(const std::vector<double> &b, std::vector<double> &x) const;
 
     /**
@@ -156,16 +221,55 @@ namespace warpchol::cholesky
     /** Parent of each column of P^T A P in the elimination tree. */
     const std::vector<Index> &elimination_tree() const;
 
-    /** The columns of L (permuted numbering, sorted) that the last refactorize() recomputed. */
+    /**
+     * The columns of L (permuted numbering, sorted) that the last refactorize() recomputed:
+     * the elimination-tree closure of the changes, without the top's for Refresh::below_top,
+     * with the stale ones for Refresh::all.
+     */
     const std::vector<Index> &recomputed_columns() const;
+
+    /** top_supernodes()[s]: whether supernode s is in the top (supernodal method; empty otherwise). */
+    const std::vector<bool> &top_supernodes() const;
 
     const Statistics &statistics() const;
 
     const Settings &settings() const;
 
   private:
-    /** Factor the given columns (all if empty); maps a failed pivot to the user's column. */
-    double run_numeric(const std::vector<Index> &columns);
+    /** What one refactorize() computes, and the stale columns it leaves. */
+    struct RefreshPlan
+    {
+      /** Factor everything (no valid factor, or the up-looking method). */
+      bool               full = false;
+      /**
+       * Columns of L (permuted, sorted) to recompute: with each column, every ancestor up
+       * to the first that is not recomputed (above it, nothing recomputed depends on it).
+       */
+      std::vector<Index> columns;
+      /** The supernodes that hold them (supernodal method). */
+      DirtySupernodes    supernodes;
+      /** The stale columns after it. */
+      std::vector<Index> stale_columns;
+      double             flops = 0;
+    };
+
+    /** Throw InputError for a column out of range or a @p refresh the method cannot do. */
+    void check_request(const std::vector<Index> &changed_columns, Refresh refresh) const;
+
+    /**
+     * The plan of a refactorize() with @p refresh when the columns @p changes of C (permuted,
+     * sorted) have changed since the last one: pending ones included, stale ones not.
+     */
+    RefreshPlan plan_refresh(const std::vector<Index> &changes, Refresh refresh) const;
+
+    /** @p changed_columns (user numbering) mapped to C's and merged with the pending ones. */
+    std::vector<Index> pending_with(const std::vector<Index> &changed_columns) const;
+
+    /** Factor the columns of @p plan; maps a failed pivot to the user's column. */
+    double run_numeric(const RefreshPlan &plan);
+
+    /** Set the statistics of what is pending and stale. */
+    void update_backlog_statistics();
 
     Settings              solver_settings;
     std::vector<Index>    fill_reducing_permutation;
@@ -176,6 +280,17 @@ namespace warpchol::cholesky
     std::vector<double>   l_values;
     SupernodalFactor      supernodal_factor;
     std::vector<Index>    last_recomputed_columns;
+    /** Supernodes of the top (supernodal method). */
+    std::vector<bool>     top_supernode;
+    /** Columns of C (permuted, sorted) loaded with new values that no refactorization has used yet. */
+    std::vector<Index>    pending_columns;
+    /**
+     * Columns of L in top supernodes (permuted, sorted) that depend on a change that
+     * Refresh::below_top left out: the union of the elimination-tree closures left out.
+     * A stale supernode is recomputed from its first stale column on, since the columns
+     * before it depend on nothing that changed since it was last computed.
+     */
+    std::vector<Index>    stale_columns;
     bool                  analyzed     = false;
     bool                  factor_valid = false;
     mutable Statistics    stats;
