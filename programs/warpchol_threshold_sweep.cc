@@ -1,12 +1,18 @@
 /**
  * warpchol-threshold-sweep: run a scene with warp-canceling corotation for a list of
- * update thresholds and compare each run with the exact corotational one: the trajectory
- * error against the run time (DESIGN.md section 5), as a table and a CSV file to plot.
+ * update thresholds and step strategies, and compare each run with the exact corotational
+ * one: the trajectory error against the run time (DESIGN.md section 5), as a table and a
+ * CSV file to plot, with the per-phase split of a step and the cost per element of the
+ * element kernels (ns per tet).
  *
- *   warpchol-threshold-sweep PARAMS.prm [--thresholds 0,0.03,0.1,0.3,1,inf] [--csv FILE]
+ *   warpchol-threshold-sweep PARAMS.prm [--thresholds 0,0.03,0.1,0.3,1,inf]
+ *       [--strategies delayed_top,preconditioned,auto] [--strategy-thresholds 0.3,1,inf]
+ *       [--threads N] [--csv FILE]
  *
- * The scene's model entries are overridden; its output entries are ignored. The CSV goes
- * to output/SCENE/threshold_sweep.csv unless --csv says otherwise.
+ * The partial strategy (direct solve of the WCC system) runs at every --thresholds; each
+ * of --strategies at every --strategy-thresholds, with the scene's CG settings. The
+ * scene's model entries are overridden; its output entries are ignored. The CSV goes to
+ * output/SCENE/threshold_sweep.csv unless --csv says otherwise.
  */
 
 #include <warpchol/app/command_line.h>
@@ -17,11 +23,13 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
+#include <warpchol/fem/rotations.h>
 
 #include <deal.II/base/utilities.h>
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <iomanip>
 #include <iostream>
 #include <limits>
@@ -34,16 +42,29 @@ namespace
   using namespace warpchol;
 
   const char *usage =
-    "usage: warpchol-threshold-sweep PARAMS.prm [--thresholds T1,T2,...] [--csv FILE]\n"
-    "  --thresholds  WCC update thresholds, numbers >= 0 or inf (default 0,0.03,0.1,0.3,1,inf)\n"
-    "  --csv FILE    where the table goes as CSV (default output/SCENE/threshold_sweep.csv)";
+    "usage: warpchol-threshold-sweep PARAMS.prm [--thresholds T1,T2,...] [--strategies S1,...]\n"
+    "                                [--strategy-thresholds T1,...] [--threads N] [--csv FILE]\n"
+    "  --thresholds           WCC thresholds of the partial strategy, numbers >= 0 or inf\n"
+    "                         (default 0,0.03,0.1,0.3,1,inf)\n"
+    "  --strategies           the other step strategies to run (default\n"
+    "                         delayed_top,preconditioned,auto; 'none' for none)\n"
+    "  --strategy-thresholds  their thresholds (default 0.3,1,inf)\n"
+    "  --threads N            Solver/Threads of every run (default: the scene's)\n"
+    "  --csv FILE             where the table goes as CSV (default output/SCENE/threshold_sweep.csv)";
 
   struct Options
   {
     std::string         parameter_file;
     std::vector<double> thresholds{0, 0.03, 0.1, 0.3, 1, std::numeric_limits<double>::infinity()};
+    std::vector<fem::StepStrategy::Kind> strategies{fem::StepStrategy::Kind::delayed_top,
+                                                    fem::StepStrategy::Kind::preconditioned,
+                                                    fem::StepStrategy::Kind::automatic};
+    std::vector<double> strategy_thresholds{0.3, 1, std::numeric_limits<double>::infinity()};
+    unsigned int        threads = 0;
     std::string         csv_file;
   };
+
+
 
   double parse_threshold(const std::string &text)
   {
@@ -64,6 +85,16 @@ namespace
     return value;
   }
 
+  std::vector<double> parse_thresholds(const std::string &option, const std::string &list)
+  {
+    std::vector<double> thresholds;
+    for (const auto &text : dealii::Utilities::split_string_list(list, ','))
+      thresholds.push_back(parse_threshold(text));
+    if (thresholds.empty())
+      throw InputError(option + ": no threshold given");
+    return thresholds;
+  }
+
   Options parse_command_line(const int argc, char **argv)
   {
     Options          options;
@@ -72,13 +103,29 @@ namespace
       {
         const std::string argument = command_line.next();
         if (argument == "--thresholds")
+          options.thresholds = parse_thresholds(argument, command_line.value_of(argument));
+        else if (argument == "--strategy-thresholds")
+          options.strategy_thresholds = parse_thresholds(argument, command_line.value_of(argument));
+        else if (argument == "--strategies")
           {
-            options.thresholds.clear();
-            for (const auto &text :
-                 dealii::Utilities::split_string_list(command_line.value_of(argument), ','))
-              options.thresholds.push_back(parse_threshold(text));
-            if (options.thresholds.empty())
-              throw InputError("--thresholds: no threshold given");
+            options.strategies.clear();
+            const std::string list = command_line.value_of(argument);
+            if (list != "none")
+              for (const auto &text : dealii::Utilities::split_string_list(list, ','))
+                {
+                  const auto kind = fem::parse_step_strategy(text);
+                  if (kind == fem::StepStrategy::Kind::partial)
+                    throw InputError("--strategies: partial runs at every --thresholds already");
+                  options.strategies.push_back(kind);
+                }
+          }
+        else if (argument == "--threads")
+          {
+            const std::string text = command_line.value_of(argument);
+            if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos ||
+                std::stoul(text) < 1 || std::stoul(text) > 1024)
+              throw InputError("--threads: '" + text + "' is not a number of threads in [1, 1024]");
+            options.threads = std::stoul(text);
           }
         else if (argument == "--csv")
           options.csv_file = command_line.value_of(argument);
@@ -100,16 +147,27 @@ namespace
   /** One run of the sweep. */
   struct SweepRow
   {
-    std::string  model;
-    double       threshold           = 0;
-    unsigned int steps               = 0;
-    double       elements_updated    = 0; // mean percentage per step
-    double       flops_recomputed    = 0; // mean percentage per step (0 without refactorization)
-    double       seconds             = 0; // time steps only
-    double       max_error           = 0;
-    double       final_error         = 0;
-    std::string  failure;
+    std::string         model;
+    double              threshold        = 0;
+    unsigned int        steps            = 0;
+    double              elements_updated = 0; // mean percentage per step
+    double              flops_recomputed = 0; // mean percentage per step (0 without refactorization)
+    double              cg_iterations    = 0; // mean per step
+    double              seconds          = 0; // time steps only
+    fem::StepStatistics phases;               // seconds summed over the steps
+    double              max_error   = 0;
+    double              final_error = 0;
+    std::string         failure;
   };
+
+  /** The name of a run in the model column: the model, or the WCC strategy. */
+  std::string row_name(const app::AllParameters &parameters)
+  {
+    const auto kind = parameters.model.strategy.kind;
+    if (parameters.model.type != "warp_canceling" || kind == fem::StepStrategy::Kind::partial)
+      return parameters.model.type;
+    return "wcc_" + fem::to_string(kind);
+  }
 
   /** Run @p parameters' scene, comparing every step with @p reference (if not empty). */
   SweepRow run_scene(const app::AllParameters &parameters,
@@ -117,7 +175,7 @@ namespace
                      std::vector<std::vector<fem::Vector3>>       *trajectory)
   {
     SweepRow row;
-    row.model     = parameters.model.type;
+    row.model     = row_name(parameters);
     row.threshold = parameters.model.update_threshold;
     app::Scene  scene(parameters);
     const auto &rest = scene.body().rest_positions();
@@ -139,6 +197,13 @@ namespace
         row.elements_updated += 100.0 * statistics.elements_updated / scene.body().n_elements();
         if (statistics.refactorized)
           row.flops_recomputed += 100.0 * statistics.flops_recomputed / statistics.flops_full;
+        row.cg_iterations += statistics.cg_iterations;
+        row.phases.t_rotations += statistics.t_rotations;
+        row.phases.t_error_estimate += statistics.t_error_estimate;
+        row.phases.t_assembly += statistics.t_assembly;
+        row.phases.t_factor += statistics.t_factor;
+        row.phases.t_iterations += statistics.t_iterations;
+        row.phases.t_solve += statistics.t_solve;
         const auto &x = scene.integrator().positions();
         if (trajectory)
           trajectory->push_back(x);
@@ -158,8 +223,55 @@ namespace
       {
         row.elements_updated /= row.steps;
         row.flops_recomputed /= row.steps;
+        row.cg_iterations /= row.steps;
       }
     return row;
+  }
+
+  /**
+   * The cost per element of each element kernel, in ns per tet, at the configuration
+   * @p positions: best of a few repetitions of the whole loop on the scene's threads.
+   */
+  void print_kernel_costs(const app::Scene &scene, const std::vector<fem::Vector3> &positions)
+  {
+    const auto        &body       = scene.body();
+    const unsigned int n_elements = body.n_elements();
+    const auto time_per_tet = [&](const std::function<void()> &kernel) {
+      double best = std::numeric_limits<double>::infinity();
+      for (unsigned int repetition = 0; repetition < 5; ++repetition)
+        {
+          Stopwatch stopwatch;
+          kernel();
+          best = std::min(best, stopwatch.seconds());
+        }
+      return format_number(1e9 * best / n_elements, 3);
+    };
+    std::vector<fem::Matrix3> rotations(n_elements);
+    const std::string svd = time_per_tet([&] {
+      for (unsigned int e = 0; e < n_elements; ++e)
+        rotations[e] = fem::rotation_by_svd(body.deformation_gradient(e, positions));
+    });
+    const std::string polar = time_per_tet([&] {
+      for (unsigned int e = 0; e < n_elements; ++e)
+        rotations[e] = fem::rotation_of(body.deformation_gradient(e, positions));
+    });
+    fem::ElasticBody::State state;
+    const std::string       fused = time_per_tet(
+      [&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements, state); });
+    const std::string fused_nodal = time_per_tet(
+      [&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements_and_vertices, state); });
+    std::vector<fem::Vector3> product(body.n_vertices());
+    std::vector<fem::Matrix3> work;
+    const std::string         corotated_product = time_per_tet([&] {
+      std::fill(product.begin(), product.end(), fem::Vector3::Zero());
+      body.add_corotated_stiffness_times(&state.element_rotations, positions, product, work);
+    });
+    std::cout << "element kernels (ns per tet, " << n_elements << " tets, one pass over all):\n"
+              << "  rotation by SVD (the former kernel)            " << svd << "\n"
+              << "  rotation by scaled Newton (rotation_of)        " << polar << "\n"
+              << "  fused pass: F, rotation, force, energy, gather " << fused << "\n"
+              << "  the same with the nodal rotations              " << fused_nodal << "\n"
+              << "  corotated stiffness product (one CG product)   " << corotated_product << "\n";
   }
 
   void run(const Options &options)
@@ -167,6 +279,8 @@ namespace
     app::AllParameters parameters(options.parameter_file);
     parameters.output.vtu_interval = 0;
     parameters.output.write_log    = false;
+    if (options.threads > 0)
+      parameters.solver.settings.n_threads = options.threads;
 
     // The exact run, recorded step by step.
     app::AllParameters corotational = parameters;
@@ -176,40 +290,77 @@ namespace
     if (!exact.failure.empty())
       throw MatrixError("the corotational run: " + exact.failure);
 
-    std::vector<SweepRow> rows{exact};
+    std::vector<app::AllParameters> runs;
     for (const double threshold : options.thresholds)
       {
         app::AllParameters wcc     = parameters;
         wcc.model.type             = "warp_canceling";
         wcc.model.update_threshold = threshold;
-        rows.push_back(run_scene(wcc, reference, nullptr));
-        std::cerr << "threshold " << format_number(threshold) << " done" << std::endl;
+        wcc.model.strategy.kind    = fem::StepStrategy::Kind::partial;
+        runs.push_back(wcc);
+      }
+    for (const auto kind : options.strategies)
+      for (const double threshold : options.strategy_thresholds)
+        {
+          app::AllParameters wcc     = parameters;
+          wcc.model.type             = "warp_canceling";
+          wcc.model.update_threshold = threshold;
+          wcc.model.strategy.kind    = kind;
+          runs.push_back(wcc);
+        }
+    std::vector<SweepRow> rows{exact};
+    for (const auto &run_parameters : runs)
+      {
+        rows.push_back(run_scene(run_parameters, reference, nullptr));
+        std::cerr << rows.back().model << " " << format_number(rows.back().threshold) << " done" << std::endl;
       }
 
     std::ostringstream table;
-    table << "model,threshold,steps,elements_updated_pct,flops_recomputed_pct,seconds,"
-             "seconds_per_step,max_error_vs_corotational,final_error_vs_corotational,failure\n";
+    table << "model,threshold,steps,elements_updated_pct,flops_recomputed_pct,cg_iterations,seconds,"
+             "seconds_per_step,t_rotations,t_error_estimate,t_assembly,t_factor,t_iterations,t_solve,"
+             "max_error_vs_corotational,final_error_vs_corotational,failure\n";
     std::cout << "scene " << parameters.scene_name() << ", " << parameters.time_stepping.n_steps
-              << " steps; error = max_i |x_i - x_i(corotational)| / max_i |x_i(corotational) - X_i|\n"
-              << std::setw(18) << "model" << std::setw(10) << "threshold" << std::setw(10)
-              << "updated%" << std::setw(10) << "flops%" << std::setw(12) << "s/step"
-              << std::setw(12) << "max error" << std::setw(12) << "end error" << "\n";
+              << " steps, " << parameters.solver.settings.n_threads << " thread(s); error = max_i "
+              << "|x_i - x_i(corotational)| / max_i |x_i(corotational) - X_i|; phases in ms per step\n"
+              << std::setw(20) << "model" << std::setw(10) << "threshold" << std::setw(9) << "updated%"
+              << std::setw(8) << "flops%" << std::setw(7) << "CG it" << std::setw(10) << "s/step"
+              << std::setw(8) << "speedup" << std::setw(8) << "rotat" << std::setw(8) << "estim"
+              << std::setw(8) << "assem" << std::setw(8) << "factor" << std::setw(8) << "iterat"
+              << std::setw(8) << "solve" << std::setw(11) << "max error" << std::setw(11) << "end error" << "\n";
+    const double exact_per_step = exact.seconds / std::max(1u, exact.steps);
     for (const auto &row : rows)
       {
-        const double per_step = row.steps > 0 ? row.seconds / row.steps : 0;
+        const double per_step  = row.steps > 0 ? row.seconds / row.steps : 0;
+        const auto   per_step_ms = [&](const double seconds) {
+          return format_number(row.steps > 0 ? 1e3 * seconds / row.steps : 0, 3);
+        };
+        const auto &p = row.phases;
         table << row.model << "," << format_number(row.threshold) << "," << row.steps << ","
               << format_number(row.elements_updated, 4) << "," << format_number(row.flops_recomputed, 4)
-              << "," << format_number(row.seconds, 4) << "," << format_number(per_step, 4) << ","
-              << format_number(row.max_error, 3) << "," << format_number(row.final_error, 3) << ","
+              << "," << format_number(row.cg_iterations, 3) << "," << format_number(row.seconds, 4) << ","
+              << format_number(per_step, 4) << "," << per_step_ms(p.t_rotations) << ","
+              << per_step_ms(p.t_error_estimate) << "," << per_step_ms(p.t_assembly) << ","
+              << per_step_ms(p.t_factor) << "," << per_step_ms(p.t_iterations) << ","
+              << per_step_ms(p.t_solve) << "," << format_number(row.max_error, 3) << ","
+              << format_number(row.final_error, 3) << ","
               << (row.failure.empty() ? "" : "\"" + row.failure + "\"") << "\n";
-        std::cout << std::setw(18) << row.model << std::setw(10)
-                  << (row.model == "warp_canceling" ? format_number(row.threshold) : "-")
-                  << std::setw(10) << format_number(row.elements_updated, 3) << std::setw(10)
-                  << format_number(row.flops_recomputed, 3) << std::setw(12)
-                  << format_number(per_step, 3) << std::setw(12) << format_number(row.max_error, 2)
-                  << std::setw(12) << format_number(row.final_error, 2)
+        std::cout << std::setw(20) << row.model << std::setw(10)
+                  << (row.model == "corotational" ? "-" : format_number(row.threshold)) << std::setw(9)
+                  << format_number(row.elements_updated, 3) << std::setw(8)
+                  << format_number(row.flops_recomputed, 3) << std::setw(7)
+                  << format_number(row.cg_iterations, 2) << std::setw(10) << format_number(per_step, 3)
+                  << std::setw(8) << format_number(per_step > 0 ? exact_per_step / per_step : 0, 3)
+                  << std::setw(8) << per_step_ms(p.t_rotations) << std::setw(8)
+                  << per_step_ms(p.t_error_estimate) << std::setw(8) << per_step_ms(p.t_assembly)
+                  << std::setw(8) << per_step_ms(p.t_factor) << std::setw(8) << per_step_ms(p.t_iterations)
+                  << std::setw(8) << per_step_ms(p.t_solve) << std::setw(11) << format_number(row.max_error, 2)
+                  << std::setw(11) << format_number(row.final_error, 2)
                   << (row.failure.empty() ? "" : "  " + row.failure) << "\n";
       }
+    {
+      app::Scene scene(corotational);
+      print_kernel_costs(scene, reference.back());
+    }
     std::string csv_file = options.csv_file;
     if (csv_file.empty())
       {

@@ -98,8 +98,8 @@ namespace warpchol::app
   {
     return std::string(
              "step,time,elements_updated,elements_updated_pct,refactorized,columns_recomputed_pct,"
-             "flops_recomputed_pct,t_rotations,t_error_estimate,t_assembly,t_factor,t_solve,t_step,"
-             "kinetic_energy,elastic_energy") +
+             "flops_recomputed_pct,refresh,cg_iterations,t_rotations,t_error_estimate,t_assembly,"
+             "t_factor,t_solve,t_iterations,t_step,kinetic_energy,elastic_energy") +
            (with_error ? ",error_vs_corotational" : "");
   }
 
@@ -113,9 +113,9 @@ namespace warpchol::app
     line << std::setprecision(6) << row.step << "," << row.time << "," << s.elements_updated << ","
          << percent(s.elements_updated, row.n_elements) << "," << (s.refactorized ? 1 : 0) << ","
          << percent(s.columns_recomputed, s.n_columns) << ","
-         << percent(s.flops_recomputed, s.flops_full) << "," << s.t_rotations << ","
-         << s.t_error_estimate << "," << s.t_assembly << "," << s.t_factor << "," << s.t_solve
-         << "," << row.step_seconds << "," << std::setprecision(10) << row.kinetic_energy << ","
+         << percent(s.flops_recomputed, s.flops_full) << "," << s.refresh << "," << s.cg_iterations
+         << "," << s.t_rotations << "," << s.t_error_estimate << "," << s.t_assembly << ","
+         << s.t_factor << "," << s.t_solve << "," << s.t_iterations << "," << row.step_seconds << "," << std::setprecision(10) << row.kinetic_energy << ","
          << row.elastic_energy;
     if (with_error)
       line << "," << std::setprecision(6) << row.error_vs_corotational;

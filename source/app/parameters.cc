@@ -320,6 +320,29 @@ namespace warpchol::app
                         "error estimate (an impulse) exceeds this fraction of the step's impulse "
                         "scale: the mean over elements of |A_e v_e| + dt |f_e| (dimensionless). "
                         "0 updates all (exact corotation), inf none (stiffness warping)");
+      prm.declare_entry("Strategy", "partial", Patterns::Anything(),
+                        "warp_canceling: how a step keeps the factor up to date and solves. "
+                        "partial: partial refactorization of every column that depends on an "
+                        "update, direct solve (the WCC system exactly); preconditioned: the same "
+                        "factor as the preconditioner of CG on the 'Iterate on' matrix; "
+                        "delayed_top: every step only the supernodes below the top of the "
+                        "elimination tree (Solver/Top flops fraction), the top every 'Refresh "
+                        "interval' steps or after a solve of more than 'Refresh iterations' "
+                        "iterations, CG; auto: per step the cheapest of refreshing all, below "
+                        "the top or nothing, by a cost model of measured rates, CG");
+      prm.declare_entry("Iterate on", "corotational", Patterns::Anything(),
+                        "The matrix CG solves with (all strategies but partial): corotational "
+                        "(the exact corotational matrix, matrix-free: the WCC error becomes "
+                        "iterations) or warp_canceling (the assembled WCC matrix)");
+      prm.declare_entry("CG tolerance", "1e-6", Patterns::Double(1e-15, 1),
+                        "CG stops when |b - B x| <= this times |b|");
+      prm.declare_entry("Max CG iterations", "100", Patterns::Integer(1, 100000),
+                        "A solve that needs more refreshes the whole factor and starts again");
+      prm.declare_entry("Refresh interval", "10", Patterns::Integer(1, 1000000),
+                        "delayed_top: the top is refreshed at least every this many steps");
+      prm.declare_entry("Refresh iterations", "8", Patterns::Integer(1, 100000),
+                        "delayed_top: and in the step after a solve that needed more "
+                        "iterations than this");
       prm.leave_subsection();
     }
 
@@ -345,6 +368,26 @@ namespace warpchol::app
               std::isinf(update_threshold))
             file.fail(prm, "Model", "Update threshold", "must be a number >= 0 or inf");
         }
+      try
+        {
+          strategy.kind = fem::parse_step_strategy(trim(prm.get("Strategy")));
+        }
+      catch (const Error &error)
+        {
+          file.fail(prm, "Model", "Strategy", error.what());
+        }
+      try
+        {
+          strategy.iterate_on = fem::parse_iteration_target(trim(prm.get("Iterate on")));
+        }
+      catch (const Error &error)
+        {
+          file.fail(prm, "Model", "Iterate on", error.what());
+        }
+      strategy.cg_tolerance       = prm.get_double("CG tolerance");
+      strategy.max_cg_iterations  = prm.get_integer("Max CG iterations");
+      strategy.refresh_interval   = prm.get_integer("Refresh interval");
+      strategy.refresh_iterations = prm.get_integer("Refresh iterations");
       prm.leave_subsection();
     }
 
@@ -367,6 +410,10 @@ namespace warpchol::app
       prm.declare_entry("Threads", "1", Patterns::Integer(1, 1024),
                         "Threads of the supernodal factorization and of the element loops "
                         "(rotations, error estimates); 1: serial");
+      prm.declare_entry("Top flops fraction", "0.5", Patterns::Double(0, 1),
+                        "The top of the elimination tree that Model/Strategy = delayed_top or "
+                        "auto may leave stale: the smallest upward-closed set of supernodes "
+                        "holding this fraction of the factorization flops");
       prm.leave_subsection();
     }
 
@@ -389,7 +436,8 @@ namespace warpchol::app
         {
           file.fail(prm, "Solver", "Method", error.what());
         }
-      settings.n_threads = prm.get_integer("Threads");
+      settings.n_threads          = prm.get_integer("Threads");
+      settings.top_flops_fraction = prm.get_double("Top flops fraction");
       prm.leave_subsection();
     }
 

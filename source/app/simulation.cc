@@ -91,6 +91,10 @@ namespace warpchol::app
         t.seconds.t_assembly += statistics.t_assembly;
         t.seconds.t_factor += statistics.t_factor;
         t.seconds.t_solve += statistics.t_solve;
+        t.seconds.t_iterations += statistics.t_iterations;
+        t.cg_iterations += statistics.cg_iterations;
+        if (!statistics.refresh.empty())
+          ++t.refreshes[statistics.refresh];
         t.step_seconds += step_seconds;
         if (!simulated_scene->loads().tool.vertices.empty())
           {
@@ -198,6 +202,21 @@ namespace warpchol::app
               << " %, flops recomputed mean " << n(t.flops_recomputed_pct / t.refactorizations)
               << " %";
         out << "\n";
+        if (const auto *wcc = dynamic_cast<const fem::WarpCancelingModel *>(&model))
+          {
+            const auto &strategy = wcc->step_strategy();
+            out << "  strategy: " << fem::to_string(strategy.kind);
+            if (strategy.iterates())
+              out << ", CG on the " << fem::to_string(strategy.iterate_on) << " matrix to "
+                  << n(strategy.cg_tolerance, 2) << ", iterations per step mean "
+                  << n(static_cast<double>(t.cg_iterations) / std::max(1u, t.steps));
+            out << "; factor refreshes:";
+            if (t.refreshes.empty())
+              out << " 0";
+            for (const auto &[refresh, count] : t.refreshes)
+              out << " " << refresh << " " << count;
+            out << "\n";
+          }
         if (!scene.loads().tool.vertices.empty() && t.elements_updated > 0)
           {
             double all_distance = 0;
@@ -227,7 +246,8 @@ namespace warpchol::app
         out << "  seconds per step: rotations " << n(t.seconds.t_rotations / steps)
             << ", error estimate " << n(t.seconds.t_error_estimate / steps) << ", assembly "
             << n(t.seconds.t_assembly / steps) << ", factor " << n(t.seconds.t_factor / steps)
-            << ", solve " << n(t.seconds.t_solve / steps) << ", step " << n(t.step_seconds / steps)
+            << ", solve " << n(t.seconds.t_solve / steps) << ", iterations "
+            << n(t.seconds.t_iterations / steps) << ", step " << n(t.step_seconds / steps)
             << "\n";
         out << "  set-up " << n(setup_seconds) << " s (model " << n(model.setup_seconds())
             << " s), time steps " << n(t.step_seconds) << " s\n";

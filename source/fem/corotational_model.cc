@@ -21,11 +21,10 @@ namespace warpchol::fem
   void CorotationalModel::prepare_step(const std::vector<Vector3> &positions,
                                        const std::vector<Vector3> &, StepStatistics &statistics)
   {
-    Stopwatch stopwatch;
-    body.compute_element_rotations(positions, element_rotations);
-    statistics.t_rotations += stopwatch.seconds();
+    evaluate_elastic_state(positions, ElasticBody::Rotations::elements, statistics);
+    const auto &element_rotations = elastic_state.element_rotations;
 
-    stopwatch.restart();
+    Stopwatch stopwatch;
     // The nodal rotations of the general warped form are the identity here.
     const std::array<Matrix3, 4> identity{
       {Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity()}};
@@ -39,9 +38,4 @@ namespace warpchol::fem
     factorize(statistics);
   }
 
-  void CorotationalModel::add_elastic_forces(const std::vector<Vector3> &positions,
-                                             std::vector<Vector3>       &forces) const
-  {
-    body.add_elastic_forces(positions, &element_rotations, forces);
-  }
 } // namespace warpchol::fem

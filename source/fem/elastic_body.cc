@@ -27,6 +27,9 @@ namespace warpchol::fem
 
   namespace
   {
+    /** Elements (or vertices) whose rotations are computed together by rotations_of(). */
+    constexpr unsigned int rotation_block = 64;
+
     Vector3 to_vector(const dealii::Point<3> &point)
     {
       return {point[0], point[1], point[2]};
@@ -63,6 +66,8 @@ namespace warpchol::fem
         throw InputError("cell " + std::to_string(cell->active_cell_index()) +
                          " is not a tetrahedron");
 
+    lambda = material.lame_lambda();
+    mu     = material.lame_mu();
     rest.resize(triangulation.n_vertices());
     for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
       rest[v] = to_vector(triangulation.get_vertices()[v]);
@@ -94,9 +99,13 @@ namespace warpchol::fem
         for (unsigned int a = 0; a < 4; ++a)
           vertices_of_element[e][a] = cell->vertex_index(a);
       }
+    local_index_around_vertex.resize(triangulation.n_vertices());
     for (unsigned int e = 0; e < vertices_of_element.size(); ++e)
-      for (const unsigned int v : vertices_of_element[e])
-        elements_around_vertex[v].push_back(e);
+      for (unsigned int a = 0; a < 4; ++a)
+        {
+          elements_around_vertex[vertices_of_element[e][a]].push_back(e);
+          local_index_around_vertex[vertices_of_element[e][a]].push_back(a);
+        }
 
     compute_element_matrices();
   }
@@ -143,8 +152,6 @@ namespace warpchol::fem
 
     // K_e and M_e with the finite element machinery. The gradients of linear shape
     // functions are constant, the mass integrand quadratic: a degree-2 Gauss rule is exact.
-    const double                lambda = body_material.lame_lambda();
-    const double                mu     = body_material.lame_mu();
     const dealii::QGaussSimplex<3> quadrature(2);
     dealii::FEValues<3>         fe_values(fe_mapping, fe, quadrature,
                                   dealii::update_values | dealii::update_gradients |
@@ -289,14 +296,127 @@ namespace warpchol::fem
     return lumped_mass[v];
   }
 
+  Matrix3 ElasticBody::field_gradient(const unsigned int e, const std::vector<Vector3> &field) const
+  {
+    const auto &v = vertices_of_element[e];
+    return field_gradient(e, std::array<Vector3, 4>{{field[v[0]], field[v[1]], field[v[2]], field[v[3]]}});
+  }
+
+  Matrix3 ElasticBody::field_gradient(const unsigned int e, const std::array<Vector3, 4> &vertex_values) const
+  {
+    Matrix3 edges;
+    for (unsigned int a = 1; a < 4; ++a)
+      edges.col(a - 1) = vertex_values[a] - vertex_values[0];
+    return edges * inverse_rest_edges[e];
+  }
+
   Matrix3 ElasticBody::deformation_gradient(const unsigned int          e,
                                             const std::vector<Vector3> &positions) const
   {
-    const auto &v = vertices_of_element[e];
-    Matrix3     deformed_edges;
-    for (unsigned int a = 1; a < 4; ++a)
-      deformed_edges.col(a - 1) = positions[v[a]] - positions[v[0]];
-    return deformed_edges * inverse_rest_edges[e];
+    return field_gradient(e, positions);
+  }
+
+  Matrix3 ElasticBody::stress(const Matrix3 &displacement_gradient) const
+  {
+    const Matrix3 strain = 0.5 * (displacement_gradient + displacement_gradient.transpose());
+    Matrix3       result = (2 * mu) * strain;
+    result.diagonal().array() += lambda * strain.trace();
+    return result;
+  }
+
+  Matrix3 ElasticBody::stiffness_forces(const unsigned int e, const Matrix3 &displacement_gradient) const
+  {
+    // The rows of Dm^-1 are the gradients of the shape functions of vertices 1..3: the
+    // force on vertex a is V sigma grad N_a, i.e. the columns of V sigma Dm^-T.
+    return volumes[e] * (stress(displacement_gradient) * inverse_rest_edges[e].transpose());
+  }
+
+  double ElasticBody::element_energy(const unsigned int e, const Matrix3 &displacement_gradient) const
+  {
+    // 1/2 u^T K u = V/2 sigma : eps, and sigma : eps = sigma : G since sigma is symmetric.
+    return 0.5 * volumes[e] * stress(displacement_gradient).cwiseProduct(displacement_gradient).sum();
+  }
+
+  void ElasticBody::gather_element_forces(const std::vector<Matrix3> &element_forces,
+                                          std::vector<Vector3>       &out) const
+  {
+    dealii::parallel::apply_to_subranges(
+      0u, n_vertices(),
+      [&](const unsigned int begin, const unsigned int end) {
+        for (unsigned int v = begin; v < end; ++v)
+          {
+            const auto &elements = elements_around_vertex[v];
+            const auto &local    = local_index_around_vertex[v];
+            Vector3     sum      = Vector3::Zero();
+            for (std::size_t k = 0; k < elements.size(); ++k)
+              {
+                const Matrix3 &forces = element_forces[elements[k]];
+                if (local[k] == 0)
+                  sum -= forces.rowwise().sum();
+                else
+                  sum += forces.col(local[k] - 1);
+              }
+            out[v] += sum;
+          }
+      },
+      256);
+  }
+
+  void ElasticBody::evaluate(const std::vector<Vector3> &positions, const Rotations rotations,
+                             State &state) const
+  {
+    const unsigned int n_cells = n_elements();
+    const bool         rotate  = rotations != Rotations::none;
+    state.element_rotations.resize(rotate ? n_cells : 0);
+    state.element_force_norms.resize(n_cells);
+    state.element_forces.resize(n_cells);
+    std::vector<double> energies(n_cells);
+    // The fused element pass: F, R_e, G = R_e^T F - I, the local forces K_e u_e and the
+    // world forces -R_e K_e u_e, the energy. Independent per element; the rotations of a
+    // block of elements at once (rotations_of() interleaves them in SIMD lanes).
+    dealii::parallel::apply_to_subranges(
+      0u, n_cells,
+      [&](const unsigned int begin, const unsigned int end) {
+        std::array<Matrix3, rotation_block> gradients, block_rotations;
+        for (unsigned int first = begin; first < end; first += rotation_block)
+          {
+            const unsigned int count = std::min(rotation_block, end - first);
+            for (unsigned int k = 0; k < count; ++k)
+              gradients[k] = deformation_gradient(first + k, positions);
+            if (rotate)
+              rotations_of(gradients.data(), block_rotations.data(), count);
+            for (unsigned int k = 0; k < count; ++k)
+              {
+                const unsigned int e = first + k;
+                Matrix3            gradient;
+                if (rotate)
+                  {
+                    state.element_rotations[e] = block_rotations[k];
+                    gradient                   = block_rotations[k].transpose() * gradients[k];
+                  }
+                else
+                  gradient = gradients[k];
+                gradient.diagonal().array() -= 1;
+                const Matrix3 stress_times_volume = volumes[e] * stress(gradient);
+                const Matrix3 local_forces        = stress_times_volume * inverse_rest_edges[e].transpose();
+                energies[e] = 0.5 * stress_times_volume.cwiseProduct(gradient).sum();
+                state.element_forces[e] =
+                  rotate ? Matrix3(-(block_rotations[k] * local_forces)) : Matrix3(-local_forces);
+                state.element_force_norms[e] =
+                  std::sqrt(local_forces.squaredNorm() + local_forces.rowwise().sum().squaredNorm());
+              }
+          }
+      },
+      512);
+    state.elastic_energy = 0;
+    for (const double energy : energies)
+      state.elastic_energy += energy;
+    state.forces.assign(n_vertices(), Vector3::Zero());
+    gather_element_forces(state.element_forces, state.forces);
+    if (rotations == Rotations::elements_and_vertices)
+      compute_nodal_rotations(state.element_rotations, state.nodal_rotations);
+    else
+      state.nodal_rotations.clear();
   }
 
   void ElasticBody::compute_element_rotations(const std::vector<Vector3> &positions,
@@ -307,8 +427,14 @@ namespace warpchol::fem
     dealii::parallel::apply_to_subranges(
       0u, n_elements(),
       [&](const unsigned int begin, const unsigned int end) {
-        for (unsigned int e = begin; e < end; ++e)
-          element_rotations[e] = rotation_of(deformation_gradient(e, positions));
+        std::array<Matrix3, rotation_block> gradients;
+        for (unsigned int first = begin; first < end; first += rotation_block)
+          {
+            const unsigned int count = std::min(rotation_block, end - first);
+            for (unsigned int k = 0; k < count; ++k)
+              gradients[k] = deformation_gradient(first + k, positions);
+            rotations_of(gradients.data(), element_rotations.data() + first, count);
+          }
       },
       512);
   }
@@ -320,12 +446,17 @@ namespace warpchol::fem
     dealii::parallel::apply_to_subranges(
       0u, n_vertices(),
       [&](const unsigned int begin, const unsigned int end) {
-        for (unsigned int v = begin; v < end; ++v)
+        std::array<Matrix3, rotation_block> weighted_sums;
+        for (unsigned int first = begin; first < end; first += rotation_block)
           {
-            Matrix3 weighted_sum = Matrix3::Zero();
-            for (const unsigned int e : elements_around_vertex[v])
-              weighted_sum += volumes[e] * element_rotations[e];
-            nodal_rotations[v] = rotation_of(weighted_sum);
+            const unsigned int count = std::min(rotation_block, end - first);
+            for (unsigned int k = 0; k < count; ++k)
+              {
+                weighted_sums[k].setZero();
+                for (const unsigned int e : elements_around_vertex[first + k])
+                  weighted_sums[k] += volumes[e] * element_rotations[e];
+              }
+            rotations_of(weighted_sums.data(), nodal_rotations.data() + first, count);
           }
       },
       256);
@@ -343,21 +474,23 @@ namespace warpchol::fem
                                        const std::vector<Matrix3> *element_rotations,
                                        std::vector<Vector3>       &forces) const
   {
-    for (unsigned int e = 0; e < n_elements(); ++e)
-      {
-        const auto   &v = vertices_of_element[e];
-        ElementVector displacement;
-        for (unsigned int a = 0; a < 4; ++a)
-          displacement.segment<3>(3 * a) =
-            (element_rotations ? Vector3((*element_rotations)[e].transpose() * positions[v[a]]) :
-                                 positions[v[a]]) -
-            rest[v[a]];
-        const ElementVector local_force = stiffness[e] * displacement;
-        for (unsigned int a = 0; a < 4; ++a)
-          forces[v[a]] -= element_rotations ?
-                            Vector3((*element_rotations)[e] * local_force.segment<3>(3 * a)) :
-                            Vector3(local_force.segment<3>(3 * a));
-      }
+    // Through the fused pass, with the given rotations rather than fresh ones.
+    std::vector<Matrix3> element_forces(n_elements());
+    dealii::parallel::apply_to_subranges(
+      0u, n_elements(),
+      [&](const unsigned int begin, const unsigned int end) {
+        for (unsigned int e = begin; e < end; ++e)
+          {
+            const Matrix3 f = deformation_gradient(e, positions);
+            Matrix3 gradient = element_rotations ? Matrix3((*element_rotations)[e].transpose() * f) : f;
+            gradient.diagonal().array() -= 1;
+            const Matrix3 local_forces = stiffness_forces(e, gradient);
+            element_forces[e] = element_rotations ? Matrix3(-((*element_rotations)[e] * local_forces)) :
+                                                    Matrix3(-local_forces);
+          }
+      },
+      512);
+    gather_element_forces(element_forces, forces);
   }
 
   double ElasticBody::elastic_energy(const std::vector<Vector3> &positions,
@@ -366,16 +499,35 @@ namespace warpchol::fem
     double energy = 0;
     for (unsigned int e = 0; e < n_elements(); ++e)
       {
-        const auto   &v = vertices_of_element[e];
-        ElementVector displacement;
-        for (unsigned int a = 0; a < 4; ++a)
-          displacement.segment<3>(3 * a) =
-            (element_rotations ? Vector3((*element_rotations)[e].transpose() * positions[v[a]]) :
-                                 positions[v[a]]) -
-            rest[v[a]];
-        energy += 0.5 * displacement.dot(stiffness[e] * displacement);
+        const Matrix3 f        = deformation_gradient(e, positions);
+        Matrix3       gradient = element_rotations ? Matrix3((*element_rotations)[e].transpose() * f) : f;
+        gradient.diagonal().array() -= 1;
+        energy += element_energy(e, gradient);
       }
     return energy;
+  }
+
+  void ElasticBody::add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
+                                                  const std::vector<Vector3> &v,
+                                                  std::vector<Vector3>       &out,
+                                                  std::vector<Matrix3>       &work) const
+  {
+    // R_e K_e R_e^T v_e: the gradient of v in the element's frame is R_e^T grad v.
+    work.resize(n_elements());
+    dealii::parallel::apply_to_subranges(
+      0u, n_elements(),
+      [&](const unsigned int begin, const unsigned int end) {
+        for (unsigned int e = begin; e < end; ++e)
+          {
+            const Matrix3 gradient = field_gradient(e, v);
+            work[e] = element_rotations ?
+                        Matrix3((*element_rotations)[e] *
+                                stiffness_forces(e, (*element_rotations)[e].transpose() * gradient)) :
+                        stiffness_forces(e, gradient);
+          }
+      },
+      512);
+    gather_element_forces(work, out);
   }
 
   void ElasticBody::add_mass_times(const std::vector<Vector3> &velocities,

@@ -3,6 +3,10 @@
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/fem/elasticity_model.h>
 
+#include <deal.II/lac/solver_cg.h>
+#include <deal.II/lac/solver_control.h>
+#include <deal.II/lac/vector.h>
+
 #include <algorithm>
 
 namespace warpchol::fem
@@ -18,6 +22,22 @@ namespace warpchol::fem
       throw InputError("every vertex is fixed: nothing to simulate");
     record.updated.assign(body.n_elements(), 0);
     record.steps_since_update.assign(body.n_elements(), 0);
+  }
+
+  void ElasticityModel::add_elastic_forces(const std::vector<Vector3> &,
+                                           std::vector<Vector3> &forces) const
+  {
+    for (std::size_t v = 0; v < forces.size(); ++v)
+      forces[v] += elastic_state.forces[v];
+  }
+
+  void ElasticityModel::evaluate_elastic_state(const std::vector<Vector3> &positions,
+                                               const ElasticBody::Rotations rotations,
+                                               StepStatistics             &statistics)
+  {
+    Stopwatch stopwatch;
+    body.evaluate(positions, rotations, elastic_state);
+    statistics.t_rotations += stopwatch.seconds();
   }
 
   bool ElasticityModel::uses_rotations() const
@@ -62,15 +82,19 @@ namespace warpchol::fem
         cholesky_solver.analyze(system.csc());
       cholesky_solver.factorize(system.csc());
     });
+    statistics.refresh = "full";
+    last_refresh       = cholesky::Refresh::all;
     record_refactorization(statistics);
     statistics.t_factor += stopwatch.seconds();
   }
 
   void ElasticityModel::refactorize(const std::vector<Index> &changed_columns,
-                                    StepStatistics           &statistics)
+                                    StepStatistics &statistics, const cholesky::Refresh refresh)
   {
     Stopwatch stopwatch;
-    checked([&]() { cholesky_solver.refactorize(system.csc(), changed_columns); });
+    checked([&]() { cholesky_solver.refactorize(system.csc(), changed_columns, refresh); });
+    statistics.refresh = to_string(refresh);
+    last_refresh       = refresh;
     record_refactorization(statistics);
     statistics.t_factor += stopwatch.seconds();
   }
@@ -92,9 +116,8 @@ namespace warpchol::fem
   }
 
   void ElasticityModel::solve(const std::vector<Vector3> &right_hand_side,
-                              std::vector<Vector3> &velocities, StepStatistics &statistics) const
+                              std::vector<Vector3> &velocities, StepStatistics &statistics)
   {
-    Stopwatch stopwatch;
     // A y = R^T rhs, then v = R y: the nodal rotations stand for the updates A lacks.
     std::vector<double> rotated(body.n_unknowns());
     for (unsigned int v = 0; v < body.n_vertices(); ++v)
@@ -108,7 +131,32 @@ namespace warpchol::fem
           rotated[first + c] = local[c];
       }
     std::vector<double> solution(body.n_unknowns());
-    cholesky_solver.solve(rotated, solution);
+    last_cg_iterations = 0;
+    last_cg_seconds    = 0;
+    if (!strategy.iterates())
+      {
+        Stopwatch stopwatch;
+        cholesky_solver.solve(rotated, solution);
+        statistics.t_solve += stopwatch.seconds();
+      }
+    else
+      {
+        try
+          {
+            solve_by_cg(rotated, solution, statistics);
+          }
+        catch (const dealii::SolverControl::NoConvergence &)
+          {
+            if (cholesky_solver.factor_is_exact())
+              throw MatrixError("preconditioned CG did not reach the tolerance " +
+                                format_number(strategy.cg_tolerance) + " in " +
+                                std::to_string(strategy.max_cg_iterations) + " iterations");
+            // A stale factor that has become a poor preconditioner: refresh it and retry.
+            refactorize({}, statistics, cholesky::Refresh::all);
+            solve(right_hand_side, velocities, statistics);
+            return;
+          }
+      }
     velocities.resize(body.n_vertices());
     for (unsigned int v = 0; v < body.n_vertices(); ++v)
       {
@@ -121,7 +169,106 @@ namespace warpchol::fem
         const Vector3 local(solution[first], solution[first + 1], solution[first + 2]);
         velocities[v] = solve_frame ? Vector3((*solve_frame)[v] * local) : local;
       }
-    statistics.t_solve += stopwatch.seconds();
+  }
+
+  namespace
+  {
+    /** A matrix or preconditioner for deal.II's SolverCG: vmult through a function. */
+    class FunctionOperator
+    {
+    public:
+      using Function = std::function<void(const dealii::Vector<double> &, dealii::Vector<double> &)>;
+
+      explicit FunctionOperator(Function apply)
+        : apply(std::move(apply))
+      {}
+
+      void vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
+      {
+        apply(src, dst);
+      }
+
+    private:
+      Function apply;
+    };
+  } // namespace
+
+  unsigned int ElasticityModel::solve_by_cg(const std::vector<double> &b, std::vector<double> &y,
+                                            StepStatistics &statistics)
+  {
+    Stopwatch    stopwatch;
+    double       solve_seconds = 0;
+    const Index  n             = body.n_unknowns();
+    const FunctionOperator target([this](const dealii::Vector<double> &in, dealii::Vector<double> &out) {
+      target_times(in, out);
+    });
+    const FunctionOperator preconditioner([&](const dealii::Vector<double> &in, dealii::Vector<double> &out) {
+      Stopwatch solve_stopwatch;
+      cholesky_solver.solve(in.begin(), out.begin(), 1);
+      solve_seconds += solve_stopwatch.seconds();
+    });
+    dealii::Vector<double> right_hand_side(b.begin(), b.end());
+    dealii::Vector<double> solution(n);
+    // |b - B y| <= tolerance |b|: a relative tolerance, whatever the units.
+    dealii::ReductionControl control(strategy.max_cg_iterations, 0, strategy.cg_tolerance, false, false);
+    dealii::SolverCG<dealii::Vector<double>> cg(control);
+    const auto record = [&]() {
+      last_cg_iterations = control.last_step();
+      last_cg_seconds    = stopwatch.seconds();
+      statistics.cg_iterations += control.last_step();
+      statistics.t_solve += solve_seconds;
+      statistics.t_iterations += last_cg_seconds - solve_seconds;
+    };
+    try
+      {
+        cg.solve(target, solution, right_hand_side, preconditioner);
+      }
+    catch (...)
+      {
+        record();
+        throw;
+      }
+    record();
+    y.assign(solution.begin(), solution.end());
+    return control.last_step();
+  }
+
+  void ElasticityModel::target_times(const dealii::Vector<double> &y, dealii::Vector<double> &out) const
+  {
+    if (strategy.iterate_on == StepStrategy::Target::warp_canceling)
+      {
+        // A itself: deal.II's row-wise (threaded) product with the assembled matrix.
+        system.matrix().vmult(out, y);
+        return;
+      }
+    // R^T (c_M M + c_K sum_e R_e K_e R_e^T + tool springs) R y, matrix-free over the
+    // elements; fixed vertices have no velocity.
+    vertex_work.assign(body.n_vertices(), Vector3::Zero());
+    for (unsigned int v = 0; v < body.n_vertices(); ++v)
+      {
+        const Index first = body.first_unknown(v);
+        if (first < 0)
+          continue;
+        const Vector3 local(y[first], y[first + 1], y[first + 2]);
+        vertex_work[v] = solve_frame ? Vector3((*solve_frame)[v] * local) : local;
+      }
+    vertex_product.assign(body.n_vertices(), Vector3::Zero());
+    body.add_corotated_stiffness_times(&elastic_state.element_rotations, vertex_work, vertex_product,
+                                       element_work);
+    mass_product.assign(body.n_vertices(), Vector3::Zero());
+    body.add_mass_times(vertex_work, mass_product);
+    for (unsigned int v = 0; v < body.n_vertices(); ++v)
+      {
+        const Index first = body.first_unknown(v);
+        if (first < 0)
+          continue;
+        Vector3 world = coefficients.stiffness * vertex_product[v] + coefficients.mass * mass_product[v];
+        if (!coefficients.vertex_diagonal.empty())
+          world += coefficients.vertex_diagonal[v] * vertex_work[v];
+        const Vector3 local = solve_frame ? Vector3((*solve_frame)[v].transpose() * world) : world;
+        for (unsigned int c = 0; c < 3; ++c)
+          out[first + c] = local[c];
+      }
   }
 
   void ElasticityModel::record_updates(const std::vector<unsigned int> &updated)

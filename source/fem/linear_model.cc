@@ -19,16 +19,12 @@ namespace warpchol::fem
     return false;
   }
 
-  void LinearModel::prepare_step(const std::vector<Vector3> &, const std::vector<Vector3> &,
+  void LinearModel::prepare_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &,
                                  StepStatistics &statistics)
   {
+    evaluate_elastic_state(positions, ElasticBody::Rotations::none, statistics);
     record_updates(false);
     record_no_refactorization(statistics);
   }
 
-  void LinearModel::add_elastic_forces(const std::vector<Vector3> &positions,
-                                       std::vector<Vector3>       &forces) const
-  {
-    body.add_elastic_forces(positions, nullptr, forces);
-  }
 } // namespace warpchol::fem

@@ -1,4 +1,3 @@
-#include <warpchol/base/stopwatch.h>
 #include <warpchol/fem/stiffness_warping_model.h>
 
 namespace warpchol::fem
@@ -9,7 +8,7 @@ namespace warpchol::fem
     : ElasticityModel(body, coefficients, solver_settings)
   {
     set_up_rest_system();
-    solve_frame = &nodal_rotations;
+    solve_frame = &elastic_state.nodal_rotations;
   }
 
   std::string StiffnessWarpingModel::name() const
@@ -20,17 +19,9 @@ namespace warpchol::fem
   void StiffnessWarpingModel::prepare_step(const std::vector<Vector3> &positions,
                                            const std::vector<Vector3> &, StepStatistics &statistics)
   {
-    Stopwatch stopwatch;
-    body.compute_element_rotations(positions, element_rotations);
-    body.compute_nodal_rotations(element_rotations, nodal_rotations);
-    statistics.t_rotations += stopwatch.seconds();
+    evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
     record_no_refactorization(statistics);
     record_updates(false);
   }
 
-  void StiffnessWarpingModel::add_elastic_forces(const std::vector<Vector3> &positions,
-                                                 std::vector<Vector3>       &forces) const
-  {
-    body.add_elastic_forces(positions, &element_rotations, forces);
-  }
 } // namespace warpchol::fem

@@ -6,22 +6,32 @@
 #include <deal.II/base/parallel.h>
 
 #include <cmath>
+#include <limits>
 
 namespace warpchol::fem
 {
   WarpCancelingModel::WarpCancelingModel(const ElasticBody &body,
                                          const SystemCoefficients &coefficients,
                                          const cholesky::SparseCholesky::Settings &solver_settings,
-                                         const double update_threshold)
+                                         const double update_threshold,
+                                         const StepStrategy &step_strategy)
     : ElasticityModel(body, coefficients, solver_settings)
     , threshold(update_threshold)
   {
+    strategy = step_strategy;
+    if (strategy.kind == StepStrategy::Kind::delayed_top || strategy.kind == StepStrategy::Kind::automatic)
+      if (solver_settings.method != cholesky::FactorizationMethod::supernodal)
+        throw InputError("the step strategy " + to_string(strategy.kind) +
+                         " needs the supernodal method (Solver/Method = supernodal)");
     if (!(update_threshold >= 0))
       throw InputError("the WCC update threshold must be >= 0 (or inf), got " +
                        format_number(update_threshold));
     // At rest every rotation is the identity: A is the rest matrix.
     set_up_rest_system();
-    solve_frame = &nodal_rotations;
+    solve_frame = &elastic_state.nodal_rotations;
+    // At rest every frame is the identity.
+    stored_frames.assign(body.n_elements(), {{Matrix3::Identity(), Matrix3::Identity(),
+                                               Matrix3::Identity(), Matrix3::Identity()}});
     // Estimates exist only between the two limits (0: all updated, inf: none); at rest
     // they are 0.
     if (update_threshold > 0 && !std::isinf(update_threshold))
@@ -38,51 +48,72 @@ namespace warpchol::fem
     return threshold;
   }
 
-  std::vector<unsigned int>
-  WarpCancelingModel::elements_to_update(const std::vector<Vector3> &positions,
-                                         const std::vector<Vector3> &velocities)
+  const StepStrategy &WarpCancelingModel::step_strategy() const
   {
-    const unsigned int  n_elements = body.n_elements();
+    return strategy;
+  }
+
+  std::vector<unsigned int>
+  WarpCancelingModel::elements_to_update(const std::vector<Vector3> &velocities)
+  {
+    const unsigned int  n_elements        = body.n_elements();
+    const auto         &element_rotations = elastic_state.element_rotations;
+    const auto         &nodal_rotations   = elastic_state.nodal_rotations;
+    const bool          lumped            = body.mass_matrix_type() == MassMatrix::lumped;
     std::vector<double> error(n_elements);
     std::vector<double> impulse(n_elements);
     // Independent per element (threads as deal.II's MultithreadInfo allows); the sum of
     // the impulses follows, in element order, so the result does not depend on threads.
+    // Everything is matrix-free: the stiffness K_e is applied through the strain of a
+    // gradient (ElasticBody::stiffness_forces), the stored contribution through the
+    // frames T_a = S_a^T Q_e it was made with.
     dealii::parallel::apply_to_subranges(
       0u, n_elements,
       [&](const unsigned int begin, const unsigned int end) {
         for (unsigned int e = begin; e < end; ++e)
           {
-            const auto    &vertices         = body.element_vertices(e);
-            const Matrix3 &element_rotation = element_rotations[e];
-            // z = R^T v_e in the nodal frames; exact product A_e[R, R_e] z computed without
-            // forming the matrix: the stiffness part is S_a^T R_e K_e R_e^T v (since
-            // S_b S_b^T = I), the mass part m_ab S_a^T v_b.
-            ElementVector z;
-            ElementVector unrotated_velocity;
-            ElementVector unrotated_displacement;
+            const auto    &vertices = body.element_vertices(e);
+            const Matrix3 &rotation = element_rotations[e];
+            const auto    &frames   = stored_frames[e];
+            const auto    &mass     = body.element_mass(e);
+            // Exact, in the world frame: c_K R_e K_e R_e^T v_e (+ c_M M_e v_e).
+            const Matrix3 exact_stiffness =
+              coefficients.stiffness *
+              (rotation * body.stiffness_forces(e, rotation.transpose() * body.field_gradient(e, velocities)));
+            // Stored, in the nodal frames: c_K T_a K_e T_b^T z_b with z_b = R_b^T v_b; the
+            // gradient of y_b = T_b^T z_b is [y1-y0, y2-y0, y3-y0] Dm^-1.
+            std::array<Vector3, 4> y;
+            for (unsigned int b = 0; b < 4; ++b)
+              y[b] = frames[b].transpose() * (nodal_rotations[vertices[b]].transpose() * velocities[vertices[b]]);
+            const Matrix3 stored_stiffness =
+              coefficients.stiffness * body.stiffness_forces(e, body.field_gradient(e, y));
+
+            double error_squared = 0, exact_squared = 0;
             for (unsigned int a = 0; a < 4; ++a)
               {
-                const unsigned int v = vertices[a];
-                z.segment<3>(3 * a)  = nodal_rotations[v].transpose() * velocities[v];
-                unrotated_velocity.segment<3>(3 * a) = element_rotation.transpose() * velocities[v];
-                unrotated_displacement.segment<3>(3 * a) =
-                  element_rotation.transpose() * positions[v] - body.rest_positions()[v];
-              }
-            const ElementVector local_force = body.rest_stiffness(e) * unrotated_velocity;
-            const auto         &mass        = body.element_mass(e);
-            ElementVector       exact;
-            for (unsigned int a = 0; a < 4; ++a)
-              {
-                Vector3 world =
-                  coefficients.stiffness * (element_rotation * local_force.segment<3>(3 * a));
+                const Vector3 world_stiffness =
+                  a == 0 ? Vector3(-exact_stiffness.rowwise().sum()) : Vector3(exact_stiffness.col(a - 1));
+                const Vector3 local_stiffness =
+                  a == 0 ? Vector3(-stored_stiffness.rowwise().sum()) : Vector3(stored_stiffness.col(a - 1));
+                Vector3 world_mass  = Vector3::Zero();
+                Vector3 stored_mass = Vector3::Zero();
                 for (unsigned int b = 0; b < 4; ++b)
                   if (mass(a, b) != 0)
-                    world += (coefficients.mass * mass(a, b)) * velocities[vertices[b]];
-                exact.segment<3>(3 * a) = nodal_rotations[vertices[a]].transpose() * world;
+                    {
+                      world_mass += (coefficients.mass * mass(a, b)) * velocities[vertices[b]];
+                      stored_mass += (coefficients.mass * mass(a, b)) * y[b];
+                    }
+                const Matrix3 &nodal = nodal_rotations[vertices[a]];
+                const Vector3  exact = nodal.transpose() * (world_stiffness + world_mass);
+                exact_squared += exact.squaredNorm();
+                // A lumped mass is the same in every frame: its parts cancel exactly.
+                const Vector3 difference =
+                  lumped ? Vector3(nodal.transpose() * world_stiffness - frames[a] * local_stiffness) :
+                           Vector3(exact - frames[a] * (local_stiffness + stored_mass));
+                error_squared += difference.squaredNorm();
               }
-            error[e]   = (exact - system.contribution(e) * z).norm();
-            impulse[e] = exact.norm() + coefficients.time_step *
-                                          (body.rest_stiffness(e) * unrotated_displacement).norm();
+            error[e]   = std::sqrt(error_squared);
+            impulse[e] = std::sqrt(exact_squared) + coefficients.time_step * elastic_state.element_force_norms[e];
           }
       },
       512);
@@ -103,24 +134,31 @@ namespace warpchol::fem
     return update;
   }
 
-  ElementMatrix WarpCancelingModel::current_contribution(const unsigned int e) const
+  ElementMatrix WarpCancelingModel::current_contribution(const unsigned int e)
   {
     const auto            &vertices = body.element_vertices(e);
     std::array<Matrix3, 4> vertex_rotations;
     for (unsigned int a = 0; a < 4; ++a)
-      vertex_rotations[a] = nodal_rotations[vertices[a]];
-    return warped_element_matrix(body, e, coefficients, vertex_rotations, element_rotations[e]);
+      {
+        vertex_rotations[a] = elastic_state.nodal_rotations[vertices[a]];
+        // What the contribution is made with, as warped_element_matrix() forms it.
+        stored_frames[e][a] = vertex_rotations[a].transpose() * elastic_state.element_rotations[e];
+      }
+    return warped_element_matrix(body, e, coefficients, vertex_rotations, elastic_state.element_rotations[e]);
   }
 
   void WarpCancelingModel::prepare_step(const std::vector<Vector3> &positions,
                                         const std::vector<Vector3> &velocities,
                                         StepStatistics             &statistics)
   {
-    Stopwatch stopwatch;
-    body.compute_element_rotations(positions, element_rotations);
-    body.compute_nodal_rotations(element_rotations, nodal_rotations);
-    statistics.t_rotations += stopwatch.seconds();
+    // What the last step's solve measured calibrates the cost model.
+    if (last_cg_iterations > 0)
+      cost_model.record_iterations(last_refresh, last_cg_iterations, last_cg_seconds);
+    last_refresh = cholesky::Refresh::none;
+
+    evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
     record_no_refactorization(statistics);
+    Stopwatch stopwatch;
 
     // Updating an element stores its contribution with the current rotations: the system
     // matrix keeps it, the S_a and Q_e it was made with, until the next update.
@@ -148,23 +186,64 @@ namespace warpchol::fem
       }
 
     stopwatch.restart();
-    const std::vector<unsigned int> update = elements_to_update(positions, velocities);
+    const std::vector<unsigned int> update = elements_to_update(velocities);
     statistics.t_error_estimate += stopwatch.seconds();
     record_updates(update);
     statistics.elements_updated = update.size();
-    if (update.empty())
+
+    std::vector<Index> changed_columns;
+    if (!update.empty())
+      {
+        stopwatch.restart();
+        changed_columns = system.reassemble(update, contribution_of);
+        statistics.t_assembly += stopwatch.seconds();
+      }
+    // Nothing changed and nothing is left stale: the factor is that of A.
+    if (changed_columns.empty() && cholesky_solver.factor_is_exact())
       return;
-
-    stopwatch.restart();
-    const std::vector<Index> changed_columns = system.reassemble(update, contribution_of);
-    statistics.t_assembly += stopwatch.seconds();
-    if (!changed_columns.empty())
-      refactorize(changed_columns, statistics);
+    const cholesky::Refresh refresh = choose_refresh(changed_columns);
+    refactorize(changed_columns, statistics, refresh);
+    cost_model.record_factorization(statistics.flops_recomputed, statistics.t_factor);
   }
 
-  void WarpCancelingModel::add_elastic_forces(const std::vector<Vector3> &positions,
-                                              std::vector<Vector3>       &forces) const
+  cholesky::Refresh WarpCancelingModel::choose_refresh(const std::vector<Index> &changed_columns)
   {
-    body.add_elastic_forces(positions, &element_rotations, forces);
+    using cholesky::Refresh;
+    switch (strategy.kind)
+      {
+        case StepStrategy::Kind::partial:
+        case StepStrategy::Kind::preconditioned:
+          return Refresh::all;
+        case StepStrategy::Kind::delayed_top:
+          // The top when it is due, or when the last solve showed the factor has become a
+          // poor preconditioner (the change the top has accumulated, measured by its effect).
+          if (++steps_since_top_refresh >= strategy.refresh_interval ||
+              last_cg_iterations > strategy.refresh_iterations)
+            {
+              steps_since_top_refresh = 0;
+              return Refresh::all;
+            }
+          return Refresh::below_top;
+        case StepStrategy::Kind::automatic:
+          {
+            if (!cost_model.calibrated())
+              return Refresh::all;
+            Refresh cheapest      = Refresh::all;
+            double  least_seconds = std::numeric_limits<double>::infinity();
+            for (const Refresh refresh : {Refresh::all, Refresh::below_top, Refresh::none})
+              {
+                const double seconds = cost_model.predicted_seconds(
+                  refresh, cholesky_solver.predicted_flops(changed_columns, refresh));
+                if (seconds < least_seconds)
+                  {
+                    least_seconds = seconds;
+                    cheapest      = refresh;
+                  }
+              }
+            return cheapest;
+          }
+      }
+    return Refresh::all;
   }
+
 } // namespace warpchol::fem

@@ -4,6 +4,7 @@
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/mesh_generators.h>
 #include <warpchol/fem/small_dense.h>
+#include <warpchol/fem/step_strategy.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -116,8 +117,10 @@ namespace warpchol::app
     /** Subsection "Model". */
     struct Model
     {
-      std::string type             = "warp_canceling";
-      double      update_threshold = 0.05;
+      std::string       type             = "warp_canceling";
+      double            update_threshold = 0.05;
+      /** How a WCC step refreshes its factor and solves. */
+      fem::StepStrategy strategy;
 
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);

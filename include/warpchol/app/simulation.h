@@ -4,6 +4,7 @@
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
 
+#include <map>
 #include <memory>
 #include <ostream>
 #include <string>
@@ -26,6 +27,10 @@ namespace warpchol::app
     unsigned int refactorizations       = 0;
     double       columns_recomputed_pct = 0;
     double       flops_recomputed_pct   = 0;
+    /** Iterations of preconditioned CG, summed over the steps. */
+    unsigned int cg_iterations          = 0;
+    /** Steps per refresh of the factor: "full", "all", "below_top", "none". */
+    std::map<std::string, unsigned int> refreshes;
     fem::StepStatistics seconds;
     double       step_seconds = 0;
     /** Sum over updates of the rest distance of the element's centre to the tool's centre. */

@@ -4,7 +4,10 @@
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/small_dense.h>
+#include <warpchol/fem/step_strategy.h>
 #include <warpchol/fem/system_matrix.h>
+
+#include <deal.II/lac/vector.h>
 
 #include <string>
 #include <vector>
@@ -35,7 +38,15 @@ namespace warpchol::fem
     double t_error_estimate = 0;
     double t_assembly       = 0;
     double t_factor         = 0;
+    /** The triangular solves with the factor (directly, or as CG's preconditioner). */
     double t_solve          = 0;
+    /** Preconditioned CG without its triangular solves: products and vector operations. */
+    double t_iterations     = 0;
+
+    /** How much of the factor was brought up to date ("all", "below_top", "none"; "" if nothing changed). */
+    std::string refresh;
+    /** Iterations of preconditioned CG (0 for a direct solve). */
+    unsigned int cg_iterations = 0;
   };
 
   /** Per element: how up to date its contribution to A is (for output). */
@@ -81,17 +92,22 @@ namespace warpchol::fem
 
     /**
      * forces += the elastic forces at @p positions, which were given to the last
-     * prepare_step(): exact corotated forces for every model but the linear one.
+     * prepare_step(): exact corotated forces for every model but the linear one, as the
+     * fused element pass of prepare_step() computed them.
      */
     virtual void add_elastic_forces(const std::vector<Vector3> &positions,
-                                    std::vector<Vector3>       &forces) const = 0;
+                                    std::vector<Vector3>       &forces) const;
 
     /**
      * Solve R A R^T v = @p right_hand_side for the velocities of the free vertices; those
-     * of the fixed vertices are set to zero.
+     * of the fixed vertices are set to zero. With an iterating strategy, the system is
+     * that of the strategy's target matrix (the exact corotational one, or A), solved by
+     * preconditioned CG with the factor of A as the preconditioner; should CG not converge,
+     * the factor is refreshed in full and CG runs again. Throws MatrixError if it still
+     * does not converge.
      */
     void solve(const std::vector<Vector3> &right_hand_side, std::vector<Vector3> &velocities,
-               StepStatistics &statistics) const;
+               StepStatistics &statistics);
 
     /** Whether the model uses rotations at all (all but the linear one). */
     virtual bool uses_rotations() const;
@@ -111,8 +127,12 @@ namespace warpchol::fem
 
     /** Full numeric factorization of the current A (analyzed on the first call). */
     void factorize(StepStatistics &statistics);
-    /** Partial refactorization after @p changed_columns of A changed. */
-    void refactorize(const std::vector<Index> &changed_columns, StepStatistics &statistics);
+    /**
+     * Partial refactorization after @p changed_columns of A changed, bringing the factor up
+     * to date as far as @p refresh says (SparseCholesky::refactorize()).
+     */
+    void refactorize(const std::vector<Index> &changed_columns, StepStatistics &statistics,
+                     cholesky::Refresh refresh = cholesky::Refresh::all);
 
     /** The sizes a step that does not refactorize reports (columns and full flops). */
     void record_no_refactorization(StepStatistics &statistics) const;
@@ -121,6 +141,13 @@ namespace warpchol::fem
     void record_updates(const std::vector<unsigned int> &updated);
     /** Record that all or no element was recomputed this step. */
     void record_updates(bool all);
+
+    /**
+     * The fused element pass at @p positions (ElasticBody::evaluate): rotations as the
+     * model needs them, corotated forces, energy; timed as the step's rotations.
+     */
+    void evaluate_elastic_state(const std::vector<Vector3> &positions,
+                                ElasticBody::Rotations rotations, StepStatistics &statistics);
 
     /**
      * The nodal rotations R in which solve() works; null means the identity. Set by the
@@ -134,8 +161,32 @@ namespace warpchol::fem
     cholesky::SparseCholesky cholesky_solver;
     ElementUpdateRecord      record;
     double                   setup_time = 0;
+    /** Rotations, forces and energy at the positions of the last prepare_step(). */
+    ElasticBody::State       elastic_state;
+    /** How the steps are solved (partial: directly; the others by preconditioned CG). */
+    StepStrategy             strategy;
+    /** What the last solve() did: its CG iterations and their seconds (solves included). */
+    unsigned int             last_cg_iterations = 0;
+    double                   last_cg_seconds    = 0;
+    /** How much of the factor the last refactorize() refreshed. */
+    cholesky::Refresh        last_refresh = cholesky::Refresh::all;
 
   private:
+    /**
+     * y = B^-1 b by preconditioned CG, B the strategy's target matrix in the solve frame,
+     * the factor of A the preconditioner. Returns the iterations; throws
+     * dealii::SolverControl::NoConvergence if the tolerance is not reached.
+     */
+    unsigned int solve_by_cg(const std::vector<double> &b, std::vector<double> &y,
+                             StepStatistics &statistics);
+
+    /** out = B y for the strategy's target matrix B, over the unknowns. */
+    void target_times(const dealii::Vector<double> &y, dealii::Vector<double> &out) const;
+
+    /** Work arrays of the matrix-free products (per vertex, per element). */
+    mutable std::vector<Vector3> vertex_work, vertex_product, mass_product;
+    mutable std::vector<Matrix3> element_work;
+
     /** Run @p factor; a failed pivot becomes a MatrixError naming column and vertex. */
     template <typename Factor>
     void checked(const Factor &factor);

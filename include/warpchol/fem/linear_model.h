@@ -21,11 +21,9 @@ namespace warpchol::fem
     std::string name() const override;
     bool        uses_rotations() const override;
 
-    /** Nothing to do: A never changes. */
+    /** A never changes: only the elastic forces are evaluated. */
     void prepare_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
                       StepStatistics &statistics) override;
 
-    void add_elastic_forces(const std::vector<Vector3> &positions,
-                            std::vector<Vector3>       &forces) const override;
   };
 } // namespace warpchol::fem

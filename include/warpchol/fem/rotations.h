@@ -2,6 +2,8 @@
 
 #include <warpchol/fem/small_dense.h>
 
+#include <cstddef>
+
 /**
  * @file
  * Rotations of deformed elements: the rotation factor of the polar decomposition, made
@@ -19,6 +21,32 @@ namespace warpchol::fem
    * rotation (det R = +1) and the element is treated as inverted along its thinnest
    * direction. The same projection turns a volume-weighted sum of rotations into the
    * nearest rotation (the nodal rotations of stiffness warping).
+   *
+   * About 1 us per call (Jacobi SVD): the reference and the fallback of rotation_of().
+   */
+  Matrix3 rotation_by_svd(const Matrix3 &deformation_gradient);
+
+  /**
+   * The same rotation as rotation_by_svd(), fast: Higham's Newton iteration for the polar
+   * factor, X <- (gamma X + X^-T / gamma) / 2 from X = F with Frobenius-norm scaling gamma,
+   * which converges quadratically to R for any F with det F > 0 (4 to 6 iterations for
+   * the strains of soft tissue; about 60 ns). X^-T is the cofactor matrix over det X: no
+   * pivoting, no square root but the scaling's.
+   *
+   * Where the iteration does not apply or would lose accuracy it falls back to the SVD,
+   * so Irving's handling is unchanged: an inverted element (det F <= 0), a nearly flat
+   * one (det F below 1e-6 |F|^3), or no convergence in 40 iterations.
    */
   Matrix3 rotation_of(const Matrix3 &deformation_gradient);
+
+  /**
+   * rotations[k] = rotation_of(gradients[k]) for k < @p count, the same results, faster:
+   * eight matrices at a time, one per SIMD lane (their entries laid out lane by lane so
+   * that the compiler vectorizes every operation of the iteration across the eight), a
+   * fixed number of Newton steps without branches, then rotation_of() for any lane that
+   * needs more (a large strain) or its fallback (inverted, flat). One Newton step is a
+   * chain of dependent operations (cofactors, determinant, square roots, division): eight
+   * independent chains side by side keep the pipelines full.
+   */
+  void rotations_of(const Matrix3 *gradients, Matrix3 *rotations, std::size_t count);
 } // namespace warpchol::fem

@@ -26,11 +26,6 @@ namespace warpchol::fem
     void prepare_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
                       StepStatistics &statistics) override;
 
-    void add_elastic_forces(const std::vector<Vector3> &positions,
-                            std::vector<Vector3>       &forces) const override;
 
-  private:
-    std::vector<Matrix3> element_rotations;
-    std::vector<Matrix3> nodal_rotations;
   };
 } // namespace warpchol::fem

@@ -39,6 +39,11 @@ namespace warpchol::fem
    * estimates nothing: the step is then exactly stiffness warping. In between, the updated
    * elements' entries are re-assembled and the factor is refactorized partially, for the
    * dofs of their vertices only; nothing is refactorized in a step with no update.
+   *
+   * How much of the factor a step recomputes and how it solves is the StepStrategy: the
+   * partial refactorization and a direct solve above, or a factor refreshed in part (below
+   * the top of the elimination tree, or not at all) as the preconditioner of CG on the
+   * exact corotational matrix, chosen per step by a cost model for the automatic one.
    */
   class WarpCancelingModel : public ElasticityModel
   {
@@ -46,31 +51,45 @@ namespace warpchol::fem
     /** @p update_threshold >= 0, possibly infinite. */
     WarpCancelingModel(const ElasticBody &body, const SystemCoefficients &coefficients,
                        const cholesky::SparseCholesky::Settings &solver_settings,
-                       double update_threshold);
+                       double update_threshold, const StepStrategy &step_strategy = StepStrategy());
 
     std::string name() const override;
 
     void prepare_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
                       StepStatistics &statistics) override;
 
-    void add_elastic_forces(const std::vector<Vector3> &positions,
-                            std::vector<Vector3>       &forces) const override;
 
     double update_threshold() const;
 
+    const StepStrategy &step_strategy() const;
+
   private:
     /** The elements whose error estimate exceeds the threshold, in increasing order. */
-    std::vector<unsigned int> elements_to_update(const std::vector<Vector3> &positions,
-                                                 const std::vector<Vector3> &velocities);
+    std::vector<unsigned int> elements_to_update(const std::vector<Vector3> &velocities);
 
     /**
      * A_e with the current rotations (S_a = R of its vertices, Q_e = R_e): what element
-     * @p e contributes to A once updated. The system matrix keeps it, and so the
-     * rotations it was made with, until the next update of e.
+     * @p e contributes to A once updated. The system matrix keeps it until the next update
+     * of e, and the model the frames S_a^T Q_e it was made with.
      */
-    ElementMatrix current_contribution(unsigned int e) const;
+    ElementMatrix current_contribution(unsigned int e);
 
     const double threshold;
+
+    /**
+     * Per element, T_a = S_a^T Q_e for its 4 vertices: the frames its contribution to A was
+     * made with (block (a, b) = c_M m_ab T_a T_b^T + c_K T_a K_ab T_b^T). 288 bytes per
+     * element instead of the 1152 of the contribution: what the estimate reads.
+     */
+    std::vector<std::array<Matrix3, 4>> stored_frames;
+
+    /** The refresh of this step's factor, as the strategy says. */
+    cholesky::Refresh choose_refresh(const std::vector<Index> &changed_columns);
+
+    /** delayed_top: steps since the top was last refreshed. */
+    unsigned int     steps_since_top_refresh = 0;
+    /** automatic: what each refresh will cost. */
+    RefreshCostModel cost_model;
 
     std::vector<Matrix3> element_rotations;
     std::vector<Matrix3> nodal_rotations;

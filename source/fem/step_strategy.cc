@@ -1,0 +1,116 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/fem/step_strategy.h>
+
+namespace warpchol::fem
+{
+  bool StepStrategy::iterates() const
+  {
+    return kind != Kind::partial;
+  }
+
+  std::string to_string(const StepStrategy::Kind kind)
+  {
+    switch (kind)
+      {
+        case StepStrategy::Kind::partial:
+          return "partial";
+        case StepStrategy::Kind::delayed_top:
+          return "delayed_top";
+        case StepStrategy::Kind::preconditioned:
+          return "preconditioned";
+        case StepStrategy::Kind::automatic:
+          return "auto";
+      }
+    return "unknown";
+  }
+
+  StepStrategy::Kind parse_step_strategy(const std::string &name)
+  {
+    for (const auto kind : {StepStrategy::Kind::partial, StepStrategy::Kind::delayed_top,
+                            StepStrategy::Kind::preconditioned, StepStrategy::Kind::automatic})
+      if (name == to_string(kind))
+        return kind;
+    throw InputError("unknown step strategy '" + name +
+                     "' (expected partial, delayed_top, preconditioned or auto)");
+  }
+
+  std::string to_string(const StepStrategy::Target target)
+  {
+    return target == StepStrategy::Target::corotational ? "corotational" : "warp_canceling";
+  }
+
+  StepStrategy::Target parse_iteration_target(const std::string &name)
+  {
+    if (name == "corotational")
+      return StepStrategy::Target::corotational;
+    if (name == "warp_canceling")
+      return StepStrategy::Target::warp_canceling;
+    throw InputError("unknown iteration target '" + name + "' (expected corotational or warp_canceling)");
+  }
+
+  std::string to_string(const cholesky::Refresh refresh)
+  {
+    switch (refresh)
+      {
+        case cholesky::Refresh::all:
+          return "all";
+        case cholesky::Refresh::below_top:
+          return "below_top";
+        case cholesky::Refresh::none:
+          return "none";
+      }
+    return "unknown";
+  }
+
+  namespace
+  {
+    /** Weight of a new measurement in the moving averages. */
+    constexpr double smoothing = 0.3;
+
+    void blend(double &average, const double value)
+    {
+      average = average > 0 ? (1 - smoothing) * average + smoothing * value : value;
+    }
+  } // namespace
+
+  void RefreshCostModel::record_factorization(const double flops, const double seconds)
+  {
+    // Small refactorizations are dominated by their fixed costs: they would flatter the
+    // rate of the large ones the model must foresee.
+    if (flops > 1e6 && seconds > 0)
+      blend(flop_rate, flops / seconds);
+  }
+
+  void RefreshCostModel::record_iterations(const cholesky::Refresh refresh, const unsigned int iterations,
+                                           const double seconds)
+  {
+    if (iterations > 0)
+      blend(seconds_per_iteration, seconds / iterations);
+    if (refresh == cholesky::Refresh::all)
+      blend(iterations_after_all, iterations);
+    else if (refresh == cholesky::Refresh::below_top)
+      {
+        if (iterations_after_top < 0)
+          iterations_after_top = iterations;
+        else
+          blend(iterations_after_top, iterations);
+      }
+    last_iterations = iterations;
+  }
+
+  bool RefreshCostModel::calibrated() const
+  {
+    return flop_rate > 0 && seconds_per_iteration > 0;
+  }
+
+  double RefreshCostModel::predicted_seconds(const cholesky::Refresh refresh, const double flops) const
+  {
+    double iterations = last_iterations + 1;
+    if (refresh == cholesky::Refresh::all)
+      iterations = iterations_after_all;
+    else if (refresh == cholesky::Refresh::below_top)
+      // Not tried yet: assume a little worse than a full refresh, so that it gets tried.
+      iterations = iterations_after_top >= 0 ? iterations_after_top : iterations_after_all + 1;
+    return flops / flop_rate + iterations * seconds_per_iteration;
+  }
+} // namespace warpchol::fem
