@@ -334,7 +334,7 @@ namespace warpchol::app
                         "The matrix CG solves with (all strategies but partial): corotational "
                         "(the exact corotational matrix, matrix-free: the WCC error becomes "
                         "iterations) or warp_canceling (the assembled WCC matrix)");
-      prm.declare_entry("CG tolerance", "1e-6", Patterns::Double(1e-15, 1),
+      prm.declare_entry("CG tolerance", "1e-3", Patterns::Double(1e-15, 1),
                         "CG stops when |b - B x| <= this times |b|");
       prm.declare_entry("Max CG iterations", "100", Patterns::Integer(1, 100000),
                         "A solve that needs more refreshes the whole factor and starts again");

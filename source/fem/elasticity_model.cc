@@ -130,7 +130,18 @@ namespace warpchol::fem
         for (unsigned int c = 0; c < 3; ++c)
           rotated[first + c] = local[c];
       }
-    std::vector<double> solution(body.n_unknowns());
+    // The initial guess of CG: the velocities given on entry, in the solve frame.
+    std::vector<double> solution(body.n_unknowns(), 0.);
+    if (strategy.iterates() && velocities.size() == body.n_vertices())
+      for (unsigned int v = 0; v < body.n_vertices(); ++v)
+        {
+          const Index first = body.first_unknown(v);
+          if (first < 0)
+            continue;
+          const Vector3 local = solve_frame ? Vector3((*solve_frame)[v].transpose() * velocities[v]) : velocities[v];
+          for (unsigned int c = 0; c < 3; ++c)
+            solution[first + c] = local[c];
+        }
     last_cg_iterations = 0;
     last_cg_seconds    = 0;
     if (!strategy.iterates())
@@ -151,7 +162,8 @@ namespace warpchol::fem
               throw MatrixError("preconditioned CG did not reach the tolerance " +
                                 format_number(strategy.cg_tolerance) + " in " +
                                 std::to_string(strategy.max_cg_iterations) + " iterations");
-            // A stale factor that has become a poor preconditioner: refresh it and retry.
+            // A stale factor that has become a poor preconditioner: refresh it and retry
+            // (from the same initial guess: velocities is untouched so far).
             refactorize({}, statistics, cholesky::Refresh::all);
             solve(right_hand_side, velocities, statistics);
             return;
@@ -208,9 +220,11 @@ namespace warpchol::fem
       solve_seconds += solve_stopwatch.seconds();
     });
     dealii::Vector<double> right_hand_side(b.begin(), b.end());
-    dealii::Vector<double> solution(n);
-    // |b - B y| <= tolerance |b|: a relative tolerance, whatever the units.
-    dealii::ReductionControl control(strategy.max_cg_iterations, 0, strategy.cg_tolerance, false, false);
+    dealii::Vector<double> solution(y.begin(), y.end());
+    // |b - B y| <= tolerance |b|: relative to the right-hand side, not to the residual of
+    // the initial guess, so that a good guess saves iterations.
+    dealii::SolverControl control(strategy.max_cg_iterations, strategy.cg_tolerance * right_hand_side.l2_norm(),
+                                  false, false);
     dealii::SolverCG<dealii::Vector<double>> cg(control);
     const auto record = [&]() {
       last_cg_iterations = control.last_step();

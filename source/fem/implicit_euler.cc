@@ -86,7 +86,8 @@ namespace warpchol::fem
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
       right_hand_side[i] += time_step * forces[i];
 
-    std::vector<Vector3> new_velocities;
+    // The last velocities: the initial guess of an iterative solve.
+    std::vector<Vector3> new_velocities = v;
     model.solve(right_hand_side, new_velocities, statistics);
     // A velocity whose square overflows (|v| > 1e154 m/s) has long left physics: the
     // simulation diverged (stiffness warping can, as the report found).

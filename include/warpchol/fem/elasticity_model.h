@@ -104,7 +104,8 @@ namespace warpchol::fem
      * that of the strategy's target matrix (the exact corotational one, or A), solved by
      * preconditioned CG with the factor of A as the preconditioner; should CG not converge,
      * the factor is refreshed in full and CG runs again. Throws MatrixError if it still
-     * does not converge.
+     * does not converge. CG starts from @p velocities as given (the last step's, a good
+     * guess), or from zero if it has the wrong size.
      */
     void solve(const std::vector<Vector3> &right_hand_side, std::vector<Vector3> &velocities,
                StepStatistics &statistics);
@@ -173,8 +174,9 @@ namespace warpchol::fem
 
   private:
     /**
-     * y = B^-1 b by preconditioned CG, B the strategy's target matrix in the solve frame,
-     * the factor of A the preconditioner. Returns the iterations; throws
+     * y = B^-1 b by preconditioned CG from the initial guess @p y, B the strategy's target
+     * matrix in the solve frame, the factor of A the preconditioner. Returns the
+     * iterations; throws
      * dealii::SolverControl::NoConvergence if the tolerance is not reached.
      */
     unsigned int solve_by_cg(const std::vector<double> &b, std::vector<double> &y,

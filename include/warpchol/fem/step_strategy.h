@@ -57,7 +57,7 @@ namespace warpchol::fem
     Kind         kind       = Kind::partial;
     Target       iterate_on = Target::corotational;
     /** CG stops at |b - B x| <= tolerance |b|. */
-    double       cg_tolerance      = 1e-6;
+    double       cg_tolerance      = 1e-3;
     unsigned int max_cg_iterations = 100;
     /** delayed_top: the top is refreshed at least every this many steps. */
     unsigned int refresh_interval = 10;
