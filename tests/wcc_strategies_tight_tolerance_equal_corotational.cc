@@ -70,7 +70,7 @@ int main()
       const std::string file = strategy + "_wcc.prm";
       tests::write_file(file, scene(model(strategy, "0.3", "warp_canceling")) +
                                 "subsection Time stepping\n  set Number of steps = " + std::to_string(steps) +
-                                "\nend\nsubsection Output\n  set Progress = off\n  set Write log = true\n  set Directory = output\nend\n");
+                                "\nend\nsubsection Output\n  set Progress = off\n  set Write log = true\n  set Directory = results\nend\n");
       warpchol::app::AllParameters parameters(file);
       warpchol::app::Simulation    simulation(parameters);
       std::ostringstream           summary;
