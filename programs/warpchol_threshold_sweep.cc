@@ -23,6 +23,7 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
+#include <warpchol/cholesky/blas.h>
 #include <warpchol/fem/rotations.h>
 
 #include <deal.II/base/utilities.h>
@@ -375,6 +376,9 @@ namespace
 
 int main(int argc, char **argv)
 {
+  // As the solver benchmarks: OpenBLAS's worker threads and CHOLMOD's OpenMP regions would
+  // compete with the scene's own threads.
+  warpchol::cholesky::blas::restart_with_single_threaded_libraries(argv);
   return warpchol::app::run_program("warpchol-threshold-sweep",
                                     [&] { run(parse_command_line(argc, argv)); });
 }
