@@ -199,12 +199,7 @@ namespace
         if (statistics.refactorized)
           row.flops_recomputed += 100.0 * statistics.flops_recomputed / statistics.flops_full;
         row.cg_iterations += statistics.cg_iterations;
-        row.phases.t_rotations += statistics.t_rotations;
-        row.phases.t_error_estimate += statistics.t_error_estimate;
-        row.phases.t_assembly += statistics.t_assembly;
-        row.phases.t_factor += statistics.t_factor;
-        row.phases.t_iterations += statistics.t_iterations;
-        row.phases.t_solve += statistics.t_solve;
+        row.phases.add_phase_times(statistics);
         const auto &x = scene.integrator().positions();
         if (trajectory)
           trajectory->push_back(x);

@@ -26,6 +26,7 @@
 #include <warpchol/sparse/spd_perturbation.h>
 
 #include "tests.h"
+#include "torus_elasticity.h"
 
 using namespace warpchol;
 using cholesky::Refresh;
@@ -259,17 +260,7 @@ namespace
 
   sparse::CSCMatrix elasticity_matrix()
   {
-    dealii::Triangulation<3> triangulation;
-    fem::create_torus(triangulation, fem::torus_with_about(0.3, 0.1, 700));
-    std::vector<bool> fixed(triangulation.n_vertices(), false);
-    for (unsigned int v = 0; v < triangulation.n_vertices(); v += 97)
-      fixed[v] = true;
-    const fem::ElasticBody body(triangulation, fem::Material{50, 0.45, 20}, fem::MassMatrix::lumped, fixed);
-    const fem::SystemCoefficients coefficients = fem::SystemCoefficients::implicit_euler(0.01, 0, 0);
-    fem::SystemMatrix             system(body, coefficients);
-    system.assemble(
-      [&](const unsigned int e, fem::ElementMatrix &m) { m = fem::rest_element_matrix(body, e, coefficients); });
-    return system.csc();
+    return tests::TorusElasticity().system->csc();
   }
 } // namespace
 

@@ -3,7 +3,8 @@
 // to that tolerance, whatever its threshold (the factor is only the preconditioner); on the
 // WCC matrix instead it reproduces the partial strategy's (direct) WCC trajectory. The
 // thread count changes no result. A strategy that leaves the top stale must actually do so
-// (its log says below_top or none), or the comparison would prove nothing.
+// (its log says below_top or none), or the comparison would prove nothing. A single-precision
+// copy of the factor as the preconditioner still lets CG reach a tight tolerance.
 
 #include "simulation_tests.h"
 
@@ -62,6 +63,15 @@ int main()
                            "vs corotational",
                            tests::relative_difference(x, corotational, rest), 1e-8);
       }
+
+  // The factor as a single-precision preconditioner: CG still reaches a tight tolerance.
+  {
+    std::string text = scene(model("preconditioned", "0.3", "corotational", "1e-9"));
+    text.replace(text.find("  set Top flops fraction"), 0, "  set Preconditioner precision = single\n");
+    const auto x = tests::run_scene("single.prm", text, steps);
+    tests::check_below("preconditioned, single-precision factor, CG to 1e-9: vs corotational",
+                       tests::relative_difference(x, corotational, rest), 1e-6);
+  }
 
   // Run through the application so that the log tells what each step refreshed.
   const auto partial_wcc = tests::run_scene("partial.prm", scene(model("partial", "0.3")), steps);

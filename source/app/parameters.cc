@@ -414,6 +414,11 @@ namespace warpchol::app
                         "The top of the elimination tree that Model/Strategy = delayed_top or "
                         "auto may leave stale: the smallest upward-closed set of supernodes "
                         "holding this fraction of the factorization flops");
+      prm.declare_entry("Preconditioner precision", "double", Patterns::Selection("double|single"),
+                        "The factor as CG's preconditioner (Model/Strategy other than partial, "
+                        "supernodal method): single keeps a single-precision copy of L and "
+                        "solves with it, half the memory traffic of the memory-bound triangular "
+                        "solves (CG's tolerance then should stay above about 1e-6)");
       prm.leave_subsection();
     }
 
@@ -438,6 +443,7 @@ namespace warpchol::app
         }
       settings.n_threads          = prm.get_integer("Threads");
       settings.top_flops_fraction = prm.get_double("Top flops fraction");
+      settings.single_precision_preconditioner = prm.get("Preconditioner precision") == "single";
       prm.leave_subsection();
     }
 

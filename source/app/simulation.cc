@@ -86,12 +86,7 @@ namespace warpchol::app
             t.columns_recomputed_pct += 100.0 * statistics.columns_recomputed / statistics.n_columns;
             t.flops_recomputed_pct += 100.0 * statistics.flops_recomputed / statistics.flops_full;
           }
-        t.seconds.t_rotations += statistics.t_rotations;
-        t.seconds.t_error_estimate += statistics.t_error_estimate;
-        t.seconds.t_assembly += statistics.t_assembly;
-        t.seconds.t_factor += statistics.t_factor;
-        t.seconds.t_solve += statistics.t_solve;
-        t.seconds.t_iterations += statistics.t_iterations;
+        t.seconds.add_phase_times(statistics);
         t.cg_iterations += statistics.cg_iterations;
         if (!statistics.refresh.empty())
           ++t.refreshes[statistics.refresh];

@@ -14,6 +14,12 @@ extern "C"
               const int *n, const double *alpha, const double *a, const int *lda, double *b,
               const int *ldb);
   void dpotrf_(const char *uplo, const int *n, double *a, const int *lda, int *info);
+  void sgemm_(const char *transa, const char *transb, const int *m, const int *n, const int *k,
+              const float *alpha, const float *a, const int *lda, const float *b, const int *ldb,
+              const float *beta, float *c, const int *ldc);
+  void strsm_(const char *side, const char *uplo, const char *transa, const char *diag, const int *m,
+              const int *n, const float *alpha, const float *a, const int *lda, float *b,
+              const int *ldb);
   void openblas_set_num_threads(int n_threads);
 }
 
@@ -74,6 +80,23 @@ namespace warpchol::cholesky::blas
     const double one = 1.;
     if (n > 0 && nrhs > 0)
       dtrsm_("L", "L", transpose ? "T" : "N", "N", &n, &nrhs, &one, l, &ldl, b, &ldb);
+  }
+
+  void gemm(const bool transpose_a, const bool transpose_b, const int m, const int n, const int k,
+            const float alpha, const float *a, const int lda, const float *b, const int ldb,
+            const float beta, float *c, const int ldc)
+  {
+    if (m > 0 && n > 0)
+      sgemm_(transpose_a ? "T" : "N", transpose_b ? "T" : "N", &m, &n, &k, &alpha, a, &lda, b, &ldb,
+             &beta, c, &ldc);
+  }
+
+  void trsm_left_lower(const bool transpose, const int n, const int nrhs, const float *l,
+                       const int ldl, float *b, const int ldb)
+  {
+    const float one = 1.f;
+    if (n > 0 && nrhs > 0)
+      strsm_("L", "L", transpose ? "T" : "N", "N", &n, &nrhs, &one, l, &ldl, b, &ldb);
   }
 
   int potrf_lower(const int n, double *a, const int lda)

@@ -381,8 +381,61 @@ namespace warpchol::cholesky
   struct SupernodalFactor::Implementation
   {
     std::vector<double>                        values;
+    /** The single-precision copy of values (empty if none is kept). */
+    std::vector<float>                         single_values;
+    bool                                       keep_single = false;
     tbb::enumerable_thread_specific<Workspace> workspaces;
   };
+
+  namespace
+  {
+    /**
+     * Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x, the blocks
+     * of L in @p values: dtrsm on the diagonal block of each supernode, dgemm for the rows
+     * below it, all right-hand sides at once, gathered into / scattered from a dense block.
+     */
+    template <typename Real>
+    void supernodal_solve(const SupernodalSymbolic &symbolic, const Real *values, Real *x, const Index n_rhs)
+    {
+      const int         n  = static_cast<int>(symbolic.n);
+      const int         m  = static_cast<int>(n_rhs);
+      const Index       ns = symbolic.n_supernodes();
+      std::vector<Real> below(symbolic.n * n_rhs);
+      // L y = b: the diagonal block, then the rows below it.
+      for (Index s = 0; s < ns; ++s)
+        {
+          const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+          const int    rows_below = static_cast<int>(nr - nc);
+          const Real  *ls         = values + symbolic.value_start[s];
+          const Index *rows       = symbolic.row_index.data() + symbolic.row_start[s];
+          blas::trsm_left_lower(false, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
+          if (rows_below == 0)
+            continue;
+          blas::gemm(false, false, rows_below, m, static_cast<int>(nc), Real(1), ls + nc, static_cast<int>(nr),
+                     x + f, n, Real(0), below.data(), rows_below);
+          for (Index r = 0; r < n_rhs; ++r)
+            for (Index i = 0; i < rows_below; ++i)
+              x[rows[nc + i] + r * n] -= below[i + r * rows_below];
+        }
+      // L^T x = y, supernodes in reverse.
+      for (Index s = ns - 1; s >= 0; --s)
+        {
+          const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+          const int    rows_below = static_cast<int>(nr - nc);
+          const Real  *ls         = values + symbolic.value_start[s];
+          const Index *rows       = symbolic.row_index.data() + symbolic.row_start[s];
+          if (rows_below > 0)
+            {
+              for (Index r = 0; r < n_rhs; ++r)
+                for (Index i = 0; i < rows_below; ++i)
+                  below[i + r * rows_below] = x[rows[nc + i] + r * n];
+              blas::gemm(true, false, static_cast<int>(nc), m, rows_below, Real(-1), ls + nc,
+                         static_cast<int>(nr), below.data(), rows_below, Real(1), x + f, n);
+            }
+          blas::trsm_left_lower(true, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
+        }
+    }
+  } // namespace
 
   SupernodalFactor::SupernodalFactor()
     : implementation(std::make_unique<Implementation>())
@@ -393,18 +446,22 @@ namespace warpchol::cholesky
   SupernodalFactor::SupernodalFactor(const SupernodalFactor &other)
     : implementation(std::make_unique<Implementation>())
   {
-    implementation->values = other.implementation->values;
+    *this = other;
   }
 
   SupernodalFactor &SupernodalFactor::operator=(const SupernodalFactor &other)
   {
-    implementation->values = other.implementation->values;
+    implementation->values        = other.implementation->values;
+    implementation->single_values = other.implementation->single_values;
+    implementation->keep_single   = other.implementation->keep_single;
     return *this;
   }
 
-  void SupernodalFactor::initialize(const SupernodalSymbolic &symbolic)
+  void SupernodalFactor::initialize(const SupernodalSymbolic &symbolic, const bool single_precision_copy)
   {
     implementation->values.assign(symbolic.n_stored_values(), 0.);
+    implementation->keep_single = single_precision_copy;
+    implementation->single_values.assign(single_precision_copy ? symbolic.n_stored_values() : 0, 0.f);
   }
 
   double SupernodalFactor::factorize(const SupernodalSymbolic &symbolic,
@@ -414,11 +471,26 @@ namespace warpchol::cholesky
                                      const unsigned int        n_threads)
   {
     if (static_cast<Index>(implementation->values.size()) != symbolic.n_stored_values())
-      initialize(symbolic);
+      initialize(symbolic, implementation->keep_single);
     for (Workspace &workspace : implementation->workspaces)
       workspace.flops = 0;
     NumericRun run(symbolic, lower, implementation->values.data(), implementation->workspaces, n_threads);
     run.run(supernodes, start_offsets);
+    if (implementation->keep_single)
+      {
+        // Round what was recomputed (of each supernode, its columns from the offset on).
+        const auto round = [&](const Index s, const Index q) {
+          const Index begin = symbolic.value_start[s] + q * symbolic.n_rows(s), end = symbolic.value_start[s + 1];
+          std::copy(implementation->values.begin() + begin, implementation->values.begin() + end,
+                    implementation->single_values.begin() + begin);
+        };
+        if (supernodes.empty())
+          for (Index s = 0; s < symbolic.n_supernodes(); ++s)
+            round(s, 0);
+        else
+          for (std::size_t k = 0; k < supernodes.size(); ++k)
+            round(supernodes[k], start_offsets.empty() ? 0 : start_offsets[k]);
+      }
     double flops = 0;
     for (const Workspace &workspace : implementation->workspaces)
       flops += workspace.flops;
@@ -427,46 +499,17 @@ namespace warpchol::cholesky
 
   void SupernodalFactor::solve(const SupernodalSymbolic &symbolic, double *x, const Index n_rhs) const
   {
-    // All right-hand sides at once: dtrsm on the diagonal block of each supernode, dgemm
-    // for the rows below it, gathered into / scattered from a dense block.
-    const int           n      = static_cast<int>(symbolic.n);
-    const int           m      = static_cast<int>(n_rhs);
-    const Index         ns     = symbolic.n_supernodes();
-    const double       *values = implementation->values.data();
-    std::vector<double> below(symbolic.n * n_rhs);
-    // L y = b: the diagonal block, then the rows below it.
-    for (Index s = 0; s < ns; ++s)
-      {
-        const Index   f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
-        const int     rows_below = static_cast<int>(nr - nc);
-        const double *ls         = values + symbolic.value_start[s];
-        const Index  *rows       = symbolic.row_index.data() + symbolic.row_start[s];
-        blas::trsm_left_lower(false, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
-        if (rows_below == 0)
-          continue;
-        blas::gemm(false, false, rows_below, m, static_cast<int>(nc), 1., ls + nc, static_cast<int>(nr), x + f, n,
-                   0., below.data(), rows_below);
-        for (Index r = 0; r < n_rhs; ++r)
-          for (Index i = 0; i < rows_below; ++i)
-            x[rows[nc + i] + r * n] -= below[i + r * rows_below];
-      }
-    // L^T x = y, supernodes in reverse.
-    for (Index s = ns - 1; s >= 0; --s)
-      {
-        const Index   f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
-        const int     rows_below = static_cast<int>(nr - nc);
-        const double *ls         = values + symbolic.value_start[s];
-        const Index  *rows       = symbolic.row_index.data() + symbolic.row_start[s];
-        if (rows_below > 0)
-          {
-            for (Index r = 0; r < n_rhs; ++r)
-              for (Index i = 0; i < rows_below; ++i)
-                below[i + r * rows_below] = x[rows[nc + i] + r * n];
-            blas::gemm(true, false, static_cast<int>(nc), m, rows_below, -1., ls + nc, static_cast<int>(nr),
-                       below.data(), rows_below, 1., x + f, n);
-          }
-        blas::trsm_left_lower(true, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
-      }
+    supernodal_solve(symbolic, implementation->values.data(), x, n_rhs);
+  }
+
+  void SupernodalFactor::solve_single_precision(const SupernodalSymbolic &symbolic, double *x,
+                                                const Index n_rhs) const
+  {
+    if (!implementation->keep_single)
+      throw Error("solve_single_precision(): no single-precision copy of the factor is kept");
+    std::vector<float> y(x, x + symbolic.n * n_rhs);
+    supernodal_solve(symbolic, implementation->single_values.data(), y.data(), n_rhs);
+    std::copy(y.begin(), y.end(), x);
   }
 
   sparse::CSCMatrix SupernodalFactor::to_csc(const SupernodalSymbolic &symbolic) const

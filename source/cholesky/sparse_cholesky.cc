@@ -86,7 +86,7 @@ namespace warpchol::cholesky
         supernodal_structure = analyze_supernodal(permuted_matrix.lower(),
                                                   cholesky::elimination_tree(permuted_matrix.lower()),
                                                   solver_settings.relaxation);
-        supernodal_factor.initialize(supernodal_structure);
+        supernodal_factor.initialize(supernodal_structure, solver_settings.single_precision_preconditioner);
         stats.nnz_l        = supernodal_structure.nnz_l();
         stats.flops        = supernodal_structure.exact_flops;
         stats.method_flops = supernodal_structure.flops;
@@ -333,6 +333,17 @@ namespace warpchol::cholesky
 
   void SparseCholesky::solve(const double *b, double *x, const Index n_rhs) const
   {
+    solve_in(b, x, n_rhs, false);
+  }
+
+  void SparseCholesky::apply_preconditioner(const double *b, double *x) const
+  {
+    solve_in(b, x, 1, solver_settings.single_precision_preconditioner &&
+                        solver_settings.method == FactorizationMethod::supernodal);
+  }
+
+  void SparseCholesky::solve_in(const double *b, double *x, const Index n_rhs, const bool single_precision) const
+  {
     if (!factor_valid)
       throw Error("solve() called without a valid factorization");
     const Stopwatch     stopwatch;
@@ -341,7 +352,9 @@ namespace warpchol::cholesky
     for (Index r = 0; r < n_rhs; ++r)
       for (Index k = 0; k < n; ++k)
         y[r * n + k] = b[r * n + fill_reducing_permutation[k]];
-    if (solver_settings.method == FactorizationMethod::supernodal)
+    if (single_precision)
+      supernodal_factor.solve_single_precision(supernodal_structure, y.data(), n_rhs);
+    else if (solver_settings.method == FactorizationMethod::supernodal)
       supernodal_factor.solve(supernodal_structure, y.data(), n_rhs);
     else
       solve_simplicial(symbolic_factorization, l_values, y.data(), n_rhs);

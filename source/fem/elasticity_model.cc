@@ -11,6 +11,16 @@
 
 namespace warpchol::fem
 {
+  void StepStatistics::add_phase_times(const StepStatistics &step)
+  {
+    t_rotations += step.t_rotations;
+    t_error_estimate += step.t_error_estimate;
+    t_assembly += step.t_assembly;
+    t_factor += step.t_factor;
+    t_solve += step.t_solve;
+    t_iterations += step.t_iterations;
+  }
+
   ElasticityModel::ElasticityModel(const ElasticBody &body, const SystemCoefficients &coefficients,
                                    const cholesky::SparseCholesky::Settings &solver_settings)
     : body(body)
@@ -216,7 +226,7 @@ namespace warpchol::fem
     });
     const FunctionOperator preconditioner([&](const dealii::Vector<double> &in, dealii::Vector<double> &out) {
       Stopwatch solve_stopwatch;
-      cholesky_solver.solve(in.begin(), out.begin(), 1);
+      cholesky_solver.apply_preconditioner(in.begin(), out.begin());
       solve_seconds += solve_stopwatch.seconds();
     });
     dealii::Vector<double> right_hand_side(b.begin(), b.end());

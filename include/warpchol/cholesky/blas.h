@@ -52,4 +52,9 @@ namespace warpchol::cholesky::blas
    * the diagonal.
    */
   int potrf_lower(int n, double *a, int lda);
+
+  /** The same in single precision (sgemm, strsm): the triangular solves of a single-precision factor. */
+  void gemm(bool transpose_a, bool transpose_b, int m, int n, int k, float alpha, const float *a,
+            int lda, const float *b, int ldb, float beta, float *c, int ldc);
+  void trsm_left_lower(bool transpose, int n, int nrhs, const float *l, int ldl, float *b, int ldb);
 } // namespace warpchol::cholesky::blas

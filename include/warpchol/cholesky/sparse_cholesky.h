@@ -99,6 +99,12 @@ namespace warpchol::cholesky
        * Refresh::all), 1 makes it every supernode. Supernodal method.
        */
       double              top_flops_fraction = 0.5;
+      /**
+       * Keep a single-precision copy of the factor for apply_preconditioner() (supernodal
+       * method): half the memory traffic of the memory-bound triangular solves, half again
+       * the factor's memory. solve() always uses the double factor.
+       */
+      bool                single_precision_preconditioner = false;
     };
 
     /** What the last calls did and cost. Times are wall-clock seconds. */
@@ -206,6 +212,13 @@ namespace warpchol::cholesky
      */
     void solve(const double *b, double *x, Index n_rhs) const;
 
+    /**
+     * x = (L L^T)^-1 b with the factor as it is (exact or partly refreshed): the
+     * preconditioner of an iterative solve, in single precision if
+     * Settings::single_precision_preconditioner, else the same as solve().
+     */
+    void apply_preconditioner(const double *b, double *x) const;
+
     /** L, the factor of P^T A P (permuted numbering; a triangular matrix, full storage). */
     sparse::CSCMatrix factor() const;
 
@@ -236,6 +249,9 @@ namespace warpchol::cholesky
     const Settings &settings() const;
 
   private:
+    /** solve(), with the single-precision copy of the factor if @p single_precision. */
+    void solve_in(const double *b, double *x, Index n_rhs, bool single_precision) const;
+
     /** What one refactorize() computes, and the stale columns it leaves. */
     struct RefreshPlan
     {

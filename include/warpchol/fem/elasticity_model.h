@@ -47,6 +47,9 @@ namespace warpchol::fem
     std::string refresh;
     /** Iterations of preconditioned CG (0 for a direct solve). */
     unsigned int cg_iterations = 0;
+
+    /** Add the phase times (t_*) of @p step to these: totals over steps. */
+    void add_phase_times(const StepStatistics &step);
   };
 
   /** Per element: how up to date its contribution to A is (for output). */
