@@ -86,8 +86,12 @@ namespace warpchol::fem
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
       right_hand_side[i] += time_step * forces[i];
 
-    // The last velocities: the initial guess of an iterative solve.
+    // The initial guess of an iterative solve: the velocities extrapolated linearly from
+    // the last two steps (the last ones in the first step).
     std::vector<Vector3> new_velocities = v;
+    if (!previous_v.empty())
+      for (unsigned int i = 0; i < body.n_vertices(); ++i)
+        new_velocities[i] += v[i] - previous_v[i];
     model.solve(right_hand_side, new_velocities, statistics);
     // A velocity whose square overflows (|v| > 1e154 m/s) has long left physics: the
     // simulation diverged (stiffness warping can, as the report found).
@@ -96,7 +100,8 @@ namespace warpchol::fem
         throw MatrixError("step " + std::to_string(step) + ": the velocity of vertex " +
                           std::to_string(i) + " is not finite: the simulation diverged");
 
-    v = std::move(new_velocities);
+    previous_v = std::move(v);
+    v          = std::move(new_velocities);
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
       x[i] += time_step * v[i];
     current_time = new_time;

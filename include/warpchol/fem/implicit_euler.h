@@ -94,6 +94,8 @@ namespace warpchol::fem
     unsigned int         steps_done   = 0;
     std::vector<Vector3> x;
     std::vector<Vector3> v;
+    /** The velocities of the step before (empty before the first step). */
+    std::vector<Vector3> previous_v;
     /** m_i g + constant forces: what does not change from step to step. */
     std::vector<Vector3> constant_forces;
   };
