@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <mutex>
 
 namespace warpchol::cholesky
 {
@@ -378,64 +379,220 @@ namespace warpchol::cholesky
     };
   } // namespace
 
+
+  namespace
+  {
+    /**
+     * How a threaded solve splits the supernodal tree: disjoint subtrees (each a range of
+     * supernodes [first_descendant[root], root], postorder) that threads solve side by side,
+     * and the top above them, solved by one thread. The columns of the top are numbered
+     * 0.. in top_position, so that each subtree can gather what it subtracts from them.
+     */
+    struct SolvePartition
+    {
+      std::vector<Index> subtree_roots;
+      std::vector<Index> top_supernodes;
+      /** top_position[column] = position of the column among the top's, -1 if not in the top. */
+      std::vector<Index> top_position;
+      /** The top's columns, in the order of their positions. */
+      std::vector<Index> top_columns;
+      Index              n_top_columns = 0;
+      /** The threads that solve the subtrees (made once: an arena is costly to start). */
+      std::unique_ptr<tbb::task_arena> arena;
+    };
+
+    /**
+     * Split until the heaviest subtree (by stored values: the solve's memory traffic) is at
+     * most a quarter of a thread's share, so that the subtrees balance over the threads.
+     */
+    SolvePartition partition_for_solve(const SupernodalSymbolic &symbolic, const unsigned int n_threads)
+    {
+      const Index         ns = symbolic.n_supernodes();
+      std::vector<double> weight(ns, 0.);
+      std::vector<std::vector<Index>> children(ns);
+      std::vector<Index>  roots;
+      for (Index s = 0; s < ns; ++s) // children before parents
+        {
+          weight[s] += static_cast<double>(symbolic.value_start[s + 1] - symbolic.value_start[s]);
+          const Index p = symbolic.supernode_parent[s];
+          if (p == -1)
+            roots.push_back(s);
+          else
+            {
+              weight[p] += weight[s];
+              children[p].push_back(s);
+            }
+        }
+      double total = 0;
+      for (const Index r : roots)
+        total += weight[r];
+      const double bound = total / (4. * n_threads);
+
+      SolvePartition partition;
+      std::vector<Index> candidates = roots;
+      while (!candidates.empty())
+        {
+          const Index s = candidates.back();
+          candidates.pop_back();
+          if (weight[s] > bound && !children[s].empty())
+            {
+              partition.top_supernodes.push_back(s);
+              candidates.insert(candidates.end(), children[s].begin(), children[s].end());
+            }
+          else
+            partition.subtree_roots.push_back(s);
+        }
+      std::sort(partition.top_supernodes.begin(), partition.top_supernodes.end());
+      std::sort(partition.subtree_roots.begin(), partition.subtree_roots.end());
+      partition.top_position.assign(symbolic.n, -1);
+      for (const Index s : partition.top_supernodes)
+        for (Index j = symbolic.first_column[s]; j < symbolic.first_column[s + 1]; ++j)
+          {
+            partition.top_position[j] = partition.n_top_columns++;
+            partition.top_columns.push_back(j);
+          }
+      partition.arena = std::make_unique<tbb::task_arena>(static_cast<int>(n_threads));
+      return partition;
+    }
+
+    /**
+     * Forward substitution L y = x on supernode s: dtrsm on its diagonal block, dgemm for
+     * the rows below, subtracted from x, or, for the rows @p outside says, from @p gathered
+     * (at the position it gives): what a subtree solved by one thread subtracts from the top.
+     */
+    template <typename Real, typename Outside>
+    void forward_supernode(const SupernodalSymbolic &symbolic, const Real *values, Real *x, const Index n_rhs,
+                           const Index s, std::vector<Real> &below, const Outside &outside, Real *gathered,
+                           const Index gathered_size)
+    {
+      const int    n = static_cast<int>(symbolic.n), m = static_cast<int>(n_rhs);
+      const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+      const int    rows_below = static_cast<int>(nr - nc);
+      const Real  *ls         = values + symbolic.value_start[s];
+      const Index *rows       = symbolic.row_index.data() + symbolic.row_start[s];
+      blas::trsm_left_lower(false, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
+      if (rows_below == 0)
+        return;
+      below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(rows_below) * n_rhs));
+      blas::gemm(false, false, rows_below, m, static_cast<int>(nc), Real(1), ls + nc, static_cast<int>(nr), x + f,
+                 n, Real(0), below.data(), rows_below);
+      for (Index r = 0; r < n_rhs; ++r)
+        for (Index i = 0; i < rows_below; ++i)
+          {
+            const Index row      = rows[nc + i];
+            const Index position = outside(row);
+            if (position < 0)
+              x[row + r * n] -= below[i + r * rows_below];
+            else
+              gathered[position + r * gathered_size] += below[i + r * rows_below];
+          }
+    }
+
+    /** Backward substitution L^T x = y on supernode s: reads the rows below, writes its own. */
+    template <typename Real>
+    void backward_supernode(const SupernodalSymbolic &symbolic, const Real *values, Real *x, const Index n_rhs,
+                            const Index s, std::vector<Real> &below)
+    {
+      const int    n = static_cast<int>(symbolic.n), m = static_cast<int>(n_rhs);
+      const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+      const int    rows_below = static_cast<int>(nr - nc);
+      const Real  *ls         = values + symbolic.value_start[s];
+      const Index *rows       = symbolic.row_index.data() + symbolic.row_start[s];
+      if (rows_below > 0)
+        {
+          below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(rows_below) * n_rhs));
+          for (Index r = 0; r < n_rhs; ++r)
+            for (Index i = 0; i < rows_below; ++i)
+              below[i + r * rows_below] = x[rows[nc + i] + r * n];
+          blas::gemm(true, false, static_cast<int>(nc), m, rows_below, Real(-1), ls + nc, static_cast<int>(nr),
+                     below.data(), rows_below, Real(1), x + f, n);
+        }
+      blas::trsm_left_lower(true, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
+    }
+
+    /**
+     * Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x, the blocks
+     * of L in @p values, all right-hand sides at once. With @p partition (threads), the
+     * subtrees run side by side: in the forward pass each gathers what it subtracts from
+     * the top's rows in its own buffer, added in subtree order (deterministic); the top
+     * is solved by one thread; in the backward pass each supernode writes only its own
+     * rows, so the subtrees run side by side again.
+     */
+    template <typename Real>
+    void supernodal_solve(const SupernodalSymbolic &symbolic, const Real *values, Real *x, const Index n_rhs,
+                          const SolvePartition *partition)
+    {
+      const Index       ns = symbolic.n_supernodes();
+      std::vector<Real> below;
+      const auto        inside = [](Index) { return Index(-1); };
+      if (partition == nullptr)
+        {
+          for (Index s = 0; s < ns; ++s)
+            forward_supernode(symbolic, values, x, n_rhs, s, below, inside, static_cast<Real *>(nullptr), 0);
+          for (Index s = ns - 1; s >= 0; --s)
+            backward_supernode(symbolic, values, x, n_rhs, s, below);
+          return;
+        }
+
+      const Index                    n_subtrees = static_cast<Index>(partition->subtree_roots.size());
+      const Index                    top_size   = partition->n_top_columns;
+      std::vector<std::vector<Real>> gathered(n_subtrees);
+      tbb::task_arena               &arena = *partition->arena;
+      arena.execute([&] {
+        tbb::parallel_for(Index(0), n_subtrees, [&](const Index k) {
+          std::vector<Real> local_below;
+          gathered[k].assign(top_size * n_rhs, Real(0));
+          const Index root    = partition->subtree_roots[k];
+          const auto  outside = [&](const Index row) { return partition->top_position[row]; };
+          for (Index s = symbolic.first_descendant[root]; s <= root; ++s)
+            forward_supernode(symbolic, values, x, n_rhs, s, local_below, outside, gathered[k].data(), top_size);
+        });
+      });
+      for (Index k = 0; k < n_subtrees; ++k)
+        for (Index r = 0; r < n_rhs; ++r)
+          for (Index position = 0; position < top_size; ++position)
+            x[partition->top_columns[position] + r * symbolic.n] -= gathered[k][position + r * top_size];
+      for (const Index s : partition->top_supernodes)
+        forward_supernode(symbolic, values, x, n_rhs, s, below, inside, static_cast<Real *>(nullptr), 0);
+      for (auto s = partition->top_supernodes.rbegin(); s != partition->top_supernodes.rend(); ++s)
+        backward_supernode(symbolic, values, x, n_rhs, *s, below);
+      arena.execute([&] {
+        tbb::parallel_for(Index(0), n_subtrees, [&](const Index k) {
+          std::vector<Real> local_below;
+          const Index       root = partition->subtree_roots[k];
+          for (Index s = root; s >= symbolic.first_descendant[root]; --s)
+            backward_supernode(symbolic, values, x, n_rhs, s, local_below);
+        });
+      });
+    }
+  } // namespace
+
   struct SupernodalFactor::Implementation
   {
     std::vector<double>                        values;
     /** The single-precision copy of values (empty if none is kept). */
     std::vector<float>                         single_values;
     bool                                       keep_single = false;
+    /** The split of the tree for threaded solves, made on first use for that many threads. */
+    std::unique_ptr<SolvePartition>            partition;
+    unsigned int                               partition_threads = 0;
+    std::mutex                                 partition_mutex;
+
+    /** The partition for @p n_threads threads (null for one thread). */
+    const SolvePartition *partition_for(const SupernodalSymbolic &symbolic, const unsigned int n_threads)
+    {
+      if (n_threads <= 1)
+        return nullptr;
+      const std::lock_guard<std::mutex> lock(partition_mutex);
+      if (!partition || partition_threads != n_threads)
+        {
+          partition         = std::make_unique<SolvePartition>(partition_for_solve(symbolic, n_threads));
+          partition_threads = n_threads;
+        }
+      return partition.get();
+    }
     tbb::enumerable_thread_specific<Workspace> workspaces;
   };
-
-  namespace
-  {
-    /**
-     * Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x, the blocks
-     * of L in @p values: dtrsm on the diagonal block of each supernode, dgemm for the rows
-     * below it, all right-hand sides at once, gathered into / scattered from a dense block.
-     */
-    template <typename Real>
-    void supernodal_solve(const SupernodalSymbolic &symbolic, const Real *values, Real *x, const Index n_rhs)
-    {
-      const int         n  = static_cast<int>(symbolic.n);
-      const int         m  = static_cast<int>(n_rhs);
-      const Index       ns = symbolic.n_supernodes();
-      std::vector<Real> below(symbolic.n * n_rhs);
-      // L y = b: the diagonal block, then the rows below it.
-      for (Index s = 0; s < ns; ++s)
-        {
-          const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
-          const int    rows_below = static_cast<int>(nr - nc);
-          const Real  *ls         = values + symbolic.value_start[s];
-          const Index *rows       = symbolic.row_index.data() + symbolic.row_start[s];
-          blas::trsm_left_lower(false, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
-          if (rows_below == 0)
-            continue;
-          blas::gemm(false, false, rows_below, m, static_cast<int>(nc), Real(1), ls + nc, static_cast<int>(nr),
-                     x + f, n, Real(0), below.data(), rows_below);
-          for (Index r = 0; r < n_rhs; ++r)
-            for (Index i = 0; i < rows_below; ++i)
-              x[rows[nc + i] + r * n] -= below[i + r * rows_below];
-        }
-      // L^T x = y, supernodes in reverse.
-      for (Index s = ns - 1; s >= 0; --s)
-        {
-          const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
-          const int    rows_below = static_cast<int>(nr - nc);
-          const Real  *ls         = values + symbolic.value_start[s];
-          const Index *rows       = symbolic.row_index.data() + symbolic.row_start[s];
-          if (rows_below > 0)
-            {
-              for (Index r = 0; r < n_rhs; ++r)
-                for (Index i = 0; i < rows_below; ++i)
-                  below[i + r * rows_below] = x[rows[nc + i] + r * n];
-              blas::gemm(true, false, static_cast<int>(nc), m, rows_below, Real(-1), ls + nc,
-                         static_cast<int>(nr), below.data(), rows_below, Real(1), x + f, n);
-            }
-          blas::trsm_left_lower(true, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
-        }
-    }
-  } // namespace
 
   SupernodalFactor::SupernodalFactor()
     : implementation(std::make_unique<Implementation>())
@@ -459,6 +616,7 @@ namespace warpchol::cholesky
 
   void SupernodalFactor::initialize(const SupernodalSymbolic &symbolic, const bool single_precision_copy)
   {
+    implementation->partition.reset();
     implementation->values.assign(symbolic.n_stored_values(), 0.);
     implementation->keep_single = single_precision_copy;
     implementation->single_values.assign(single_precision_copy ? symbolic.n_stored_values() : 0, 0.f);
@@ -497,18 +655,21 @@ namespace warpchol::cholesky
     return flops;
   }
 
-  void SupernodalFactor::solve(const SupernodalSymbolic &symbolic, double *x, const Index n_rhs) const
+  void SupernodalFactor::solve(const SupernodalSymbolic &symbolic, double *x, const Index n_rhs,
+                               const unsigned int n_threads) const
   {
-    supernodal_solve(symbolic, implementation->values.data(), x, n_rhs);
+    supernodal_solve(symbolic, implementation->values.data(), x, n_rhs,
+                     implementation->partition_for(symbolic, n_threads));
   }
 
   void SupernodalFactor::solve_single_precision(const SupernodalSymbolic &symbolic, double *x,
-                                                const Index n_rhs) const
+                                                const Index n_rhs, const unsigned int n_threads) const
   {
     if (!implementation->keep_single)
       throw Error("solve_single_precision(): no single-precision copy of the factor is kept");
     std::vector<float> y(x, x + symbolic.n * n_rhs);
-    supernodal_solve(symbolic, implementation->single_values.data(), y.data(), n_rhs);
+    supernodal_solve(symbolic, implementation->single_values.data(), y.data(), n_rhs,
+                     implementation->partition_for(symbolic, n_threads));
     std::copy(y.begin(), y.end(), x);
   }
 

@@ -353,9 +353,9 @@ namespace warpchol::cholesky
       for (Index k = 0; k < n; ++k)
         y[r * n + k] = b[r * n + fill_reducing_permutation[k]];
     if (single_precision)
-      supernodal_factor.solve_single_precision(supernodal_structure, y.data(), n_rhs);
+      supernodal_factor.solve_single_precision(supernodal_structure, y.data(), n_rhs, solver_settings.n_threads);
     else if (solver_settings.method == FactorizationMethod::supernodal)
-      supernodal_factor.solve(supernodal_structure, y.data(), n_rhs);
+      supernodal_factor.solve(supernodal_structure, y.data(), n_rhs, solver_settings.n_threads);
     else
       solve_simplicial(symbolic_factorization, l_values, y.data(), n_rhs);
     for (Index r = 0; r < n_rhs; ++r)

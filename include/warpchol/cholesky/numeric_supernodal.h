@@ -54,15 +54,20 @@ namespace warpchol::cholesky
                      const std::vector<Index> &supernodes,
                      const std::vector<Index> &start_offsets, unsigned int n_threads);
 
-    /** Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x. */
-    void solve(const SupernodalSymbolic &symbolic, double *x, Index n_rhs) const;
+    /**
+     * Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x. With
+     * @p n_threads > 1, independent subtrees of the tree are solved side by side (the same
+     * result to rounding: the top's rows sum the subtrees' parts in another order).
+     */
+    void solve(const SupernodalSymbolic &symbolic, double *x, Index n_rhs, unsigned int n_threads = 1) const;
 
     /**
      * The same with the single-precision copy of L (initialize()): half the memory traffic
      * of the double solve, which is memory-bound, for about 1e-7 relative accuracy: a
      * preconditioner's solve.
      */
-    void solve_single_precision(const SupernodalSymbolic &symbolic, double *x, Index n_rhs) const;
+    void solve_single_precision(const SupernodalSymbolic &symbolic, double *x, Index n_rhs,
+                                unsigned int n_threads = 1) const;
 
     /** L as a CSC matrix (entries of every dense block on and below the diagonal). */
     sparse::CSCMatrix to_csc(const SupernodalSymbolic &symbolic) const;
