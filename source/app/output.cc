@@ -28,10 +28,34 @@ namespace warpchol::app
     , pvd_name(directory + "/" + scene + ".pvd")
   {}
 
+  VtuSeries::~VtuSeries()
+  {
+    if (pending.valid())
+      pending.wait();
+  }
+
+  void VtuSeries::finish()
+  {
+    if (pending.valid())
+      pending.get();
+  }
+
   void VtuSeries::write(const unsigned int step, const double time, const fem::ElasticBody &body,
                         const std::vector<fem::Vector3> &displacements,
                         const std::vector<fem::Vector3> &velocities,
                         const fem::ElementUpdateRecord  &record)
+  {
+    finish();
+    pending = std::async(std::launch::async,
+                         [this, step, time, &body, displacements, velocities, record]() {
+                           write_now(step, time, body, displacements, velocities, record);
+                         });
+  }
+
+  void VtuSeries::write_now(const unsigned int step, const double time, const fem::ElasticBody &body,
+                            const std::vector<fem::Vector3> &displacements,
+                            const std::vector<fem::Vector3> &velocities,
+                            const fem::ElementUpdateRecord  &record)
   {
     // The dofs are numbered 3 v + c (ElasticBody): per-vertex 3-vectors are dof vectors.
     dealii::Vector<double> displacement(3 * body.n_vertices());
@@ -67,6 +91,10 @@ namespace warpchol::app
     if (!record.error_estimate.empty())
       data_out.add_data_vector(error_estimate, "error_estimate", dealii::DataOut<3>::type_cell_data);
     data_out.build_patches(body.mapping());
+    // Fast compression: the files are a little larger, written in half the time.
+    dealii::DataOutBase::VtkFlags flags;
+    flags.compression_level = dealii::DataOutBase::VtkFlags::best_speed;
+    data_out.set_flags(flags);
 
     std::ostringstream name;
     name << scene << "-" << std::setw(5) << std::setfill('0') << step << ".vtu";

@@ -60,6 +60,7 @@ namespace warpchol::app
     const bool show_progress =
       settings.progress == "on" || (settings.progress == "auto" && isatty(fileno(stderr)));
     Stopwatch since_progress;
+    const Stopwatch run_stopwatch;
     const unsigned int n_steps = parameters.time_stepping.n_steps;
     for (unsigned int step = 1; step <= n_steps; ++step)
       {
@@ -155,6 +156,9 @@ namespace warpchol::app
       }
     if (show_progress)
       std::cerr << std::endl;
+    if (vtu_series)
+      vtu_series->finish();
+    run_totals.run_seconds = run_stopwatch.seconds();
     print_summary(out);
   }
 
@@ -245,7 +249,8 @@ namespace warpchol::app
             << n(t.seconds.t_iterations / steps) << ", step " << n(t.step_seconds / steps)
             << "\n";
         out << "  set-up " << n(setup_seconds) << " s (model " << n(model.setup_seconds())
-            << " s), time steps " << n(t.step_seconds) << " s\n";
+            << " s), time steps " << n(t.step_seconds) << " s; end to end (output included) "
+            << n(t.run_seconds) << " s, " << n(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s\n";
       }
     if (step_log)
       out << "  log: " << step_log->filename() << "\n";

@@ -4,6 +4,7 @@
 #include <warpchol/fem/elasticity_model.h>
 #include <warpchol/fem/small_dense.h>
 
+#include <future>
 #include <string>
 #include <utility>
 #include <vector>
@@ -30,16 +31,34 @@ namespace warpchol::app
   public:
     VtuSeries(const std::string &directory, const std::string &scene);
 
-    /** Write the state after step @p step at time @p time and rewrite the PVD file. */
+    /** Waits for the file being written. */
+    ~VtuSeries();
+
+    /**
+     * Write the state after step @p step at time @p time and rewrite the PVD file. The
+     * state is copied and written in the background (building deal.II's patches and
+     * compressing them costs about as much as a few steps): the call returns at once, after
+     * waiting for the previous file, whose error, if any, it throws.
+     */
     void write(unsigned int step, double time, const fem::ElasticBody &body,
                const std::vector<fem::Vector3> &displacements,
                const std::vector<fem::Vector3> &velocities,
                const fem::ElementUpdateRecord  &record);
 
+    /** Wait until every file is written; throws the error of the last one, if any. */
+    void finish();
+
     std::size_t        n_files() const;
     const std::string &pvd_file() const;
 
   private:
+    /** Write one file and the PVD record (in the background). */
+    void write_now(unsigned int step, double time, const fem::ElasticBody &body,
+                   const std::vector<fem::Vector3> &displacements,
+                   const std::vector<fem::Vector3> &velocities,
+                   const fem::ElementUpdateRecord  &record);
+
+    std::future<void>                           pending;
     std::string                                 directory;
     std::string                                 scene;
     std::string                                 pvd_name;

@@ -33,6 +33,8 @@ namespace warpchol::app
     std::map<std::string, unsigned int> refreshes;
     fem::StepStatistics seconds;
     double       step_seconds = 0;
+    /** The whole run: steps, log, VTU files (the initial one included). */
+    double       run_seconds = 0;
     /** Sum over updates of the rest distance of the element's centre to the tool's centre. */
     double       updated_distance_to_tool = 0;
     /** Trajectory error against the corotational run: largest over the steps, and last. */
