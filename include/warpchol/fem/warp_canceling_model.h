@@ -86,6 +86,9 @@ namespace warpchol::fem
     /** The refresh of this step's factor, as the strategy says. */
     cholesky::Refresh choose_refresh(const std::vector<Index> &changed_columns);
 
+    /** Work array of the estimate: R_v^T v_v per vertex. */
+    std::vector<Vector3> nodal_velocities;
+
     /** delayed_top: steps since the top was last refreshed. */
     unsigned int     steps_since_top_refresh = 0;
     /** automatic: what each refresh will cost. */
