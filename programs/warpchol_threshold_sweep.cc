@@ -228,7 +228,8 @@ namespace
    * The cost per element of each element kernel, in ns per tet, at the configuration
    * @p positions: best of a few repetitions of the whole loop on the scene's threads.
    */
-  void print_kernel_costs(const app::Scene &scene, const std::vector<fem::Vector3> &positions)
+  void print_kernel_costs(const app::Scene &scene, const std::vector<fem::Vector3> &positions,
+                          const double estimate_seconds_per_step)
   {
     const auto        &body       = scene.body();
     const unsigned int n_elements = body.n_elements();
@@ -251,6 +252,11 @@ namespace
       for (unsigned int e = 0; e < n_elements; ++e)
         rotations[e] = fem::rotation_of(body.deformation_gradient(e, positions));
     });
+    std::vector<fem::Matrix3> gradients(n_elements);
+    for (unsigned int e = 0; e < n_elements; ++e)
+      gradients[e] = body.deformation_gradient(e, positions);
+    const std::string batched_polar =
+      time_per_tet([&] { fem::rotations_of(gradients.data(), rotations.data(), n_elements); });
     fem::ElasticBody::State state;
     const std::string       fused = time_per_tet(
       [&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements, state); });
@@ -264,10 +270,15 @@ namespace
     });
     std::cout << "element kernels (ns per tet, " << n_elements << " tets, one pass over all):\n"
               << "  rotation by SVD (the former kernel)            " << svd << "\n"
-              << "  rotation by scaled Newton (rotation_of)        " << polar << "\n"
+              << "  rotation by scaled Newton, one by one          " << polar << "\n"
+              << "  rotation by scaled Newton, 8 per SIMD group    " << batched_polar << "\n"
               << "  fused pass: F, rotation, force, energy, gather " << fused << "\n"
               << "  the same with the nodal rotations              " << fused_nodal << "\n"
-              << "  corotated stiffness product (one CG product)   " << corotated_product << "\n";
+              << "  corotated stiffness product (one CG product)   " << corotated_product << "\n"
+              << "  WCC error estimate (fastest of the runs above) "
+              << (estimate_seconds_per_step > 0 ? format_number(1e9 * estimate_seconds_per_step / n_elements, 3) :
+                                                  std::string("-"))
+              << "\n";
   }
 
   void run(const Options &options)
@@ -354,8 +365,13 @@ namespace
                   << (row.failure.empty() ? "" : "  " + row.failure) << "\n";
       }
     {
+      double estimate_seconds = 0;
+      for (const auto &row : rows)
+        if (row.phases.t_error_estimate > 0 && row.steps > 0)
+          estimate_seconds = estimate_seconds > 0 ? std::min(estimate_seconds, row.phases.t_error_estimate / row.steps) :
+                                                    row.phases.t_error_estimate / row.steps;
       app::Scene scene(corotational);
-      print_kernel_costs(scene, reference.back());
+      print_kernel_costs(scene, reference.back(), estimate_seconds);
     }
     std::string csv_file = options.csv_file;
     if (csv_file.empty())
