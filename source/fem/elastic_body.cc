@@ -331,10 +331,17 @@ namespace warpchol::fem
     return volumes[e] * (stress(displacement_gradient) * inverse_rest_edges[e].transpose());
   }
 
-  double ElasticBody::element_energy(const unsigned int e, const Matrix3 &displacement_gradient) const
+  Matrix3 ElasticBody::corotated_forces(const unsigned int e, const Matrix3 &deformation_gradient,
+                                        const Matrix3 *rotation, double &energy) const
   {
-    // 1/2 u^T K u = V/2 sigma : eps, and sigma : eps = sigma : G since sigma is symmetric.
-    return 0.5 * volumes[e] * stress(displacement_gradient).cwiseProduct(displacement_gradient).sum();
+    // G = R^T F - I, the displacement gradient in the element's frame; the world forces
+    // are -R K_e u_e.
+    Matrix3 gradient = rotation ? Matrix3(rotation->transpose() * deformation_gradient) : deformation_gradient;
+    gradient.diagonal().array() -= 1;
+    const Matrix3 stress_times_volume = volumes[e] * stress(gradient);
+    const Matrix3 local_forces        = stress_times_volume * inverse_rest_edges[e].transpose();
+    energy = 0.5 * stress_times_volume.cwiseProduct(gradient).sum();
+    return rotation ? Matrix3(-(*rotation * local_forces)) : Matrix3(-local_forces);
   }
 
   void ElasticBody::gather_element_forces(const std::vector<Matrix3> &element_forces,
@@ -388,22 +395,13 @@ namespace warpchol::fem
             for (unsigned int k = 0; k < count; ++k)
               {
                 const unsigned int e = first + k;
-                Matrix3            gradient;
                 if (rotate)
-                  {
-                    state.element_rotations[e] = block_rotations[k];
-                    gradient                   = block_rotations[k].transpose() * gradients[k];
-                  }
-                else
-                  gradient = gradients[k];
-                gradient.diagonal().array() -= 1;
-                const Matrix3 stress_times_volume = volumes[e] * stress(gradient);
-                const Matrix3 local_forces        = stress_times_volume * inverse_rest_edges[e].transpose();
-                energies[e] = 0.5 * stress_times_volume.cwiseProduct(gradient).sum();
-                state.element_forces[e] =
-                  rotate ? Matrix3(-(block_rotations[k] * local_forces)) : Matrix3(-local_forces);
-                state.element_force_norms[e] =
-                  std::sqrt(local_forces.squaredNorm() + local_forces.rowwise().sum().squaredNorm());
+                  state.element_rotations[e] = block_rotations[k];
+                const Matrix3 forces =
+                  corotated_forces(e, gradients[k], rotate ? &block_rotations[k] : nullptr, energies[e]);
+                state.element_forces[e] = forces;
+                // Rotations keep norms: the norm of the 12 nodal forces from the world ones.
+                state.element_force_norms[e] = std::sqrt(forces.squaredNorm() + forces.rowwise().sum().squaredNorm());
               }
           }
       },
@@ -462,14 +460,6 @@ namespace warpchol::fem
       256);
   }
 
-  ElementVector ElasticBody::gather(const unsigned int e, const std::vector<Vector3> &field) const
-  {
-    ElementVector result;
-    for (unsigned int a = 0; a < 4; ++a)
-      result.segment<3>(3 * a) = field[vertices_of_element[e][a]];
-    return result;
-  }
-
   void ElasticBody::add_elastic_forces(const std::vector<Vector3> &positions,
                                        const std::vector<Matrix3> *element_rotations,
                                        std::vector<Vector3>       &forces) const
@@ -479,15 +469,10 @@ namespace warpchol::fem
     dealii::parallel::apply_to_subranges(
       0u, n_elements(),
       [&](const unsigned int begin, const unsigned int end) {
+        double energy;
         for (unsigned int e = begin; e < end; ++e)
-          {
-            const Matrix3 f = deformation_gradient(e, positions);
-            Matrix3 gradient = element_rotations ? Matrix3((*element_rotations)[e].transpose() * f) : f;
-            gradient.diagonal().array() -= 1;
-            const Matrix3 local_forces = stiffness_forces(e, gradient);
-            element_forces[e] = element_rotations ? Matrix3(-((*element_rotations)[e] * local_forces)) :
-                                                    Matrix3(-local_forces);
-          }
+          element_forces[e] = corotated_forces(e, deformation_gradient(e, positions),
+                                               element_rotations ? &(*element_rotations)[e] : nullptr, energy);
       },
       512);
     gather_element_forces(element_forces, forces);
@@ -496,15 +481,14 @@ namespace warpchol::fem
   double ElasticBody::elastic_energy(const std::vector<Vector3> &positions,
                                      const std::vector<Matrix3> *element_rotations) const
   {
-    double energy = 0;
+    double sum = 0, energy;
     for (unsigned int e = 0; e < n_elements(); ++e)
       {
-        const Matrix3 f        = deformation_gradient(e, positions);
-        Matrix3       gradient = element_rotations ? Matrix3((*element_rotations)[e].transpose() * f) : f;
-        gradient.diagonal().array() -= 1;
-        energy += element_energy(e, gradient);
+        corotated_forces(e, deformation_gradient(e, positions), element_rotations ? &(*element_rotations)[e] : nullptr,
+                         energy);
+        sum += energy;
       }
-    return energy;
+    return sum;
   }
 
   void ElasticBody::add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,

@@ -114,9 +114,6 @@ namespace warpchol::fem
      */
     Matrix3 stiffness_forces(unsigned int e, const Matrix3 &displacement_gradient) const;
 
-    /** 1/2 u_e^T K_e u_e for the displacement gradient @p displacement_gradient (V/2 sigma : eps). */
-    double element_energy(unsigned int e, const Matrix3 &displacement_gradient) const;
-
     /** The gradient of a per-vertex field (linear on element @p e): [f1-f0, f2-f0, f3-f0] Dm^-1. */
     Matrix3 field_gradient(unsigned int e, const std::vector<Vector3> &field) const;
     /** The same for the values @p vertex_values at the element's 4 vertices. */
@@ -198,9 +195,6 @@ namespace warpchol::fem
     /** 1/2 v^T M v. */
     double kinetic_energy(const std::vector<Vector3> &velocities) const;
 
-    /** The element vector of element @p e gathered from a per-vertex field. */
-    ElementVector gather(unsigned int e, const std::vector<Vector3> &field) const;
-
     const dealii::Triangulation<3> &triangulation() const;
     /** The DoFHandler, numbered 3 v + c (see the class documentation). */
     const dealii::DoFHandler<3> &dof_handler() const;
@@ -211,6 +205,15 @@ namespace warpchol::fem
 
     /** sigma = lambda tr(eps) I + 2 mu eps with eps = sym(@p displacement_gradient). */
     Matrix3 stress(const Matrix3 &displacement_gradient) const;
+
+    /**
+     * The world forces -R K_e (R^T x_e - X_e) of element @p e on its vertices 1..3 (as
+     * columns; vertex 0's is minus their sum) from its deformation gradient and rotation
+     * R (the identity if null), and its energy 1/2 u^T K_e u = V/2 sigma : eps in
+     * @p energy: the kernel of evaluate() and of the forces and energy for given rotations.
+     */
+    Matrix3 corotated_forces(unsigned int e, const Matrix3 &deformation_gradient, const Matrix3 *rotation,
+                             double &energy) const;
 
     /**
      * out[v] += the forces of @p element_forces (per element, its forces on vertices 1..3
