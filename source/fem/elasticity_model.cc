@@ -130,28 +130,11 @@ namespace warpchol::fem
   {
     // A y = R^T rhs, then v = R y: the nodal rotations stand for the updates A lacks.
     std::vector<double> rotated(body.n_unknowns());
-    for (unsigned int v = 0; v < body.n_vertices(); ++v)
-      {
-        const Index first = body.first_unknown(v);
-        if (first < 0)
-          continue;
-        const Vector3 local =
-          solve_frame ? Vector3((*solve_frame)[v].transpose() * right_hand_side[v]) : right_hand_side[v];
-        for (unsigned int c = 0; c < 3; ++c)
-          rotated[first + c] = local[c];
-      }
+    to_solve_frame(right_hand_side, rotated.data());
     // The initial guess of CG: the velocities given on entry, in the solve frame.
     std::vector<double> solution(body.n_unknowns(), 0.);
     if (strategy.iterates() && velocities.size() == body.n_vertices())
-      for (unsigned int v = 0; v < body.n_vertices(); ++v)
-        {
-          const Index first = body.first_unknown(v);
-          if (first < 0)
-            continue;
-          const Vector3 local = solve_frame ? Vector3((*solve_frame)[v].transpose() * velocities[v]) : velocities[v];
-          for (unsigned int c = 0; c < 3; ++c)
-            solution[first + c] = local[c];
-        }
+      to_solve_frame(velocities, solution.data());
     last_cg_iterations = 0;
     last_cg_seconds    = 0;
     if (!strategy.iterates())
@@ -179,17 +162,35 @@ namespace warpchol::fem
             return;
           }
       }
-    velocities.resize(body.n_vertices());
+    from_solve_frame(solution.data(), velocities);
+  }
+
+  void ElasticityModel::to_solve_frame(const std::vector<Vector3> &field, double *unknowns) const
+  {
+    for (unsigned int v = 0; v < body.n_vertices(); ++v)
+      {
+        const Index first = body.first_unknown(v);
+        if (first < 0)
+          continue;
+        const Vector3 local = solve_frame ? Vector3((*solve_frame)[v].transpose() * field[v]) : field[v];
+        for (unsigned int c = 0; c < 3; ++c)
+          unknowns[first + c] = local[c];
+      }
+  }
+
+  void ElasticityModel::from_solve_frame(const double *unknowns, std::vector<Vector3> &field) const
+  {
+    field.resize(body.n_vertices());
     for (unsigned int v = 0; v < body.n_vertices(); ++v)
       {
         const Index first = body.first_unknown(v);
         if (first < 0)
           {
-            velocities[v].setZero();
+            field[v].setZero();
             continue;
           }
-        const Vector3 local(solution[first], solution[first + 1], solution[first + 2]);
-        velocities[v] = solve_frame ? Vector3((*solve_frame)[v] * local) : local;
+        const Vector3 local(unknowns[first], unknowns[first + 1], unknowns[first + 2]);
+        field[v] = solve_frame ? Vector3((*solve_frame)[v] * local) : local;
       }
   }
 
@@ -267,15 +268,7 @@ namespace warpchol::fem
       }
     // R^T (c_M M + c_K sum_e R_e K_e R_e^T + tool springs) R y, matrix-free over the
     // elements; fixed vertices have no velocity.
-    vertex_work.assign(body.n_vertices(), Vector3::Zero());
-    for (unsigned int v = 0; v < body.n_vertices(); ++v)
-      {
-        const Index first = body.first_unknown(v);
-        if (first < 0)
-          continue;
-        const Vector3 local(y[first], y[first + 1], y[first + 2]);
-        vertex_work[v] = solve_frame ? Vector3((*solve_frame)[v] * local) : local;
-      }
+    from_solve_frame(y.begin(), vertex_work);
     vertex_product.assign(body.n_vertices(), Vector3::Zero());
     body.add_corotated_stiffness_times(&elastic_state.element_rotations, vertex_work, vertex_product,
                                        element_work);
@@ -283,16 +276,11 @@ namespace warpchol::fem
     body.add_mass_times(vertex_work, mass_product);
     for (unsigned int v = 0; v < body.n_vertices(); ++v)
       {
-        const Index first = body.first_unknown(v);
-        if (first < 0)
-          continue;
-        Vector3 world = coefficients.stiffness * vertex_product[v] + coefficients.mass * mass_product[v];
+        vertex_product[v] = coefficients.stiffness * vertex_product[v] + coefficients.mass * mass_product[v];
         if (!coefficients.vertex_diagonal.empty())
-          world += coefficients.vertex_diagonal[v] * vertex_work[v];
-        const Vector3 local = solve_frame ? Vector3((*solve_frame)[v].transpose() * world) : world;
-        for (unsigned int c = 0; c < 3; ++c)
-          out[first + c] = local[c];
+          vertex_product[v] += coefficients.vertex_diagonal[v] * vertex_work[v];
       }
+    to_solve_frame(vertex_product, out.begin());
   }
 
   void ElasticityModel::record_updates(const std::vector<unsigned int> &updated)

@@ -185,6 +185,11 @@ namespace warpchol::fem
     unsigned int solve_by_cg(const std::vector<double> &b, std::vector<double> &y,
                              StepStatistics &statistics);
 
+    /** unknowns = R^T field on the free vertices (R: the solve frame, or the identity). */
+    void to_solve_frame(const std::vector<Vector3> &field, double *unknowns) const;
+    /** field = R unknowns on the free vertices, 0 on the fixed ones. */
+    void from_solve_frame(const double *unknowns, std::vector<Vector3> &field) const;
+
     /** out = B y for the strategy's target matrix B, over the unknowns. */
     void target_times(const dealii::Vector<double> &y, dealii::Vector<double> &out) const;
 
