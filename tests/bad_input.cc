@@ -105,6 +105,11 @@ int main()
   run_scene("threshold not a number", "threshold_text.prm", scene("subsection Model\n  set Update threshold = often\nend\n"));
   run_scene("negative threshold", "threshold_negative.prm", scene("subsection Model\n  set Update threshold = -1\nend\n"));
   run_scene("unknown model", "unknown_model.prm", scene("subsection Model\n  set Type = magic\nend\n"));
+  run_scene("unknown step strategy", "unknown_strategy.prm", scene("subsection Model\n  set Strategy = fastest\nend\n"));
+  run_scene("unknown iteration target", "unknown_target.prm", scene("subsection Model\n  set Iterate on = linear\nend\n"));
+  run_scene("delayed top without supernodes", "delayed_left.prm",
+            scene("subsection Model\n  set Strategy = delayed_top\nend\nsubsection Solver\n  set Method = left\nend\n"));
+  run_scene("CG tolerance 0", "zero_tolerance.prm", scene("subsection Model\n  set CG tolerance = 0\nend\n"));
   run_scene("unknown ordering", "unknown_ordering.prm", scene("subsection Solver\n  set Ordering = random\nend\n"));
   run_scene("unknown method", "unknown_method.prm", scene("subsection Solver\n  set Method = sideways\nend\n"));
   run_scene("vector with two numbers", "short_vector.prm", scene("subsection Gravity\n  set Acceleration = 0, -9.81\nend\n"));

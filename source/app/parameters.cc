@@ -586,6 +586,16 @@ namespace warpchol::app
     region_force.parse_parameters(prm, file);
     tool.parse_parameters(prm, file);
     output.parse_parameters(prm, file);
+    // What one entry allows only with another: said at the entry that asks for it.
+    const auto strategy = model.strategy.kind;
+    if ((strategy == fem::StepStrategy::Kind::delayed_top || strategy == fem::StepStrategy::Kind::automatic) &&
+        solver.settings.method != cholesky::FactorizationMethod::supernodal)
+      {
+        prm.enter_subsection("Model");
+        file.fail(prm, "Model", "Strategy",
+                "refreshes the factor below the top of its tree, which needs Solver/Method = supernodal (not " +
+                    cholesky::to_string(solver.settings.method) + ")");
+      }
   }
 
   AllParameters::AllParameters()
