@@ -470,12 +470,21 @@ namespace warpchol::cholesky
       const int    rows_below = static_cast<int>(nr - nc);
       const Real  *ls         = values + symbolic.value_start[s];
       const Index *rows       = symbolic.row_index.data() + symbolic.row_start[s];
-      blas::trsm_left_lower(false, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
+      // One right-hand side (CG's preconditioner): the BLAS-2 kernels, which skip BLAS-3's
+      // set-up, a large part of the time of the many small supernodes.
+      if (n_rhs == 1)
+        blas::trsv_lower(false, static_cast<int>(nc), ls, static_cast<int>(nr), x + f);
+      else
+        blas::trsm_left_lower(false, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
       if (rows_below == 0)
         return;
       below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(rows_below) * n_rhs));
-      blas::gemm(false, false, rows_below, m, static_cast<int>(nc), Real(1), ls + nc, static_cast<int>(nr), x + f,
-                 n, Real(0), below.data(), rows_below);
+      if (n_rhs == 1)
+        blas::gemv(false, rows_below, static_cast<int>(nc), Real(1), ls + nc, static_cast<int>(nr), x + f, Real(0),
+                   below.data());
+      else
+        blas::gemm(false, false, rows_below, m, static_cast<int>(nc), Real(1), ls + nc, static_cast<int>(nr), x + f,
+                   n, Real(0), below.data(), rows_below);
       for (Index r = 0; r < n_rhs; ++r)
         for (Index i = 0; i < rows_below; ++i)
           {
@@ -504,10 +513,17 @@ namespace warpchol::cholesky
           for (Index r = 0; r < n_rhs; ++r)
             for (Index i = 0; i < rows_below; ++i)
               below[i + r * rows_below] = x[rows[nc + i] + r * n];
-          blas::gemm(true, false, static_cast<int>(nc), m, rows_below, Real(-1), ls + nc, static_cast<int>(nr),
-                     below.data(), rows_below, Real(1), x + f, n);
+          if (n_rhs == 1)
+            blas::gemv(true, rows_below, static_cast<int>(nc), Real(-1), ls + nc, static_cast<int>(nr), below.data(),
+                       Real(1), x + f);
+          else
+            blas::gemm(true, false, static_cast<int>(nc), m, rows_below, Real(-1), ls + nc, static_cast<int>(nr),
+                       below.data(), rows_below, Real(1), x + f, n);
         }
-      blas::trsm_left_lower(true, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
+      if (n_rhs == 1)
+        blas::trsv_lower(true, static_cast<int>(nc), ls, static_cast<int>(nr), x + f);
+      else
+        blas::trsm_left_lower(true, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
     }
 
     /**
