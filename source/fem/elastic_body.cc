@@ -29,6 +29,8 @@ namespace warpchol::fem
   {
     /** Elements (or vertices) whose rotations are computed together by rotations_of(). */
     constexpr unsigned int rotation_block = 64;
+    /** Elements whose forces corotated_forces_of_lanes() computes side by side. */
+    constexpr unsigned int force_lanes = 8;
 
     Vector3 to_vector(const dealii::Point<3> &point)
     {
@@ -331,17 +333,76 @@ namespace warpchol::fem
     return volumes[e] * (stress(displacement_gradient) * inverse_rest_edges[e].transpose());
   }
 
-  Matrix3 ElasticBody::corotated_forces(const unsigned int e, const Matrix3 &deformation_gradient,
-                                        const Matrix3 *rotation, double &energy) const
+  void ElasticBody::corotated_forces_of_lanes(const unsigned int first, const unsigned int count,
+                                              const Matrix3 *gradients, const Matrix3 *rotations,
+                                              Matrix3 *forces, double *energies, double *force_norms) const
   {
-    // G = R^T F - I, the displacement gradient in the element's frame; the world forces
-    // are -R K_e u_e.
-    Matrix3 gradient = rotation ? Matrix3(rotation->transpose() * deformation_gradient) : deformation_gradient;
-    gradient.diagonal().array() -= 1;
-    const Matrix3 stress_times_volume = volumes[e] * stress(gradient);
-    const Matrix3 local_forces        = stress_times_volume * inverse_rest_edges[e].transpose();
-    energy = 0.5 * stress_times_volume.cwiseProduct(gradient).sum();
-    return rotation ? Matrix3(-(*rotation * local_forces)) : Matrix3(-local_forces);
+    // Entry i of the 3x3 matrices of lane l at [i][l] (column-major i = row + 3 column);
+    // lanes past count repeat the last element and are not stored.
+    constexpr unsigned int lanes = force_lanes;
+    alignas(64) double f[9][lanes], r[9][lanes], d[9][lanes], volume[lanes];
+    for (unsigned int l = 0; l < lanes; ++l)
+      {
+        const unsigned int k = std::min(l, count - 1);
+        for (unsigned int i = 0; i < 9; ++i)
+          {
+            f[i][l] = gradients[k].data()[i];
+            r[i][l] = rotations[k].data()[i];
+            d[i][l] = inverse_rest_edges[first + k].data()[i];
+          }
+        volume[l] = volumes[first + k];
+      }
+    alignas(64) double g[9][lanes], stress_volume[9][lanes], local[9][lanes], world[9][lanes];
+    alignas(64) double energy[lanes], norm[lanes];
+    // G = R^T F - I.
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        for (unsigned int l = 0; l < lanes; ++l)
+          g[i + 3 * j][l] = r[3 * i][l] * f[3 * j][l] + r[1 + 3 * i][l] * f[1 + 3 * j][l] +
+                            r[2 + 3 * i][l] * f[2 + 3 * j][l] - (i == j ? 1. : 0.);
+    // V sigma with sigma = lambda tr(eps) I + 2 mu eps, eps = sym(G); the energy V/2 sigma : G.
+    for (unsigned int l = 0; l < lanes; ++l)
+      {
+        const double trace = g[0][l] + g[4][l] + g[8][l];
+        energy[l]          = 0;
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = 0; j < 3; ++j)
+            {
+              const double sigma = mu * (g[i + 3 * j][l] + g[j + 3 * i][l]) + (i == j ? lambda * trace : 0.);
+              stress_volume[i + 3 * j][l] = volume[l] * sigma;
+              energy[l] += 0.5 * stress_volume[i + 3 * j][l] * g[i + 3 * j][l];
+            }
+      }
+    // Local forces V sigma Dm^-T, world forces -R (V sigma Dm^-T).
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        for (unsigned int l = 0; l < lanes; ++l)
+          local[i + 3 * j][l] = stress_volume[i][l] * d[j][l] + stress_volume[i + 3][l] * d[j + 3][l] +
+                                stress_volume[i + 6][l] * d[j + 6][l];
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        for (unsigned int l = 0; l < lanes; ++l)
+          world[i + 3 * j][l] = -(r[i][l] * local[3 * j][l] + r[i + 3][l] * local[1 + 3 * j][l] +
+                                  r[i + 6][l] * local[2 + 3 * j][l]);
+    // The norm of the 12 nodal forces (rotations keep norms): vertex 0's is minus the sum.
+    for (unsigned int l = 0; l < lanes; ++l)
+      {
+        double sum = 0;
+        for (unsigned int i = 0; i < 3; ++i)
+          {
+            const double row = world[i][l] + world[i + 3][l] + world[i + 6][l];
+            sum += row * row + world[i][l] * world[i][l] + world[i + 3][l] * world[i + 3][l] +
+                   world[i + 6][l] * world[i + 6][l];
+          }
+        norm[l] = std::sqrt(sum);
+      }
+    for (unsigned int l = 0; l < count; ++l)
+      {
+        for (unsigned int i = 0; i < 9; ++i)
+          forces[l].data()[i] = world[i][l];
+        energies[l]    = energy[l];
+        force_norms[l] = norm[l];
+      }
   }
 
   void ElasticBody::gather_element_forces(const std::vector<Matrix3> &element_forces,
@@ -392,17 +453,15 @@ namespace warpchol::fem
               gradients[k] = deformation_gradient(first + k, positions);
             if (rotate)
               rotations_of(gradients.data(), block_rotations.data(), count);
-            for (unsigned int k = 0; k < count; ++k)
-              {
-                const unsigned int e = first + k;
-                if (rotate)
-                  state.element_rotations[e] = block_rotations[k];
-                const Matrix3 forces =
-                  corotated_forces(e, gradients[k], rotate ? &block_rotations[k] : nullptr, energies[e]);
-                state.element_forces[e] = forces;
-                // Rotations keep norms: the norm of the 12 nodal forces from the world ones.
-                state.element_force_norms[e] = std::sqrt(forces.squaredNorm() + forces.rowwise().sum().squaredNorm());
-              }
+            if (rotate)
+              std::copy(block_rotations.begin(), block_rotations.begin() + count,
+                        state.element_rotations.begin() + first);
+            else
+              std::fill(block_rotations.begin(), block_rotations.begin() + count, Matrix3::Identity());
+            for (unsigned int k = 0; k < count; k += force_lanes)
+              corotated_forces_of_lanes(first + k, std::min(force_lanes, count - k), gradients.data() + k,
+                                        block_rotations.data() + k, state.element_forces.data() + first + k,
+                                        energies.data() + first + k, state.element_force_norms.data() + first + k);
           }
       },
       512);
@@ -460,34 +519,51 @@ namespace warpchol::fem
       256);
   }
 
+  void ElasticBody::forces_at_given_rotations(const std::vector<Vector3> &positions,
+                                              const std::vector<Matrix3> *element_rotations,
+                                              std::vector<Matrix3> &element_forces, std::vector<double> &energies) const
+  {
+    element_forces.resize(n_elements());
+    energies.resize(n_elements());
+    std::vector<double> force_norms(n_elements());
+    dealii::parallel::apply_to_subranges(
+      0u, n_elements(),
+      [&](const unsigned int begin, const unsigned int end) {
+        std::array<Matrix3, force_lanes> gradients, rotations;
+        for (unsigned int first = begin; first < end; first += force_lanes)
+          {
+            const unsigned int count = std::min(force_lanes, end - first);
+            for (unsigned int k = 0; k < count; ++k)
+              {
+                gradients[k] = deformation_gradient(first + k, positions);
+                rotations[k] = element_rotations ? (*element_rotations)[first + k] : Matrix3::Identity();
+              }
+            corotated_forces_of_lanes(first, count, gradients.data(), rotations.data(), element_forces.data() + first,
+                                      energies.data() + first, force_norms.data() + first);
+          }
+      },
+      512);
+  }
+
   void ElasticBody::add_elastic_forces(const std::vector<Vector3> &positions,
                                        const std::vector<Matrix3> *element_rotations,
                                        std::vector<Vector3>       &forces) const
   {
-    // Through the fused pass, with the given rotations rather than fresh ones.
-    std::vector<Matrix3> element_forces(n_elements());
-    dealii::parallel::apply_to_subranges(
-      0u, n_elements(),
-      [&](const unsigned int begin, const unsigned int end) {
-        double energy;
-        for (unsigned int e = begin; e < end; ++e)
-          element_forces[e] = corotated_forces(e, deformation_gradient(e, positions),
-                                               element_rotations ? &(*element_rotations)[e] : nullptr, energy);
-      },
-      512);
+    std::vector<Matrix3> element_forces;
+    std::vector<double>  energies;
+    forces_at_given_rotations(positions, element_rotations, element_forces, energies);
     gather_element_forces(element_forces, forces);
   }
 
   double ElasticBody::elastic_energy(const std::vector<Vector3> &positions,
                                      const std::vector<Matrix3> *element_rotations) const
   {
-    double sum = 0, energy;
-    for (unsigned int e = 0; e < n_elements(); ++e)
-      {
-        corotated_forces(e, deformation_gradient(e, positions), element_rotations ? &(*element_rotations)[e] : nullptr,
-                         energy);
-        sum += energy;
-      }
+    std::vector<Matrix3> element_forces;
+    std::vector<double>  energies;
+    forces_at_given_rotations(positions, element_rotations, element_forces, energies);
+    double sum = 0;
+    for (const double energy : energies)
+      sum += energy;
     return sum;
   }
 

@@ -207,13 +207,19 @@ namespace warpchol::fem
     Matrix3 stress(const Matrix3 &displacement_gradient) const;
 
     /**
-     * The world forces -R K_e (R^T x_e - X_e) of element @p e on its vertices 1..3 (as
-     * columns; vertex 0's is minus their sum) from its deformation gradient and rotation
-     * R (the identity if null), and its energy 1/2 u^T K_e u = V/2 sigma : eps in
-     * @p energy: the kernel of evaluate() and of the forces and energy for given rotations.
+     * The world forces -R K_e (R^T x_e - X_e) on vertices 1..3 (as columns; vertex 0's is
+     * minus their sum), the energy 1/2 u^T K_e u = V/2 sigma : eps and the norm of the 12
+     * nodal forces of the @p count (<= 8) elements from @p first on, from their
+     * deformation gradients and rotations, side by side in SIMD lanes (their entries laid
+     * out lane by lane, as rotations_of() does): the hot loop of evaluate().
      */
-    Matrix3 corotated_forces(unsigned int e, const Matrix3 &deformation_gradient, const Matrix3 *rotation,
-                             double &energy) const;
+    void corotated_forces_of_lanes(unsigned int first, unsigned int count, const Matrix3 *gradients,
+                                   const Matrix3 *rotations, Matrix3 *forces, double *energies,
+                                   double *force_norms) const;
+
+    /** Per element, its world forces and energy at @p positions for the given rotations (I if null). */
+    void forces_at_given_rotations(const std::vector<Vector3> &positions, const std::vector<Matrix3> *element_rotations,
+                                   std::vector<Matrix3> &element_forces, std::vector<double> &energies) const;
 
     /**
      * out[v] += the forces of @p element_forces (per element, its forces on vertices 1..3
