@@ -452,10 +452,11 @@ namespace warpchol::fem
             for (unsigned int k = 0; k < count; ++k)
               gradients[k] = deformation_gradient(first + k, positions);
             if (rotate)
-              rotations_of(gradients.data(), block_rotations.data(), count);
-            if (rotate)
-              std::copy(block_rotations.begin(), block_rotations.begin() + count,
-                        state.element_rotations.begin() + first);
+              {
+                rotations_of(gradients.data(), block_rotations.data(), count);
+                std::copy(block_rotations.begin(), block_rotations.begin() + count,
+                          state.element_rotations.begin() + first);
+              }
             else
               std::fill(block_rotations.begin(), block_rotations.begin() + count, Matrix3::Identity());
             for (unsigned int k = 0; k < count; k += force_lanes)
