@@ -40,57 +40,83 @@ namespace warpchol::app
       pending.get();
   }
 
-  void VtuSeries::write(const unsigned int step, const double time, const fem::ElasticBody &body,
-                        const std::vector<fem::Vector3> &displacements,
-                        const std::vector<fem::Vector3> &velocities,
-                        const fem::ElementUpdateRecord  &record)
+  void VtuSeries::write(const unsigned int step, const double time, std::vector<BodySnapshot> bodies)
   {
     finish();
-    pending = std::async(std::launch::async,
-                         [this, step, time, &body, displacements, velocities, record]() {
-                           write_now(step, time, body, displacements, velocities, record);
-                         });
+    pending = std::async(std::launch::async, [this, step, time, bodies = std::move(bodies)]() {
+      write_now(step, time, bodies);
+    });
   }
 
-  void VtuSeries::write_now(const unsigned int step, const double time, const fem::ElasticBody &body,
-                            const std::vector<fem::Vector3> &displacements,
-                            const std::vector<fem::Vector3> &velocities,
-                            const fem::ElementUpdateRecord  &record)
+  namespace
   {
-    // The dofs are numbered 3 v + c (ElasticBody): per-vertex 3-vectors are dof vectors.
-    dealii::Vector<double> displacement(3 * body.n_vertices());
-    dealii::Vector<double> velocity(3 * body.n_vertices());
-    for (unsigned int v = 0; v < body.n_vertices(); ++v)
-      for (unsigned int c = 0; c < 3; ++c)
+    /**
+     * The fields of one body (@p index of @p n_bodies) as deal.II's patches. Every body
+     * gets the same fields, so that their patches merge: the error estimate is 0 for a
+     * body without one when another has it.
+     */
+    void build_body_patches(dealii::DataOut<3> &data_out, const BodySnapshot &snapshot,
+                            const unsigned int index, const unsigned int n_bodies,
+                            const bool with_error_estimate)
+    {
+      const fem::ElasticBody &body = *snapshot.body;
+      // The dofs are numbered 3 v + c (ElasticBody): per-vertex 3-vectors are dof vectors.
+      dealii::Vector<double> displacement(3 * body.n_vertices());
+      dealii::Vector<double> velocity(3 * body.n_vertices());
+      for (unsigned int v = 0; v < body.n_vertices(); ++v)
+        for (unsigned int c = 0; c < 3; ++c)
+          {
+            displacement[3 * v + c] = snapshot.displacements[v][c];
+            velocity[3 * v + c]     = snapshot.velocities[v][c];
+          }
+      const auto            &record  = snapshot.record;
+      const unsigned int     n_cells = body.n_elements();
+      dealii::Vector<double> updated(n_cells), steps_since_update(n_cells), error_estimate(n_cells),
+        body_index(n_cells);
+      for (unsigned int e = 0; e < n_cells; ++e)
         {
-          displacement[3 * v + c] = displacements[v][c];
-          velocity[3 * v + c]     = velocities[v][c];
+          updated[e]            = record.updated[e];
+          steps_since_update[e] = record.steps_since_update[e];
+          if (!record.error_estimate.empty())
+            error_estimate[e] = record.error_estimate[e];
+          body_index[e] = index;
         }
-    const unsigned int     n_cells = body.n_elements();
-    dealii::Vector<double> updated(n_cells), steps_since_update(n_cells), error_estimate(n_cells);
-    for (unsigned int e = 0; e < n_cells; ++e)
-      {
-        updated[e]            = record.updated[e];
-        steps_since_update[e] = record.steps_since_update[e];
-        if (!record.error_estimate.empty())
-          error_estimate[e] = record.error_estimate[e];
-      }
 
-    using Interpretation = dealii::DataComponentInterpretation::DataComponentInterpretation;
-    const std::vector<Interpretation> vector_field(
-      3, dealii::DataComponentInterpretation::component_is_part_of_vector);
+      using Interpretation = dealii::DataComponentInterpretation::DataComponentInterpretation;
+      const std::vector<Interpretation> vector_field(
+        3, dealii::DataComponentInterpretation::component_is_part_of_vector);
+      data_out.attach_dof_handler(body.dof_handler());
+      data_out.add_data_vector(displacement, std::vector<std::string>(3, "displacement"),
+                               dealii::DataOut<3>::type_dof_data, vector_field);
+      data_out.add_data_vector(velocity, std::vector<std::string>(3, "velocity"),
+                               dealii::DataOut<3>::type_dof_data, vector_field);
+      data_out.add_data_vector(updated, "updated", dealii::DataOut<3>::type_cell_data);
+      data_out.add_data_vector(steps_since_update, "steps_since_update",
+                               dealii::DataOut<3>::type_cell_data);
+      if (with_error_estimate)
+        data_out.add_data_vector(error_estimate, "error_estimate", dealii::DataOut<3>::type_cell_data);
+      if (n_bodies > 1)
+        data_out.add_data_vector(body_index, "body", dealii::DataOut<3>::type_cell_data);
+      data_out.build_patches(body.mapping());
+    }
+  } // namespace
+
+  void VtuSeries::write_now(const unsigned int step, const double time,
+                            const std::vector<BodySnapshot> &bodies)
+  {
+    bool with_error_estimate = false;
+    for (const auto &snapshot : bodies)
+      with_error_estimate = with_error_estimate || !snapshot.record.error_estimate.empty();
+    const unsigned int n_bodies = bodies.size();
     dealii::DataOut<3> data_out;
-    data_out.attach_dof_handler(body.dof_handler());
-    data_out.add_data_vector(displacement, std::vector<std::string>(3, "displacement"),
-                             dealii::DataOut<3>::type_dof_data, vector_field);
-    data_out.add_data_vector(velocity, std::vector<std::string>(3, "velocity"),
-                             dealii::DataOut<3>::type_dof_data, vector_field);
-    data_out.add_data_vector(updated, "updated", dealii::DataOut<3>::type_cell_data);
-    data_out.add_data_vector(steps_since_update, "steps_since_update",
-                             dealii::DataOut<3>::type_cell_data);
-    if (!record.error_estimate.empty())
-      data_out.add_data_vector(error_estimate, "error_estimate", dealii::DataOut<3>::type_cell_data);
-    data_out.build_patches(body.mapping());
+    build_body_patches(data_out, bodies[0], 0, n_bodies, with_error_estimate);
+    for (unsigned int i = 1; i < n_bodies; ++i)
+      {
+        dealii::DataOut<3> other;
+        build_body_patches(other, bodies[i], i, n_bodies, with_error_estimate);
+        const fem::Vector3 shift = bodies[i].offset - bodies[0].offset;
+        data_out.merge_patches(other, dealii::Point<3>(shift[0], shift[1], shift[2]));
+      }
     // Fast compression: the files are a little larger, written in half the time.
     dealii::DataOutBase::VtkFlags flags;
     flags.compression_level = dealii::DataOutBase::VtkFlags::best_speed;

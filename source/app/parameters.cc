@@ -26,6 +26,27 @@ namespace warpchol::app
       return text.substr(first, text.find_last_not_of(" \t\r") - first + 1);
     }
 
+    /** A WCC update threshold: a number >= 0 or inf; false if @p text is neither. */
+    bool parse_threshold(const std::string &text, double &threshold)
+    {
+      const std::string value = trim(text);
+      if (value == "inf" || value == "infinity")
+        {
+          threshold = std::numeric_limits<double>::infinity();
+          return true;
+        }
+      std::size_t used = 0;
+      try
+        {
+          threshold = std::stod(value, &used);
+        }
+      catch (...)
+        {
+          return false;
+        }
+      return !value.empty() && used == value.size() && threshold >= 0 && !std::isinf(threshold);
+    }
+
     /** Collapse runs of white space into one blank. */
     std::string one_line(const std::string &text)
     {
@@ -350,24 +371,8 @@ namespace warpchol::app
     {
       prm.enter_subsection("Model");
       type                   = prm.get("Type");
-      const std::string text = trim(prm.get("Update threshold"));
-      if (text == "inf" || text == "infinity")
-        update_threshold = std::numeric_limits<double>::infinity();
-      else
-        {
-          std::size_t used = 0;
-          try
-            {
-              update_threshold = std::stod(text, &used);
-            }
-          catch (...)
-            {
-              used = 0;
-            }
-          if (text.empty() || used != text.size() || !(update_threshold >= 0) ||
-              std::isinf(update_threshold))
-            file.fail(prm, "Model", "Update threshold", "must be a number >= 0 or inf");
-        }
+      if (!parse_threshold(prm.get("Update threshold"), update_threshold))
+        file.fail(prm, "Model", "Update threshold", "must be a number >= 0 or inf");
       try
         {
           strategy.kind = fem::parse_step_strategy(trim(prm.get("Strategy")));
@@ -520,6 +525,68 @@ namespace warpchol::app
       prm.leave_subsection();
     }
 
+    void Bodies::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Bodies");
+      prm.declare_entry("Number of bodies", "1", Patterns::Integer(1, 100),
+                        "Copies of the mesh simulated side by side, each with its own model and "
+                        "threshold and solved on its own, in one VTU series and one log");
+      prm.declare_entry("Spacing", "0, 0, 0", vector_pattern,
+                        "Body i (from 0) is shown shifted by i times this vector (m); the "
+                        "physics of every body is that of the scene in its own frame");
+      prm.declare_entry("Models", "", Patterns::Anything(),
+                        "One model type per body, comma-separated (as Model/Type); empty: "
+                        "Model/Type for every body");
+      prm.declare_entry("Update thresholds", "", Patterns::Anything(),
+                        "One WCC update threshold per body, comma-separated (numbers >= 0 or "
+                        "inf); empty: Model/Update threshold for every body");
+      prm.leave_subsection();
+    }
+
+    void Bodies::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    {
+      prm.enter_subsection("Bodies");
+      count   = prm.get_integer("Number of bodies");
+      spacing = get_vector(prm, "Spacing");
+      model_types.clear();
+      update_thresholds.clear();
+      const auto items = [](const std::string &text) {
+        std::vector<std::string> values;
+        if (!trim(text).empty())
+          for (const auto &item : dealii::Utilities::split_string_list(text, ','))
+            values.push_back(trim(item));
+        return values;
+      };
+      const auto require_one_per_body = [&](const std::string &entry, const std::size_t n) {
+        if (n != 0 && n != count)
+          file.fail(prm, "Bodies", entry,
+                    "gives " + std::to_string(n) + " values for " + std::to_string(count) +
+                      " bodies (Number of bodies)");
+      };
+      for (const auto &type : items(prm.get("Models")))
+        {
+          if (type != "linear" && type != "corotational" && type != "stiffness_warping" &&
+              type != "warp_canceling")
+            file.fail(prm, "Bodies", "Models",
+                      "'" + type + "' is not a model (linear, corotational, stiffness_warping, "
+                      "warp_canceling)");
+          model_types.push_back(type);
+        }
+      require_one_per_body("Models", model_types.size());
+      for (const auto &text : items(prm.get("Update thresholds")))
+        {
+          double threshold = 0;
+          if (!parse_threshold(text, threshold))
+            file.fail(prm, "Bodies", "Update thresholds",
+                      "'" + text + "' is not a threshold (a number >= 0 or inf)");
+          update_thresholds.push_back(threshold);
+        }
+      require_one_per_body("Update thresholds", update_thresholds.size());
+      if (count > 1 && spacing.norm() == 0)
+        file.fail(prm, "Bodies", "Spacing", "must not be zero for more than one body");
+      prm.leave_subsection();
+    }
+
     void Output::declare_parameters(ParameterHandler &prm)
     {
       prm.enter_subsection("Output");
@@ -571,6 +638,7 @@ namespace warpchol::app
     parameters::Gravity::declare_parameters(prm);
     parameters::RegionForce::declare_parameters(prm);
     parameters::Tool::declare_parameters(prm);
+    parameters::Bodies::declare_parameters(prm);
     parameters::Output::declare_parameters(prm);
   }
 
@@ -585,6 +653,7 @@ namespace warpchol::app
     gravity.parse_parameters(prm, file);
     region_force.parse_parameters(prm, file);
     tool.parse_parameters(prm, file);
+    bodies.parse_parameters(prm, file);
     output.parse_parameters(prm, file);
     // What one entry allows only with another: said at the entry that asks for it.
     const auto strategy = model.strategy.kind;
@@ -642,6 +711,17 @@ namespace warpchol::app
     if (name.size() > 4 && name.compare(name.size() - 4, 4, ".prm") == 0)
       name.resize(name.size() - 4);
     return name.empty() ? "scene" : name;
+  }
+
+  AllParameters AllParameters::body(const unsigned int index) const
+  {
+    AllParameters one = *this;
+    if (!bodies.model_types.empty())
+      one.model.type = bodies.model_types.at(index);
+    if (!bodies.update_thresholds.empty())
+      one.model.update_threshold = bodies.update_thresholds.at(index);
+    one.bodies = parameters::Bodies();
+    return one;
   }
 
   std::string AllParameters::mesh_file_path() const

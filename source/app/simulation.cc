@@ -16,28 +16,154 @@
 
 namespace warpchol::app
 {
+  namespace
+  {
+    /** "body 2 (warp_canceling, threshold 0.3)": how messages and the summary name a body. */
+    std::string body_label(const AllParameters &body_parameters, const unsigned int index)
+    {
+      std::string label = "body " + std::to_string(index + 1) + " (" + body_parameters.model.type;
+      if (body_parameters.model.type == "warp_canceling")
+        label += ", threshold " + format_number(body_parameters.model.update_threshold);
+      return label + ")";
+    }
+  } // namespace
+
   Simulation::Simulation(const AllParameters &parameters)
     : parameters(parameters)
   {
-    Stopwatch stopwatch;
-    simulated_scene = std::make_unique<Scene>(parameters);
-    setup_seconds   = stopwatch.seconds();
-    directory       = parameters.output.directory + "/" + parameters.scene_name();
-    if (parameters.output.compare_with_corotational)
+    directory = parameters.output.directory + "/" + parameters.scene_name();
+    const unsigned int n_bodies = parameters.bodies.count;
+    bodies.resize(n_bodies);
+    for (unsigned int i = 0; i < n_bodies; ++i)
       {
-        AllParameters reference = parameters;
-        reference.model.type    = "corotational";
-        reference_scene         = std::make_unique<Scene>(reference);
+        SimulatedBody      &simulated        = bodies[i];
+        const AllParameters body_parameters  = parameters.body(i);
+        Stopwatch           stopwatch;
+        try
+          {
+            simulated.scene = std::make_unique<Scene>(body_parameters);
+          }
+        catch (const MatrixError &error)
+          {
+            if (n_bodies == 1)
+              throw;
+            throw MatrixError(body_label(body_parameters, i) + ": " + error.what());
+          }
+        simulated.setup_seconds = stopwatch.seconds();
+        simulated.offset        = static_cast<double>(i) * parameters.bodies.spacing;
+        if (n_bodies > 1)
+          simulated.label = body_label(body_parameters, i);
+        if (parameters.output.compare_with_corotational)
+          {
+            AllParameters reference = body_parameters;
+            reference.model.type    = "corotational";
+            simulated.reference     = std::make_unique<Scene>(reference);
+          }
+
+        const auto &body = simulated.scene->body();
+        simulated.element_centres.resize(body.n_elements(), fem::Vector3::Zero());
+        for (unsigned int e = 0; e < body.n_elements(); ++e)
+          for (const unsigned int v : body.element_vertices(e))
+            simulated.element_centres[e] += 0.25 * body.rest_positions()[v];
+        const auto &tool = simulated.scene->loads().tool.vertices;
+        for (const unsigned int v : tool)
+          simulated.tool_centre += body.rest_positions()[v] / static_cast<double>(tool.size());
+      }
+  }
+
+  void Simulation::write_vtu(const unsigned int step)
+  {
+    std::vector<BodySnapshot> snapshots;
+    for (const auto &simulated : bodies)
+      {
+        const auto &integrator = simulated.scene->integrator();
+        snapshots.push_back({&simulated.scene->body(), simulated.offset, integrator.displacements(),
+                             integrator.velocities(), simulated.scene->model().update_record()});
+      }
+    vtu_series->write(step, bodies[0].scene->integrator().time(), std::move(snapshots));
+  }
+
+  void Simulation::advance(SimulatedBody &simulated, const unsigned int step)
+  {
+    auto       &integrator = simulated.scene->integrator();
+    auto       &model      = simulated.scene->model();
+    const auto &body       = simulated.scene->body();
+
+    fem::StepStatistics statistics;
+    Stopwatch           stopwatch;
+    integrator.advance(statistics);
+    const double step_seconds = stopwatch.seconds();
+
+    auto &t = simulated.totals;
+    ++t.steps;
+    t.elements_updated += statistics.elements_updated;
+    t.last_elements_updated = statistics.elements_updated;
+    t.max_elements_updated =
+      std::max(t.max_elements_updated, static_cast<double>(statistics.elements_updated));
+    if (statistics.elements_updated > 0)
+      {
+        ++t.steps_with_updates;
+        t.trailing_steps_without_update = 0;
+      }
+    else
+      ++t.trailing_steps_without_update;
+    if (statistics.refactorized)
+      {
+        ++t.refactorizations;
+        t.columns_recomputed_pct += 100.0 * statistics.columns_recomputed / statistics.n_columns;
+        t.flops_recomputed_pct += 100.0 * statistics.flops_recomputed / statistics.flops_full;
+      }
+    t.seconds.add_phase_times(statistics);
+    t.cg_iterations += statistics.cg_iterations;
+    if (!statistics.refresh.empty())
+      ++t.refreshes[statistics.refresh];
+    t.step_seconds += step_seconds;
+    if (!simulated.scene->loads().tool.vertices.empty())
+      {
+        const auto &updated = model.update_record().updated;
+        for (unsigned int e = 0; e < updated.size(); ++e)
+          if (updated[e])
+            t.updated_distance_to_tool += (simulated.element_centres[e] - simulated.tool_centre).norm();
       }
 
-    const auto &body = simulated_scene->body();
-    element_centres.resize(body.n_elements(), fem::Vector3::Zero());
-    for (unsigned int e = 0; e < body.n_elements(); ++e)
-      for (const unsigned int v : body.element_vertices(e))
-        element_centres[e] += 0.25 * body.rest_positions()[v];
-    const auto &tool = simulated_scene->loads().tool.vertices;
-    for (const unsigned int v : tool)
-      tool_centre += body.rest_positions()[v] / static_cast<double>(tool.size());
+    double error_vs_corotational = -1;
+    if (simulated.reference)
+      {
+        fem::StepStatistics reference_statistics;
+        try
+          {
+            simulated.reference->integrator().advance(reference_statistics);
+          }
+        catch (const MatrixError &error)
+          {
+            throw MatrixError(std::string("the corotational reference run: ") + error.what());
+          }
+        const auto &x         = integrator.positions();
+        const auto &reference = simulated.reference->integrator().positions();
+        double      difference = 0, motion = 0;
+        for (unsigned int v = 0; v < x.size(); ++v)
+          {
+            difference = std::max(difference, (x[v] - reference[v]).norm());
+            motion     = std::max(motion, (reference[v] - body.rest_positions()[v]).norm());
+          }
+        error_vs_corotational = motion > 0 ? difference / motion : difference;
+        t.max_error_vs_corotational = std::max(t.max_error_vs_corotational, error_vs_corotational);
+        t.last_error_vs_corotational = error_vs_corotational;
+      }
+
+    if (simulated.log)
+      {
+        StepLogRow row;
+        row.step           = step;
+        row.time           = integrator.time();
+        row.statistics     = statistics;
+        row.n_elements     = body.n_elements();
+        row.step_seconds   = step_seconds;
+        row.kinetic_energy = integrator.kinetic_energy();
+        row.elastic_energy = integrator.elastic_energy();
+        row.error_vs_corotational = error_vs_corotational;
+        simulated.log->add(row);
+      }
   }
 
   void Simulation::run(std::ostream &out)
@@ -45,17 +171,16 @@ namespace warpchol::app
     const auto &settings = parameters.output;
     if (settings.write_log || settings.vtu_interval > 0)
       create_directory(directory);
-    if (settings.write_log)
-      step_log = std::make_unique<StepLog>(directory + "/log.csv", reference_scene != nullptr);
+    for (unsigned int i = 0; i < bodies.size(); ++i)
+      if (settings.write_log)
+        bodies[i].log = std::make_unique<StepLog>(
+          directory + (bodies.size() == 1 ? "/log.csv" : "/log_body" + std::to_string(i + 1) + ".csv"),
+          bodies[i].reference != nullptr);
     if (settings.vtu_interval > 0)
-      vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name());
-
-    auto       &integrator = simulated_scene->integrator();
-    auto       &model      = simulated_scene->model();
-    const auto &body       = simulated_scene->body();
-    if (vtu_series)
-      vtu_series->write(0, 0, body, integrator.displacements(), integrator.velocities(),
-                        model.update_record());
+      {
+        vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name());
+        write_vtu(0);
+      }
 
     const bool show_progress =
       settings.progress == "on" || (settings.progress == "auto" && isatty(fileno(stderr)));
@@ -64,121 +189,98 @@ namespace warpchol::app
     const unsigned int n_steps = parameters.time_stepping.n_steps;
     for (unsigned int step = 1; step <= n_steps; ++step)
       {
-        fem::StepStatistics statistics;
-        Stopwatch           stopwatch;
-        integrator.advance(statistics);
-        const double step_seconds = stopwatch.seconds();
-
-        auto &t = run_totals;
-        ++t.steps;
-        t.elements_updated += statistics.elements_updated;
-        t.max_elements_updated =
-          std::max(t.max_elements_updated, static_cast<double>(statistics.elements_updated));
-        if (statistics.elements_updated > 0)
+        bool all_at_rest = step > 1;
+        for (auto &simulated : bodies)
           {
-            ++t.steps_with_updates;
-            t.trailing_steps_without_update = 0;
-          }
-        else
-          ++t.trailing_steps_without_update;
-        if (statistics.refactorized)
-          {
-            ++t.refactorizations;
-            t.columns_recomputed_pct += 100.0 * statistics.columns_recomputed / statistics.n_columns;
-            t.flops_recomputed_pct += 100.0 * statistics.flops_recomputed / statistics.flops_full;
-          }
-        t.seconds.add_phase_times(statistics);
-        t.cg_iterations += statistics.cg_iterations;
-        if (!statistics.refresh.empty())
-          ++t.refreshes[statistics.refresh];
-        t.step_seconds += step_seconds;
-        if (!simulated_scene->loads().tool.vertices.empty())
-          {
-            const auto &updated = model.update_record().updated;
-            for (unsigned int e = 0; e < updated.size(); ++e)
-              if (updated[e])
-                t.updated_distance_to_tool += (element_centres[e] - tool_centre).norm();
-          }
-
-        double error_vs_corotational = -1;
-        if (reference_scene)
-          {
-            fem::StepStatistics reference_statistics;
             try
               {
-                reference_scene->integrator().advance(reference_statistics);
+                advance(simulated, step);
               }
-            catch (const MatrixError &error)
+            catch (const Error &error)
               {
-                throw MatrixError(std::string("the corotational reference run: ") + error.what());
+                if (vtu_series)
+                  vtu_series->finish();
+                if (simulated.label.empty())
+                  throw;
+                // The same kind of error, naming the body.
+                const std::string message = simulated.label + ": " + error.what();
+                if (dynamic_cast<const InputError *>(&error))
+                  throw InputError(message);
+                if (dynamic_cast<const MatrixError *>(&error))
+                  throw MatrixError(message);
+                throw Error(message);
               }
-            const auto &x         = integrator.positions();
-            const auto &reference = reference_scene->integrator().positions();
-            double      difference = 0, motion = 0;
-            for (unsigned int v = 0; v < x.size(); ++v)
-              {
-                difference = std::max(difference, (x[v] - reference[v]).norm());
-                motion     = std::max(motion, (reference[v] - body.rest_positions()[v]).norm());
-              }
-            error_vs_corotational = motion > 0 ? difference / motion : difference;
-            t.max_error_vs_corotational = std::max(t.max_error_vs_corotational, error_vs_corotational);
-            t.last_error_vs_corotational = error_vs_corotational;
-          }
-
-        const double kinetic_energy = integrator.kinetic_energy();
-        if (step_log)
-          {
-            StepLogRow row;
-            row.step           = step;
-            row.time           = integrator.time();
-            row.statistics     = statistics;
-            row.n_elements     = body.n_elements();
-            row.step_seconds   = step_seconds;
-            row.kinetic_energy = kinetic_energy;
-            row.elastic_energy = integrator.elastic_energy();
-            row.error_vs_corotational = error_vs_corotational;
-            step_log->add(row);
+            all_at_rest = all_at_rest && simulated.scene->integrator().kinetic_energy() <
+                                           parameters.time_stepping.rest_kinetic_energy;
           }
         if (vtu_series && step % settings.vtu_interval == 0)
-          vtu_series->write(step, integrator.time(), body, integrator.displacements(),
-                            integrator.velocities(), model.update_record());
+          write_vtu(step);
         if (show_progress && (since_progress.seconds() > 0.5 || step == n_steps))
           {
+            const auto &first = bodies[0];
             std::cerr << "\rstep " << step << "/" << n_steps << "  t = "
-                      << format_number(integrator.time(), 4) << " s  updated "
-                      << format_number(100.0 * statistics.elements_updated / body.n_elements(), 3)
-                      << " %  " << format_number(step_seconds, 3) << " s/step   " << std::flush;
+                      << format_number(first.scene->integrator().time(), 4) << " s";
+            if (bodies.size() == 1)
+              std::cerr << "  updated "
+                        << format_number(100.0 * first.totals.last_elements_updated /
+                                           first.scene->body().n_elements(), 3)
+                        << " %";
+            std::cerr << "  " << format_number(run_stopwatch.seconds() / step, 3) << " s/step   " << std::flush;
             since_progress.restart();
           }
-        if (parameters.time_stepping.rest_kinetic_energy > 0 && step > 1 &&
-            kinetic_energy < parameters.time_stepping.rest_kinetic_energy)
+        if (parameters.time_stepping.rest_kinetic_energy > 0 && all_at_rest)
           break;
       }
     if (show_progress)
       std::cerr << std::endl;
     if (vtu_series)
       vtu_series->finish();
-    run_totals.run_seconds = run_stopwatch.seconds();
+    const double run_seconds = run_stopwatch.seconds();
+    for (auto &simulated : bodies)
+      simulated.totals.run_seconds = run_seconds;
     print_summary(out);
   }
 
   void Simulation::print_summary(std::ostream &out) const
   {
-    const auto &scene      = *simulated_scene;
+    const auto &scene = *bodies[0].scene;
+    const auto &body  = scene.body();
+    out << "scene " << parameters.scene_name() << ": " << scene.mesh_description();
+    if (bodies.size() > 1)
+      out << ", " << bodies.size() << " bodies side by side";
+    out << "\n";
+    out << "  mesh: " << body.n_vertices() << " vertices, " << body.n_elements() << " tets, "
+        << scene.fixed_vertices().size() << " fixed vertices, " << body.n_unknowns()
+        << " unknowns, mass " << format_number(body.total_mass(), 3) << " kg";
+    if (bodies.size() > 1)
+      out << " (each body)";
+    out << "\n";
+    for (const auto &simulated : bodies)
+      {
+        if (!simulated.label.empty())
+          out << simulated.label << ", shown shifted by " << format_number(simulated.offset[0]) << ", "
+              << format_number(simulated.offset[1]) << ", " << format_number(simulated.offset[2])
+              << " m:\n";
+        print_body_summary(out, simulated);
+      }
+    if (vtu_series)
+      out << "  VTU: " << vtu_series->n_files() << " files, series " << vtu_series->pvd_file() << "\n";
+    out << std::flush;
+  }
+
+  void Simulation::print_body_summary(std::ostream &out, const SimulatedBody &simulated) const
+  {
+    const auto &scene      = *simulated.scene;
     const auto &body       = scene.body();
     const auto &model      = scene.model();
     const auto &integrator = scene.integrator();
-    const auto &t          = run_totals;
+    const auto &t          = simulated.totals;
     const bool  timings    = parameters.output.print_timings;
     const auto  n          = [](const double value, const int digits = 3) {
       return format_number(value, digits);
     };
     const double n_elements = body.n_elements();
 
-    out << "scene " << parameters.scene_name() << ": " << scene.mesh_description() << "\n";
-    out << "  mesh: " << body.n_vertices() << " vertices, " << body.n_elements() << " tets, "
-        << scene.fixed_vertices().size() << " fixed vertices, " << body.n_unknowns()
-        << " unknowns, mass " << n(body.total_mass()) << " kg\n";
     out << "  model: " << model.name();
     if (const auto *wcc = dynamic_cast<const fem::WarpCancelingModel *>(&model))
       out << ", update threshold " << n(wcc->update_threshold());
@@ -219,14 +321,14 @@ namespace warpchol::app
         if (!scene.loads().tool.vertices.empty() && t.elements_updated > 0)
           {
             double all_distance = 0;
-            for (const auto &centre : element_centres)
-              all_distance += (centre - tool_centre).norm();
+            for (const auto &centre : simulated.element_centres)
+              all_distance += (centre - simulated.tool_centre).norm();
             out << "  updated elements lie " << n(t.updated_distance_to_tool / t.elements_updated, 2)
                 << " m from the tool on average (all elements: " << n(all_distance / n_elements, 2)
                 << " m)\n";
           }
       }
-    if (reference_scene)
+    if (simulated.reference)
       out << "  trajectory error against corotational: max " << n(t.max_error_vs_corotational, 2)
           << ", at the end " << n(t.last_error_vs_corotational, 2) << "\n";
     // An energy below 1e-12 of the total is rounding (a translated body's elastic energy):
@@ -248,25 +350,27 @@ namespace warpchol::app
             << ", solve " << n(t.seconds.t_solve / steps) << ", iterations "
             << n(t.seconds.t_iterations / steps) << ", step " << n(t.step_seconds / steps)
             << "\n";
-        out << "  set-up " << n(setup_seconds) << " s (model " << n(model.setup_seconds())
+        out << "  set-up " << n(simulated.setup_seconds) << " s (model " << n(model.setup_seconds())
             << " s), time steps " << n(t.step_seconds) << " s; end to end (output included) "
             << n(t.run_seconds) << " s, " << n(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s\n";
       }
-    if (step_log)
-      out << "  log: " << step_log->filename() << "\n";
-    if (vtu_series)
-      out << "  VTU: " << vtu_series->n_files() << " files, series " << vtu_series->pvd_file() << "\n";
-    out << std::flush;
+    if (simulated.log)
+      out << "  log: " << simulated.log->filename() << "\n";
   }
 
-  const Scene &Simulation::scene() const
+  unsigned int Simulation::n_bodies() const
   {
-    return *simulated_scene;
+    return bodies.size();
   }
 
-  const RunTotals &Simulation::totals() const
+  const Scene &Simulation::scene(const unsigned int index) const
   {
-    return run_totals;
+    return *bodies.at(index).scene;
+  }
+
+  const RunTotals &Simulation::totals(const unsigned int index) const
+  {
+    return bodies.at(index).totals;
   }
 
   const std::string &Simulation::output_directory() const

@@ -22,9 +22,25 @@ namespace warpchol::app
   void create_directory(const std::string &directory);
 
   /**
+   * What a VTU file shows of one body, copied so that the file is written while the run
+   * goes on.
+   */
+  struct BodySnapshot
+  {
+    const fem::ElasticBody   *body = nullptr;
+    /** The shift of the body in the picture (several bodies side by side). */
+    fem::Vector3              offset = fem::Vector3::Zero();
+    std::vector<fem::Vector3> displacements;
+    std::vector<fem::Vector3> velocities;
+    fem::ElementUpdateRecord  record;
+  };
+
+  /**
    * VTU files SCENE-NNNNN.vtu with the displacement and velocity per vertex and, per cell,
    * whether the element was updated in the step, its error estimate (WCC) and the steps
-   * since its last update; SCENE.pvd lists them with their times.
+   * since its last update; SCENE.pvd lists them with their times. A scene of several
+   * bodies writes them all into each file, shifted side by side, with the cell field
+   * "body" (0, 1, ...) telling them apart.
    */
   class VtuSeries
   {
@@ -40,10 +56,7 @@ namespace warpchol::app
      * compressing them costs about as much as a few steps): the call returns at once, after
      * waiting for the previous file, whose error, if any, it throws.
      */
-    void write(unsigned int step, double time, const fem::ElasticBody &body,
-               const std::vector<fem::Vector3> &displacements,
-               const std::vector<fem::Vector3> &velocities,
-               const fem::ElementUpdateRecord  &record);
+    void write(unsigned int step, double time, std::vector<BodySnapshot> bodies);
 
     /** Wait until every file is written; throws the error of the last one, if any. */
     void finish();
@@ -53,10 +66,7 @@ namespace warpchol::app
 
   private:
     /** Write one file and the PVD record (in the background). */
-    void write_now(unsigned int step, double time, const fem::ElasticBody &body,
-                   const std::vector<fem::Vector3> &displacements,
-                   const std::vector<fem::Vector3> &velocities,
-                   const fem::ElementUpdateRecord  &record);
+    void write_now(unsigned int step, double time, const std::vector<BodySnapshot> &bodies);
 
     std::future<void>                           pending;
     std::string                                 directory;

@@ -178,6 +178,26 @@ namespace warpchol::app
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
     };
 
+    /**
+     * Subsection "Bodies": copies of the mesh side by side, each with its own model and
+     * update threshold, each solved on its own (the report's side-by-side stability
+     * figures: three tori with no update, a moderate threshold and exact corotation). Every
+     * copy is the same scene (regions, loads, initial state) in its own frame; copy i is
+     * shown shifted by i times the spacing in the one VTU series.
+     */
+    struct Bodies
+    {
+      unsigned int             count   = 1;
+      fem::Vector3             spacing{0, 0, 0};
+      /** One model type per body; empty: Model/Type for all. */
+      std::vector<std::string> model_types;
+      /** One threshold per body; empty: Model/Update threshold for all. */
+      std::vector<double>      update_thresholds;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
     /** Subsection "Output". */
     struct Output
     {
@@ -210,6 +230,7 @@ namespace warpchol::app
     parameters::Gravity       gravity;
     parameters::RegionForce   region_force;
     parameters::Tool          tool;
+    parameters::Bodies        bodies;
     parameters::Output        output;
 
     /** The defaults. */
@@ -229,6 +250,12 @@ namespace warpchol::app
 
     /** The scene's name: Output/Scene, else the parameter file's name without .prm. */
     std::string scene_name() const;
+    /**
+     * The parameters of body @p index (from 0) of Bodies: Model/Type and Model/Update
+     * threshold replaced by that body's, Bodies/Number of bodies set to 1.
+     */
+    AllParameters body(unsigned int index) const;
+
     /** The mesh file with a relative name taken relative to the parameter file. */
     std::string mesh_file_path() const;
 

@@ -8,6 +8,7 @@
 #include <memory>
 #include <ostream>
 #include <string>
+#include <vector>
 
 /**
  * @file
@@ -21,6 +22,8 @@ namespace warpchol::app
   {
     unsigned int steps                  = 0;
     double       elements_updated       = 0;
+    /** Elements updated in the last step (the progress line shows it). */
+    double       last_elements_updated  = 0;
     double       max_elements_updated   = 0;
     unsigned int steps_with_updates     = 0;
     unsigned int trailing_steps_without_update = 0;
@@ -42,39 +45,60 @@ namespace warpchol::app
     double       last_error_vs_corotational = 0;
   };
 
+  /**
+   * One body of a run: its scene, the exact corotational run of the same scene beside it
+   * (when the trajectory error is asked), its totals and its log.
+   */
+  struct SimulatedBody
+  {
+    std::unique_ptr<Scene>     scene;
+    std::unique_ptr<Scene>     reference;
+    RunTotals                  totals;
+    std::unique_ptr<StepLog>   log;
+    /** Where the VTU series shows it: its index times Bodies/Spacing. */
+    fem::Vector3               offset = fem::Vector3::Zero();
+    /** "body 2 (warp_canceling, threshold 0.3)" when the scene has several, else "". */
+    std::string                label;
+    double                     setup_seconds = 0;
+    /** Rest centre of every element, and of the tool (if any). */
+    std::vector<fem::Vector3>  element_centres;
+    fem::Vector3               tool_centre = fem::Vector3::Zero();
+  };
+
   class Simulation
   {
   public:
-    /** Build the scene (mesh, body, model and its first factorization). */
+    /** Build the scene: every body (mesh, model and its first factorization). */
     explicit Simulation(const AllParameters &parameters);
 
     /**
      * Run the steps, writing the log and VTU files if asked, and print the summary to
      * @p out. If a step fails, what earlier steps wrote stays and the error (naming the
-     * step) propagates.
+     * step, and the body when there are several) propagates.
      */
     void run(std::ostream &out);
 
-    const Scene     &scene() const;
-    const RunTotals &totals() const;
+    /** The bodies (Bodies/Number of bodies, 1 by default). */
+    unsigned int n_bodies() const;
+    /** The scene of body @p index (the only one by default). */
+    const Scene     &scene(unsigned int index = 0) const;
+    const RunTotals &totals(unsigned int index = 0) const;
     /** Where the results go: DIRECTORY/SCENE. */
     const std::string &output_directory() const;
 
   private:
+    /** Advance @p body by one step and account for it in its totals and log. */
+    void advance(SimulatedBody &body, unsigned int step);
+    /** Write the VTU file of @p step, every body in it. */
+    void write_vtu(unsigned int step);
+
     void print_summary(std::ostream &out) const;
+    void print_body_summary(std::ostream &out, const SimulatedBody &body) const;
 
     AllParameters                 parameters;
-    std::unique_ptr<Scene>        simulated_scene;
-    /** The exact corotational run of the same scene, when the error against it is asked. */
-    std::unique_ptr<Scene>        reference_scene;
+    std::vector<SimulatedBody>    bodies;
     std::string                   directory;
-    RunTotals                     run_totals;
     std::unique_ptr<VtuSeries>    vtu_series;
-    std::unique_ptr<StepLog>      step_log;
-    double                        setup_seconds = 0;
-    /** Rest centre of every element, and of the tool (if any). */
-    std::vector<fem::Vector3>     element_centres;
-    fem::Vector3                  tool_centre = fem::Vector3::Zero();
   };
 
   /** Read @p parameter_file, run it and print the summary on @p out. Throws warpchol::Error. */
