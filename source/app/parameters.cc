@@ -341,6 +341,14 @@ namespace warpchol::app
                         "error estimate (an impulse) exceeds this fraction of the step's impulse "
                         "scale: the mean over elements of |A_e v_e| + dt |f_e| (dimensionless). "
                         "0 updates all (exact corotation), inf none (stiffness warping)");
+      prm.declare_entry("Target error", "0", Patterns::Double(0, 1),
+                        "warp_canceling: > 0 adapts the update threshold every step, from "
+                        "Update threshold, so that the trajectory error (max vertex error "
+                        "against exact corotation over the largest displacement) stays near "
+                        "this: each step measures its velocity error against exact corotation "
+                        "(a matrix-free product and a solve) and the threshold follows to keep "
+                        "it at half the target. 0: the threshold stays fixed. Needs Strategy = "
+                        "partial or Iterate on = warp_canceling");
       prm.declare_entry("Strategy", "partial", Patterns::Anything(),
                         "warp_canceling: how a step keeps the factor up to date and solves. "
                         "partial: partial refactorization of every column that depends on an "
@@ -389,6 +397,12 @@ namespace warpchol::app
         {
           file.fail(prm, "Model", "Iterate on", error.what());
         }
+      target_error                = prm.get_double("Target error");
+      if (target_error > 0 && type == "warp_canceling" &&
+          (!(update_threshold > 0) || std::isinf(update_threshold)))
+        file.fail(prm, "Model", "Target error",
+                  "adapts the update threshold, which must then start finite and > 0 (Update "
+                  "threshold = " + format_number(update_threshold) + ")");
       strategy.cg_tolerance       = prm.get_double("CG tolerance");
       strategy.max_cg_iterations  = prm.get_integer("Max CG iterations");
       strategy.refresh_interval   = prm.get_integer("Refresh interval");
@@ -656,6 +670,14 @@ namespace warpchol::app
     bodies.parse_parameters(prm, file);
     output.parse_parameters(prm, file);
     // What one entry allows only with another: said at the entry that asks for it.
+    if (model.target_error > 0 && model.type == "warp_canceling" && model.strategy.iterates() &&
+        model.strategy.iterate_on == fem::StepStrategy::Target::corotational)
+      {
+        prm.enter_subsection("Model");
+        file.fail(prm, "Model", "Target error",
+                  "needs a step that solves the WCC system (Strategy = partial, or Iterate on = "
+                  "warp_canceling): CG on the corotational matrix is exact to the CG tolerance");
+      }
     const auto strategy = model.strategy.kind;
     if ((strategy == fem::StepStrategy::Kind::delayed_top || strategy == fem::StepStrategy::Kind::automatic) &&
         solver.settings.method != cholesky::FactorizationMethod::supernodal)

@@ -27,7 +27,8 @@ namespace warpchol::app
       return std::make_unique<fem::StiffnessWarpingModel>(body, coefficients, solver_settings);
     if (model.type == "warp_canceling")
       return std::make_unique<fem::WarpCancelingModel>(body, coefficients, solver_settings,
-                                                       model.update_threshold, model.strategy);
+                                                       model.update_threshold, model.strategy,
+                                                       model.target_error);
     throw InputError("unknown model type '" + model.type + "'");
   }
 

@@ -115,6 +115,17 @@ namespace warpchol::app
       }
     t.seconds.add_phase_times(statistics);
     t.cg_iterations += statistics.cg_iterations;
+    if (statistics.update_threshold >= 0)
+      {
+        t.threshold_sum += statistics.update_threshold;
+        t.min_threshold = std::min(t.min_threshold, statistics.update_threshold);
+        t.max_threshold = std::max(t.max_threshold, statistics.update_threshold);
+      }
+    if (statistics.velocity_error >= 0)
+      {
+        t.velocity_error_sum += statistics.velocity_error;
+        t.max_velocity_error = std::max(t.max_velocity_error, statistics.velocity_error);
+      }
     if (!statistics.refresh.empty())
       ++t.refreshes[statistics.refresh];
     t.step_seconds += step_seconds;
@@ -282,7 +293,11 @@ namespace warpchol::app
     const double n_elements = body.n_elements();
 
     out << "  model: " << model.name();
-    if (const auto *wcc = dynamic_cast<const fem::WarpCancelingModel *>(&model))
+    const auto *wcc = dynamic_cast<const fem::WarpCancelingModel *>(&model);
+    if (wcc && wcc->target_error() > 0)
+      out << ", target error " << n(wcc->target_error()) << " (update threshold from "
+          << n(wcc->update_threshold()) << ")";
+    else if (wcc)
       out << ", update threshold " << n(wcc->update_threshold());
     const auto &solver = model.solver();
     out << "; solver: " << cholesky::to_string(solver.settings().ordering.method) << " ordering, "
@@ -303,7 +318,12 @@ namespace warpchol::app
               << " %, flops recomputed mean " << n(t.flops_recomputed_pct / t.refactorizations)
               << " %";
         out << "\n";
-        if (const auto *wcc = dynamic_cast<const fem::WarpCancelingModel *>(&model))
+        if (wcc && wcc->target_error() > 0 && t.steps > 0)
+          out << "  adapted update threshold: mean " << n(t.threshold_sum / t.steps) << ", from "
+              << n(t.min_threshold) << " to " << n(t.max_threshold)
+              << "; velocity error against exact corotation per step: mean "
+              << n(t.velocity_error_sum / t.steps, 2) << ", max " << n(t.max_velocity_error, 2) << "\n";
+        if (wcc)
           {
             const auto &strategy = wcc->step_strategy();
             out << "  strategy: " << fem::to_string(strategy.kind);

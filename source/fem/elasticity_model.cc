@@ -8,6 +8,7 @@
 #include <deal.II/lac/vector.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace warpchol::fem
 {
@@ -162,7 +163,38 @@ namespace warpchol::fem
             return;
           }
       }
+    if (measure_velocity_error)
+      {
+        Stopwatch stopwatch;
+        last_velocity_error       = relative_velocity_error(rotated, solution);
+        statistics.velocity_error = last_velocity_error;
+        statistics.t_error_estimate += stopwatch.seconds();
+      }
     from_solve_frame(solution.data(), velocities);
+  }
+
+  double ElasticityModel::relative_velocity_error(const std::vector<double> &b, const std::vector<double> &y)
+  {
+    // The exact corotational system B y* = b: B (y* - y) = b - B y, and with the factor of
+    // A, close to B, y* - y ~ A^-1 (b - B y).
+    dealii::Vector<double> solution(y.begin(), y.end()), product(y.size());
+    corotational_times(solution, product);
+    std::vector<double> residual(y.size()), correction(y.size());
+    for (std::size_t i = 0; i < residual.size(); ++i)
+      residual[i] = b[i] - product[i];
+    if (strategy.iterates())
+      cholesky_solver.apply_preconditioner(residual.data(), correction.data());
+    else
+      cholesky_solver.solve(residual, correction);
+    // Per vertex (3 unknowns each): the norms do not depend on the solve frame.
+    double largest_correction = 0, largest_velocity = 0;
+    for (std::size_t i = 0; i + 2 < y.size(); i += 3)
+      {
+        largest_correction =
+          std::max(largest_correction, std::hypot(correction[i], correction[i + 1], correction[i + 2]));
+        largest_velocity = std::max(largest_velocity, std::hypot(y[i], y[i + 1], y[i + 2]));
+      }
+    return largest_velocity > 0 ? largest_correction / largest_velocity : 0.0;
   }
 
   void ElasticityModel::to_solve_frame(const std::vector<Vector3> &field, double *unknowns) const
@@ -266,6 +298,11 @@ namespace warpchol::fem
         system.matrix().vmult(out, y);
         return;
       }
+    corotational_times(y, out);
+  }
+
+  void ElasticityModel::corotational_times(const dealii::Vector<double> &y, dealii::Vector<double> &out) const
+  {
     // R^T (c_M M + c_K sum_e R_e K_e R_e^T + tool springs) R y, matrix-free over the
     // elements; fixed vertices have no velocity.
     from_solve_frame(y.begin(), vertex_work);

@@ -14,9 +14,12 @@ namespace warpchol::fem
                                          const SystemCoefficients &coefficients,
                                          const cholesky::SparseCholesky::Settings &solver_settings,
                                          const double update_threshold,
-                                         const StepStrategy &step_strategy)
+                                         const StepStrategy &step_strategy,
+                                         const double        target_error)
     : ElasticityModel(body, coefficients, solver_settings)
     , threshold(update_threshold)
+    , target(target_error)
+    , adapted_threshold(update_threshold)
   {
     strategy = step_strategy;
     if (strategy.kind == StepStrategy::Kind::delayed_top || strategy.kind == StepStrategy::Kind::automatic)
@@ -26,6 +29,19 @@ namespace warpchol::fem
     if (!(update_threshold >= 0))
       throw InputError("the WCC update threshold must be >= 0 (or inf), got " +
                        format_number(update_threshold));
+    if (!(target_error >= 0))
+      throw InputError("the WCC target error must be >= 0, got " + format_number(target_error));
+    if (target_error > 0)
+      {
+        if (!(update_threshold > 0) || std::isinf(update_threshold))
+          throw InputError("a WCC target error adapts the update threshold, which must then "
+                           "start finite and > 0, got " + format_number(update_threshold));
+        if (strategy.iterates() && strategy.iterate_on == StepStrategy::Target::corotational)
+          throw InputError("a WCC target error needs a step that solves the WCC system "
+                           "(Strategy = partial, or Iterate on = warp_canceling): CG on the "
+                           "corotational matrix is already exact to the CG tolerance");
+        measure_velocity_error = true;
+      }
     // At rest every rotation is the identity: A is the rest matrix.
     set_up_rest_system();
     solve_frame = &elastic_state.nodal_rotations;
@@ -46,6 +62,16 @@ namespace warpchol::fem
   double WarpCancelingModel::update_threshold() const
   {
     return threshold;
+  }
+
+  double WarpCancelingModel::current_update_threshold() const
+  {
+    return adapted_threshold;
+  }
+
+  double WarpCancelingModel::target_error() const
+  {
+    return target;
   }
 
   const StepStrategy &WarpCancelingModel::step_strategy() const
@@ -141,7 +167,7 @@ namespace warpchol::fem
         // A body at rest has scale 0 and errors 0: no update (strict inequality).
         const double relative_error = scale > 0 ? error[e] / scale : 0.0;
         record.error_estimate[e]    = relative_error;
-        if (error[e] > threshold * scale || !std::isfinite(error[e]))
+        if (error[e] > adapted_threshold * scale || !std::isfinite(error[e]))
           update.push_back(e);
       }
     return update;
@@ -168,6 +194,19 @@ namespace warpchol::fem
     if (last_cg_iterations > 0)
       cost_model.record_iterations(last_refresh, last_cg_iterations, last_cg_seconds);
     last_refresh = cholesky::Refresh::none;
+    if (target > 0 && last_velocity_error >= 0)
+      {
+        // The last step's error against exact corotation steers this step's threshold
+        // (in logarithms, a gain of 0.7 on an error that grows like the threshold to a
+        // power of 0.6 to 1.1, bounded per step). A step without motion (error 0) lets
+        // it grow.
+        const double goal   = target / 2;
+        const double factor = last_velocity_error > 0 ?
+                                std::clamp(std::pow(goal / last_velocity_error, 0.7), 0.5, 2.0) :
+                                2.0;
+        adapted_threshold = std::clamp(adapted_threshold * factor, 1e-6, 1e6);
+      }
+    statistics.update_threshold = adapted_threshold;
 
     evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
     record_no_refactorization(statistics);

@@ -119,6 +119,8 @@ namespace warpchol::app
     {
       std::string       type             = "warp_canceling";
       double            update_threshold = 0.05;
+      /** > 0: the threshold adapts each step to keep the trajectory error near this. */
+      double            target_error = 0;
       /** How a WCC step refreshes its factor and solves. */
       fem::StepStrategy strategy;
 

@@ -4,6 +4,7 @@
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
 
+#include <limits>
 #include <map>
 #include <memory>
 #include <ostream>
@@ -32,6 +33,13 @@ namespace warpchol::app
     double       flops_recomputed_pct   = 0;
     /** Iterations of preconditioned CG, summed over the steps. */
     unsigned int cg_iterations          = 0;
+    /** WCC: the update threshold of the steps (adapted to a target error, or fixed). */
+    double       threshold_sum = 0;
+    double       min_threshold = std::numeric_limits<double>::infinity();
+    double       max_threshold = 0;
+    /** The steps' measured velocity error against exact corotation (with a target error). */
+    double       velocity_error_sum = 0;
+    double       max_velocity_error = 0;
     /** Steps per refresh of the factor: "full", "all", "below_top", "none". */
     std::map<std::string, unsigned int> refreshes;
     fem::StepStatistics seconds;

@@ -47,6 +47,13 @@ namespace warpchol::fem
     std::string refresh;
     /** Iterations of preconditioned CG (0 for a direct solve). */
     unsigned int cg_iterations = 0;
+    /**
+     * How far the step's velocities are from those of exact corotation, max_i |v_i -
+     * v_i*| / max_i |v_i| (measured by WCC with a target error); negative if not measured.
+     */
+    double velocity_error = -1;
+    /** The WCC update threshold of the step (negative for the other models). */
+    double update_threshold = -1;
 
     /** Add the phase times (t_*) of @p step to these: totals over steps. */
     void add_phase_times(const StepStatistics &step);
@@ -172,6 +179,14 @@ namespace warpchol::fem
     /** What the last solve() did: its CG iterations and their seconds (solves included). */
     unsigned int             last_cg_iterations = 0;
     double                   last_cg_seconds    = 0;
+    /**
+     * Whether solve() measures how far its solution is from the exact corotational one
+     * (StepStatistics::velocity_error, kept in last_velocity_error): one matrix-free
+     * product with the corotational matrix and one solve with the factor, timed as the
+     * error estimate.
+     */
+    bool                     measure_velocity_error = false;
+    double                   last_velocity_error    = -1;
     /** How much of the factor the last refactorize() refreshed. */
     cholesky::Refresh        last_refresh = cholesky::Refresh::all;
 
@@ -185,6 +200,13 @@ namespace warpchol::fem
     unsigned int solve_by_cg(const std::vector<double> &b, std::vector<double> &y,
                              StepStatistics &statistics);
 
+    /**
+     * max_i |y*_i - y_i| / max_i |y_i| per vertex for the solution y of the step's system
+     * with right-hand side @p b and y* that of the exact corotational system, y* - y
+     * approximated by A^-1 (b - B y) with the factor of A.
+     */
+    double relative_velocity_error(const std::vector<double> &b, const std::vector<double> &y);
+
     /** unknowns = R^T field on the free vertices (R: the solve frame, or the identity). */
     void to_solve_frame(const std::vector<Vector3> &field, double *unknowns) const;
     /** field = R unknowns on the free vertices, 0 on the fixed ones. */
@@ -192,6 +214,8 @@ namespace warpchol::fem
 
     /** out = B y for the strategy's target matrix B, over the unknowns. */
     void target_times(const dealii::Vector<double> &y, dealii::Vector<double> &out) const;
+    /** out = R^T B R y for the exact corotational matrix B, matrix-free. */
+    void corotational_times(const dealii::Vector<double> &y, dealii::Vector<double> &out) const;
 
     /** Work arrays of the matrix-free products (per vertex, per element). */
     mutable std::vector<Vector3> vertex_work, vertex_product, mass_product;
