@@ -110,6 +110,21 @@ int main()
   run_scene("delayed top without supernodes", "delayed_left.prm",
             scene("subsection Model\n  set Strategy = delayed_top\nend\nsubsection Solver\n  set Method = left\nend\n"));
   run_scene("CG tolerance 0", "zero_tolerance.prm", scene("subsection Model\n  set CG tolerance = 0\nend\n"));
+  run_scene("target error from an infinite threshold", "target_infinite.prm",
+            scene("subsection Model\n  set Update threshold = inf\n  set Target error = 0.01\nend\n"));
+  run_scene("target error with CG on the corotational matrix", "target_cg.prm",
+            scene("subsection Model\n  set Strategy = preconditioned\n  set Target error = 0.01\nend\n"));
+  run_scene("too few thresholds for the bodies", "bodies_thresholds.prm",
+            scene("subsection Bodies\n  set Number of bodies = 3\n  set Spacing = 1, 0, 0\n"
+                  "  set Update thresholds = 0, inf\nend\n"));
+  run_scene("a body's threshold not a number", "bodies_threshold_text.prm",
+            scene("subsection Bodies\n  set Number of bodies = 2\n  set Spacing = 1, 0, 0\n"
+                  "  set Update thresholds = 0, often\nend\n"));
+  run_scene("an unknown model for a body", "bodies_model.prm",
+            scene("subsection Bodies\n  set Number of bodies = 2\n  set Spacing = 1, 0, 0\n"
+                  "  set Models = linear, magic\nend\n"));
+  run_scene("bodies on top of each other", "bodies_spacing.prm",
+            scene("subsection Bodies\n  set Number of bodies = 2\nend\n"));
   run_scene("unknown ordering", "unknown_ordering.prm", scene("subsection Solver\n  set Ordering = random\nend\n"));
   run_scene("unknown method", "unknown_method.prm", scene("subsection Solver\n  set Method = sideways\nend\n"));
   run_scene("vector with two numbers", "short_vector.prm", scene("subsection Gravity\n  set Acceleration = 0, -9.81\nend\n"));
