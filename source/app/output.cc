@@ -128,7 +128,7 @@ namespace warpchol::app
              "step,time,elements_updated,elements_updated_pct,refactorized,columns_recomputed_pct,"
              "flops_recomputed_pct,refresh,cg_iterations,t_rotations,t_error_estimate,t_assembly,"
              "t_factor,t_solve,t_iterations,t_step,kinetic_energy,elastic_energy") +
-           (with_error ? ",error_vs_corotational" : "");
+           (with_error ? ",error_vs_corotational,rms_error_vs_corotational" : "");
   }
 
   void StepLog::add(const StepLogRow &row)
@@ -146,7 +146,8 @@ namespace warpchol::app
          << s.t_factor << "," << s.t_solve << "," << s.t_iterations << "," << row.step_seconds << "," << std::setprecision(10) << row.kinetic_energy << ","
          << row.elastic_energy;
     if (with_error)
-      line << "," << std::setprecision(6) << row.error_vs_corotational;
+      line << "," << std::setprecision(6) << row.error_vs_corotational << ","
+           << row.rms_error_vs_corotational;
     rows.push_back(line.str());
     write_file_atomically(file, [&](std::ostream &out) {
       out << header() << "\n";
