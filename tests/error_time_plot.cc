@@ -26,7 +26,7 @@ int main()
   bool               in_block = false;
   for (std::string line; std::getline(script, line);)
     {
-      if (line.find("<< EOD") != std::string::npos)
+      if (line.find("<< EOD") != std::string::npos || line.find("# WCC") == 0)
         in_block = true;
       if (in_block || line.find("set arrow 1") == 0 || line.find("set yrange") == 0)
         std::cout << line << std::endl;

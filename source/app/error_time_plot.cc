@@ -94,7 +94,7 @@ namespace warpchol::app
       {
         // Columns: seconds, max error, RMS error (both clipped at diverged_error), the labels
         // in the panels of the max and of the RMS error.
-        out << "$group" << g << " << EOD\n";
+        out << "# " << groups[g] << "\n$group" << g << " << EOD\n";
         for (const auto &point : points)
           if (point.group == groups[g])
             {
