@@ -34,6 +34,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <iomanip>
 #include <iostream>
@@ -367,6 +368,14 @@ namespace
     parameters.output.write_log    = false;
     if (options.threads > 0)
       parameters.solver.settings.n_threads = options.threads;
+    // Where the CSV and the plot go: the folder is made now, not after minutes of runs.
+    const std::string csv_file = options.csv_file.empty() ?
+                                   parameters.output.directory + "/" + parameters.scene_name() +
+                                     "/threshold_sweep.csv" :
+                                   options.csv_file;
+    const std::string csv_directory = std::filesystem::path(csv_file).parent_path().string();
+    if (!csv_directory.empty())
+      app::create_directory(csv_directory);
 
     // The exact run, recorded step by step, after a few steps of it that warm the machine
     // up (the first run of a process was measured up to 30 % slower than its twins).
@@ -418,13 +427,6 @@ namespace
                                                     row.phases.t_error_estimate / row.steps;
       print_kernel_costs(scene, reference.back(), estimate_seconds);
     }
-    std::string csv_file = options.csv_file;
-    if (csv_file.empty())
-      {
-        const std::string directory = parameters.output.directory + "/" + parameters.scene_name();
-        app::create_directory(directory);
-        csv_file = directory + "/threshold_sweep.csv";
-      }
     write_file_atomically(csv_file, [&](std::ostream &out) { write_csv(rows, out); });
     std::cout << "table: " << csv_file << std::endl;
 
