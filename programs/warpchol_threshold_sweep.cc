@@ -1,9 +1,10 @@
 /**
  * warpchol-threshold-sweep: run a scene with warp-canceling corotation for a list of
  * update thresholds and step strategies, and compare each run with the exact corotational
- * one: the trajectory error against the run time (DESIGN.md section 5), as a table and a
- * CSV file to plot, with the per-phase split of a step and the cost per element of the
- * element kernels (ns per tet).
+ * one: the trajectory error against the run time (DESIGN.md section 5), as a table, a
+ * CSV file and a plot (PNG, drawn by gnuplot from a script written beside the CSV), with
+ * the per-phase split of a step and the cost per element of the element kernels (ns per
+ * tet).
  *
  *   warpchol-threshold-sweep PARAMS.prm [--thresholds 0,0.03,0.1,0.3,1,inf]
  *       [--strategies delayed_top,preconditioned,auto] [--strategy-thresholds 0.3,1,inf]
@@ -12,13 +13,16 @@
  * The partial strategy (direct solve of the WCC system) runs at every --thresholds; each
  * of --strategies at every --strategy-thresholds, with the scene's CG settings. The
  * scene's model entries are overridden; its output entries are ignored. The CSV goes to
- * output/SCENE/threshold_sweep.csv unless --csv says otherwise.
+ * output/SCENE/threshold_sweep.csv unless --csv says otherwise; beside it, with the same
+ * name, the gnuplot script (.gp) and the plot (.png) of error against seconds per step.
  */
 
 #include <warpchol/app/command_line.h>
+#include <warpchol/app/error_time_plot.h>
 #include <warpchol/app/output.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
+#include <warpchol/app/trajectory_error.h>
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
@@ -30,6 +34,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <functional>
 #include <iomanip>
 #include <iostream>
@@ -51,7 +56,9 @@ namespace
     "                         delayed_top,preconditioned,auto; 'none' for none)\n"
     "  --strategy-thresholds  their thresholds (default 0.3,1,inf)\n"
     "  --threads N            Solver/Threads of every run (default: the scene's)\n"
-    "  --csv FILE             where the table goes as CSV (default output/SCENE/threshold_sweep.csv)";
+    "  --csv FILE             where the table goes as CSV (default output/SCENE/threshold_sweep.csv);\n"
+    "                         the plot of error against time goes beside it, FILE.png drawn by\n"
+    "                         gnuplot from the script FILE.gp (FILE without .csv)";
 
   struct Options
   {
@@ -156,8 +163,7 @@ namespace
     double              cg_iterations    = 0; // mean per step
     double              seconds          = 0; // time steps only
     fem::StepStatistics phases;               // seconds summed over the steps
-    double              max_error   = 0;
-    double              final_error = 0;
+    app::TrajectoryError error;               // against the exact run (none for itself)
     std::string         failure;
   };
 
@@ -179,7 +185,6 @@ namespace
     row.model     = row_name(parameters);
     row.threshold = parameters.model.update_threshold;
     app::Scene  scene(parameters);
-    const auto &rest = scene.body().rest_positions();
     for (unsigned int step = 1; step <= parameters.time_stepping.n_steps; ++step)
       {
         fem::StepStatistics statistics;
@@ -204,16 +209,7 @@ namespace
         if (trajectory)
           trajectory->push_back(x);
         if (!reference.empty())
-          {
-            double difference = 0, motion = 0;
-            for (unsigned int v = 0; v < x.size(); ++v)
-              {
-                difference = std::max(difference, (x[v] - reference[step - 1][v]).norm());
-                motion     = std::max(motion, (reference[step - 1][v] - rest[v]).norm());
-              }
-            row.final_error = motion > 0 ? difference / motion : difference;
-            row.max_error   = std::max(row.max_error, row.final_error);
-          }
+          row.error.add(app::position_error(x, reference[step - 1], scene.body().rest_positions()));
       }
     if (row.steps > 0)
       {
@@ -281,6 +277,90 @@ namespace
               << "\n";
   }
 
+  /** The legend entry of a row's model in the plot. */
+  std::string plot_group(const std::string &model)
+  {
+    if (model == "warp_canceling")
+      return "WCC partial";
+    if (model.rfind("wcc_", 0) == 0)
+      return "WCC " + model.substr(4);
+    return model;
+  }
+
+  /**
+   * The table on standard output: per run the updates, the flops, CG's iterations, the
+   * time per step and its split by phase, and the trajectory error against the exact run
+   * (the first row): the worst vertex's error, largest and mean over the steps, and the
+   * RMS error, largest and mean over the steps (app::PositionError).
+   */
+  void print_table(const app::AllParameters &parameters, const std::vector<SweepRow> &rows,
+                   const double exact_per_step)
+  {
+    std::cout << "scene " << parameters.scene_name() << ", " << parameters.time_stepping.n_steps
+              << " steps, " << parameters.solver.settings.n_threads << " thread(s); error = max_i "
+              << "|x_i - x_i(corotational)| / max_i |x_i(corotational) - X_i|, RMS = sqrt(mean_i "
+              << "|x_i - x_i(corotational)|^2) / the same; max and mean over the steps; phases in ms "
+              << "per step\n"
+              << std::setw(20) << "model" << std::setw(10) << "threshold" << std::setw(9) << "updated%"
+              << std::setw(8) << "flops%" << std::setw(7) << "CG it" << std::setw(10) << "s/step"
+              << std::setw(8) << "speedup" << std::setw(9) << "rotat" << std::setw(9) << "estim"
+              << std::setw(9) << "assem" << std::setw(9) << "factor" << std::setw(9) << "iterat"
+              << std::setw(9) << "solve" << std::setw(10) << "max err" << std::setw(10) << "mean err"
+              << std::setw(10) << "max RMS" << std::setw(10) << "mean RMS" << "\n";
+    for (const auto &row : rows)
+      {
+        const double per_step    = row.steps > 0 ? row.seconds / row.steps : 0;
+        const auto   per_step_ms = [&](const double seconds) {
+          return format_number(row.steps > 0 ? 1e3 * seconds / row.steps : 0, 3);
+        };
+        const auto &p     = row.phases;
+        const auto  error = [&](const double value) {
+          return row.model == "corotational" ? std::string("0") : format_number(value, 2);
+        };
+        std::cout << std::setw(20) << row.model << std::setw(10)
+                  << (row.model == "corotational" ? "-" : format_number(row.threshold)) << std::setw(9)
+                  << format_number(row.elements_updated, 3) << std::setw(8)
+                  << format_number(row.flops_recomputed, 3) << std::setw(7)
+                  << format_number(row.cg_iterations, 2) << std::setw(10) << format_number(per_step, 3)
+                  << std::setw(8) << format_number(per_step > 0 ? exact_per_step / per_step : 0, 3)
+                  << std::setw(9) << per_step_ms(p.t_rotations) << std::setw(9)
+                  << per_step_ms(p.t_error_estimate) << std::setw(9) << per_step_ms(p.t_assembly)
+                  << std::setw(9) << per_step_ms(p.t_factor) << std::setw(9) << per_step_ms(p.t_iterations)
+                  << std::setw(9) << per_step_ms(p.t_solve) << std::setw(10) << error(row.error.max_error())
+                  << std::setw(10) << error(row.error.mean_error()) << std::setw(10)
+                  << error(row.error.max_rms_error()) << std::setw(10) << error(row.error.mean_rms_error())
+                  << (row.failure.empty() ? "" : "  " + row.failure) << "\n";
+      }
+  }
+
+  /** The table as CSV, one row per run, with the error at the last step too. */
+  void write_csv(const std::vector<SweepRow> &rows, std::ostream &out)
+  {
+    out << "model,threshold,steps,elements_updated_pct,flops_recomputed_pct,cg_iterations,seconds,"
+           "seconds_per_step,t_rotations,t_error_estimate,t_assembly,t_factor,t_iterations,t_solve,"
+           "max_error_vs_corotational,mean_error_vs_corotational,max_rms_error_vs_corotational,"
+           "mean_rms_error_vs_corotational,final_error_vs_corotational,failure\n";
+    for (const auto &row : rows)
+      {
+        const auto per_step_ms = [&](const double seconds) {
+          return format_number(row.steps > 0 ? 1e3 * seconds / row.steps : 0, 3);
+        };
+        const auto &p = row.phases;
+        const auto &e = row.error;
+        out << row.model << "," << format_number(row.threshold) << "," << row.steps << ","
+            << format_number(row.elements_updated, 4) << "," << format_number(row.flops_recomputed, 4) << ","
+            << format_number(row.cg_iterations, 3) << "," << format_number(row.seconds, 4) << ","
+            << format_number(row.steps > 0 ? row.seconds / row.steps : 0, 4) << ","
+            << per_step_ms(p.t_rotations) << "," << per_step_ms(p.t_error_estimate) << ","
+            << per_step_ms(p.t_assembly) << "," << per_step_ms(p.t_factor) << ","
+            << per_step_ms(p.t_iterations) << "," << per_step_ms(p.t_solve) << ","
+            << format_number(e.max_error(), 3) << "," << format_number(e.mean_error(), 3) << ","
+            << format_number(e.max_rms_error(), 3) << "," << format_number(e.mean_rms_error(), 3) << ","
+            << format_number(e.last_error(), 3) << ","
+            << (row.failure.empty() ? "" : "\"" + row.failure + "\"") << "\n";
+      }
+  }
+
   void run(const Options &options)
   {
     app::AllParameters parameters(options.parameter_file);
@@ -288,6 +368,14 @@ namespace
     parameters.output.write_log    = false;
     if (options.threads > 0)
       parameters.solver.settings.n_threads = options.threads;
+    // Where the CSV and the plot go: the folder is made now, not after minutes of runs.
+    const std::string csv_file = options.csv_file.empty() ?
+                                   parameters.output.directory + "/" + parameters.scene_name() +
+                                     "/threshold_sweep.csv" :
+                                   options.csv_file;
+    const std::string csv_directory = std::filesystem::path(csv_file).parent_path().string();
+    if (!csv_directory.empty())
+      app::create_directory(csv_directory);
 
     // The exact run, recorded step by step, after a few steps of it that warm the machine
     // up (the first run of a process was measured up to 30 % slower than its twins).
@@ -328,66 +416,35 @@ namespace
         std::cerr << rows.back().model << " " << format_number(rows.back().threshold) << " done" << std::endl;
       }
 
-    std::ostringstream table;
-    table << "model,threshold,steps,elements_updated_pct,flops_recomputed_pct,cg_iterations,seconds,"
-             "seconds_per_step,t_rotations,t_error_estimate,t_assembly,t_factor,t_iterations,t_solve,"
-             "max_error_vs_corotational,final_error_vs_corotational,failure\n";
-    std::cout << "scene " << parameters.scene_name() << ", " << parameters.time_stepping.n_steps
-              << " steps, " << parameters.solver.settings.n_threads << " thread(s); error = max_i "
-              << "|x_i - x_i(corotational)| / max_i |x_i(corotational) - X_i|; phases in ms per step\n"
-              << std::setw(20) << "model" << std::setw(10) << "threshold" << std::setw(9) << "updated%"
-              << std::setw(8) << "flops%" << std::setw(7) << "CG it" << std::setw(10) << "s/step"
-              << std::setw(8) << "speedup" << std::setw(8) << "rotat" << std::setw(8) << "estim"
-              << std::setw(8) << "assem" << std::setw(8) << "factor" << std::setw(8) << "iterat"
-              << std::setw(8) << "solve" << std::setw(11) << "max error" << std::setw(11) << "end error" << "\n";
     const double exact_per_step = exact.seconds / std::max(1u, exact.steps);
-    for (const auto &row : rows)
-      {
-        const double per_step  = row.steps > 0 ? row.seconds / row.steps : 0;
-        const auto   per_step_ms = [&](const double seconds) {
-          return format_number(row.steps > 0 ? 1e3 * seconds / row.steps : 0, 3);
-        };
-        const auto &p = row.phases;
-        table << row.model << "," << format_number(row.threshold) << "," << row.steps << ","
-              << format_number(row.elements_updated, 4) << "," << format_number(row.flops_recomputed, 4)
-              << "," << format_number(row.cg_iterations, 3) << "," << format_number(row.seconds, 4) << ","
-              << format_number(per_step, 4) << "," << per_step_ms(p.t_rotations) << ","
-              << per_step_ms(p.t_error_estimate) << "," << per_step_ms(p.t_assembly) << ","
-              << per_step_ms(p.t_factor) << "," << per_step_ms(p.t_iterations) << ","
-              << per_step_ms(p.t_solve) << "," << format_number(row.max_error, 3) << ","
-              << format_number(row.final_error, 3) << ","
-              << (row.failure.empty() ? "" : "\"" + row.failure + "\"") << "\n";
-        std::cout << std::setw(20) << row.model << std::setw(10)
-                  << (row.model == "corotational" ? "-" : format_number(row.threshold)) << std::setw(9)
-                  << format_number(row.elements_updated, 3) << std::setw(8)
-                  << format_number(row.flops_recomputed, 3) << std::setw(7)
-                  << format_number(row.cg_iterations, 2) << std::setw(10) << format_number(per_step, 3)
-                  << std::setw(8) << format_number(per_step > 0 ? exact_per_step / per_step : 0, 3)
-                  << std::setw(8) << per_step_ms(p.t_rotations) << std::setw(8)
-                  << per_step_ms(p.t_error_estimate) << std::setw(8) << per_step_ms(p.t_assembly)
-                  << std::setw(8) << per_step_ms(p.t_factor) << std::setw(8) << per_step_ms(p.t_iterations)
-                  << std::setw(8) << per_step_ms(p.t_solve) << std::setw(11) << format_number(row.max_error, 2)
-                  << std::setw(11) << format_number(row.final_error, 2)
-                  << (row.failure.empty() ? "" : "  " + row.failure) << "\n";
-      }
+    print_table(parameters, rows, exact_per_step);
+    const app::Scene scene(corotational);
     {
       double estimate_seconds = 0;
       for (const auto &row : rows)
         if (row.phases.t_error_estimate > 0 && row.steps > 0)
           estimate_seconds = estimate_seconds > 0 ? std::min(estimate_seconds, row.phases.t_error_estimate / row.steps) :
                                                     row.phases.t_error_estimate / row.steps;
-      app::Scene scene(corotational);
       print_kernel_costs(scene, reference.back(), estimate_seconds);
     }
-    std::string csv_file = options.csv_file;
-    if (csv_file.empty())
-      {
-        const std::string directory = parameters.output.directory + "/" + parameters.scene_name();
-        app::create_directory(directory);
-        csv_file = directory + "/threshold_sweep.csv";
-      }
-    write_file_atomically(csv_file, [&](std::ostream &out) { out << table.str(); });
+    write_file_atomically(csv_file, [&](std::ostream &out) { write_csv(rows, out); });
     std::cout << "table: " << csv_file << std::endl;
+
+    // The plot beside the CSV: FILE.csv -> FILE.gp, FILE.png.
+    const std::string stem = csv_file.size() > 4 && csv_file.compare(csv_file.size() - 4, 4, ".csv") == 0 ?
+                               csv_file.substr(0, csv_file.size() - 4) :
+                               csv_file;
+    app::ErrorTimePlot plot(parameters.scene_name() + ": " + std::to_string(scene.body().n_unknowns()) +
+                              " unknowns, " + std::to_string(parameters.time_stepping.n_steps) + " steps, " +
+                              std::to_string(parameters.solver.settings.n_threads) +
+                              " thread(s); error against the exact corotational run",
+                            "corotational", exact_per_step);
+    for (const auto &row : rows)
+      if (&row != &rows.front() && row.failure.empty())
+        plot.add({plot_group(row.model), format_number(row.threshold), row.seconds / std::max(1u, row.steps),
+                  row.error.max_error(), row.error.max_rms_error()});
+    if (plot.write(stem + ".gp", stem + ".png", std::cout))
+      std::cout << "plot: " << stem + ".png" << " (script " << stem + ".gp" << ")" << std::endl;
   }
 } // namespace
 

@@ -35,6 +35,7 @@ int main()
   describe("SOFA torus, Gmsh 1 (ids 1..447, lines, triangles)", meshes + "sofa_torus_low_res.msh");
   describe("SOFA liver, Gmsh 1", meshes + "sofa_liver.msh");
   describe("fine torus, Gmsh 2.2 (points, lines, triangles)", meshes + "torus_fine.msh");
+  describe("SOFA raptor, VTU XML ASCII big-endian", meshes + "sofa_raptor_19409.vtu");
 
   // Gmsh 1 and 2.2 of the same liver: the same vertices in the same order, the same cells.
   tests::write_file("liver_v22.msh", [&] {

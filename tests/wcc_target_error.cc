@@ -56,16 +56,16 @@ namespace
     std::ifstream log(simulation.output_directory() + "/log.csv");
     std::string   line;
     std::getline(log, line);
-    const bool   has_column = line.find(",update_threshold,velocity_error") != std::string::npos;
-    unsigned int measured   = 0;
-    while (has_column && std::getline(log, line))
+    const auto   names  = dealii::Utilities::split_string_list(line, ',');
+    const auto   column = std::find(names.begin(), names.end(), "velocity_error") - names.begin();
+    unsigned int measured = 0;
+    while (column < static_cast<long>(names.size()) && std::getline(log, line))
       {
         const auto fields = dealii::Utilities::split_string_list(line, ',');
-        const auto column = fields.size() - 2; // before error_vs_corotational
         if (!fields[column].empty() && dealii::Utilities::string_to_double(fields[column]) >= 0)
           ++measured;
       }
-    return {totals.max_error_vs_corotational, totals.threshold_sum / std::max(1u, totals.steps), measured};
+    return {totals.error_vs_corotational.max_error(), totals.threshold_sum / std::max(1u, totals.steps), measured};
   }
 } // namespace
 

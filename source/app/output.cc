@@ -155,7 +155,7 @@ namespace warpchol::app
              "flops_recomputed_pct,refresh,cg_iterations,t_rotations,t_error_estimate,t_assembly,"
              "t_factor,t_solve,t_iterations,t_step,kinetic_energy,elastic_energy,update_threshold,"
              "velocity_error") +
-           (with_error ? ",error_vs_corotational" : "");
+           (with_error ? ",error_vs_corotational,rms_error_vs_corotational" : "");
   }
 
   void StepLog::add(const StepLogRow &row)
@@ -179,7 +179,8 @@ namespace warpchol::app
     if (s.velocity_error >= 0)
       line << s.velocity_error;
     if (with_error)
-      line << "," << std::setprecision(6) << row.error_vs_corotational;
+      line << "," << std::setprecision(6) << row.error_vs_corotational << ","
+           << row.rms_error_vs_corotational;
     rows.push_back(line.str());
     write_file_atomically(file, [&](std::ostream &out) {
       out << header() << "\n";

@@ -621,8 +621,9 @@ namespace warpchol::app
                         "A progress line on standard error: auto shows it on a terminal");
       prm.declare_entry("Compare with corotational", "false", Patterns::Bool(),
                         "Also run the exact corotational model, in step (not timed), and report "
-                        "the trajectory error max_i |x_i - x_i(corotational)| over "
-                        "max_i |x_i(corotational) - X_i| in the log and the summary");
+                        "the trajectory error max_i |x_i - x_i(corotational)| and the RMS error "
+                        "sqrt(mean_i |x_i - x_i(corotational)|^2), both over "
+                        "max_i |x_i(corotational) - X_i|, in the log and the summary");
       prm.leave_subsection();
     }
 

@@ -137,7 +137,7 @@ namespace warpchol::app
             t.updated_distance_to_tool += (simulated.element_centres[e] - simulated.tool_centre).norm();
       }
 
-    double error_vs_corotational = -1;
+    double error_vs_corotational = -1, rms_error_vs_corotational = -1;
     if (simulated.reference)
       {
         fem::StepStatistics reference_statistics;
@@ -149,17 +149,11 @@ namespace warpchol::app
           {
             throw MatrixError(std::string("the corotational reference run: ") + error.what());
           }
-        const auto &x         = integrator.positions();
-        const auto &reference = simulated.reference->integrator().positions();
-        double      difference = 0, motion = 0;
-        for (unsigned int v = 0; v < x.size(); ++v)
-          {
-            difference = std::max(difference, (x[v] - reference[v]).norm());
-            motion     = std::max(motion, (reference[v] - body.rest_positions()[v]).norm());
-          }
-        error_vs_corotational = motion > 0 ? difference / motion : difference;
-        t.max_error_vs_corotational = std::max(t.max_error_vs_corotational, error_vs_corotational);
-        t.last_error_vs_corotational = error_vs_corotational;
+        const PositionError error = position_error(
+          integrator.positions(), simulated.reference->integrator().positions(), body.rest_positions());
+        error_vs_corotational     = error.max;
+        rms_error_vs_corotational = error.rms;
+        t.error_vs_corotational.add(error);
       }
 
     if (simulated.log)
@@ -172,7 +166,8 @@ namespace warpchol::app
         row.step_seconds   = step_seconds;
         row.kinetic_energy = integrator.kinetic_energy();
         row.elastic_energy = integrator.elastic_energy();
-        row.error_vs_corotational = error_vs_corotational;
+        row.error_vs_corotational     = error_vs_corotational;
+        row.rms_error_vs_corotational = rms_error_vs_corotational;
         simulated.log->add(row);
       }
   }
@@ -349,8 +344,13 @@ namespace warpchol::app
           }
       }
     if (simulated.reference)
-      out << "  trajectory error against corotational: max " << n(t.max_error_vs_corotational, 2)
-          << ", at the end " << n(t.last_error_vs_corotational, 2) << "\n";
+      {
+        const auto &error = t.error_vs_corotational;
+        out << "  trajectory error against corotational: max " << n(error.max_error(), 2)
+            << ", mean " << n(error.mean_error(), 2) << ", at the end " << n(error.last_error(), 2)
+            << "; RMS max " << n(error.max_rms_error(), 2) << ", mean " << n(error.mean_rms_error(), 2)
+            << "\n";
+      }
     // An energy below 1e-12 of the total is rounding (a translated body's elastic energy):
     // printed as such, not as digits that change with the order of the operations.
     const double kinetic_energy = integrator.kinetic_energy();

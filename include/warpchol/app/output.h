@@ -85,15 +85,17 @@ namespace warpchol::app
     double                    step_seconds   = 0;
     double                    kinetic_energy = 0;
     double                    elastic_energy = 0;
-    /** Trajectory error against the corotational run; negative when none runs. */
-    double                    error_vs_corotational = -1;
+    /** Trajectory error against the corotational run (app::PositionError, worst vertex and
+        RMS); negative when none runs. */
+    double                    error_vs_corotational     = -1;
+    double                    rms_error_vs_corotational = -1;
   };
 
   /** The CSV log: a header row, then a row per step; the file is rewritten after each step. */
   class StepLog
   {
   public:
-    /** @p with_error: add the column error_vs_corotational. */
+    /** @p with_error: add the columns error_vs_corotational and rms_error_vs_corotational. */
     StepLog(const std::string &filename, bool with_error);
 
     void add(const StepLogRow &row);

@@ -3,6 +3,7 @@
 #include <warpchol/app/output.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
+#include <warpchol/app/trajectory_error.h>
 
 #include <limits>
 #include <map>
@@ -48,9 +49,8 @@ namespace warpchol::app
     double       run_seconds = 0;
     /** Sum over updates of the rest distance of the element's centre to the tool's centre. */
     double       updated_distance_to_tool = 0;
-    /** Trajectory error against the corotational run: largest over the steps, and last. */
-    double       max_error_vs_corotational  = 0;
-    double       last_error_vs_corotational = 0;
+    /** Trajectory error against the corotational run (worst vertex and RMS per step). */
+    TrajectoryError error_vs_corotational;
   };
 
   /**

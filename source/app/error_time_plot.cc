@@ -1,0 +1,197 @@
+#include <warpchol/app/error_time_plot.h>
+#include <warpchol/base/atomic_file.h>
+#include <warpchol/base/format.h>
+#include <warpchol/base/pareto_front.h>
+
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <sstream>
+
+namespace warpchol::app
+{
+  namespace
+  {
+    /**
+     * An error above the largest displacement itself: the run strayed by more than the
+     * whole motion (diverged). Such a point is drawn at this height with its value in its
+     * label and is on no Pareto front: it is no trade-off.
+     */
+    constexpr double diverged_error = 1;
+
+    /** @p text as a gnuplot string constant. */
+    std::string quoted(const std::string &text)
+    {
+      std::string result = "\"";
+      for (const char c : text)
+        {
+          if (c == '"' || c == '\\')
+            result += '\\';
+          result += c;
+        }
+      return result + "\"";
+    }
+
+    /** @p text as one word of a POSIX shell command. */
+    std::string shell_word(const std::string &text)
+    {
+      std::string result = "'";
+      for (const char c : text)
+        result += c == '\'' ? std::string("'\\''") : std::string(1, c);
+      return result + "'";
+    }
+  } // namespace
+
+  bool program_on_path(const std::string &program)
+  {
+    const char *path = std::getenv("PATH");
+    std::istringstream directories(path ? path : "");
+    std::string        directory;
+    while (std::getline(directories, directory, ':'))
+      {
+        const std::string candidate = (directory.empty() ? "." : directory) + "/" + program;
+        if (std::filesystem::is_regular_file(candidate) && access(candidate.c_str(), X_OK) == 0)
+          return true;
+      }
+    return false;
+  }
+
+  ErrorTimePlot::ErrorTimePlot(const std::string &title, const std::string &reference_name,
+                               const double reference_seconds_per_step)
+    : title(title)
+    , reference_name(reference_name)
+    , reference_seconds_per_step(reference_seconds_per_step)
+  {}
+
+  void ErrorTimePlot::add(const Point &point)
+  {
+    points.push_back(point);
+  }
+
+  std::string ErrorTimePlot::script(const std::string &png_file) const
+  {
+    // The groups in the order of their first point: a colour and a point type each.
+    std::vector<std::string> groups;
+    for (const auto &point : points)
+      if (std::find(groups.begin(), groups.end(), point.group) == groups.end())
+        groups.push_back(point.group);
+    double largest_seconds = reference_seconds_per_step;
+    for (const auto &point : points)
+      largest_seconds = std::max(largest_seconds, point.seconds_per_step);
+
+    const auto number = [](const double value) { return format_number(value, 6); };
+    std::ostringstream out;
+    out << "# The error-against-time study, written by warpchol-threshold-sweep: edit and\n"
+        << "# rerun with `gnuplot THIS_FILE` from the directory the sweep ran in.\n"
+        << "# Per configuration: seconds per step, the largest over the steps of the worst\n"
+        << "# vertex's error max_i |x_i - x_i(ref)| and of the RMS error\n"
+        << "# sqrt(mean_i |x_i - x_i(ref)|^2), both over max_i |x_i(ref) - X_i|; its label.\n\n";
+    bool any_diverged = false;
+    for (unsigned int g = 0; g < groups.size(); ++g)
+      {
+        // Columns: seconds, max error, RMS error (both clipped at diverged_error), the labels
+        // in the panels of the max and of the RMS error.
+        out << "# " << groups[g] << "\n$group" << g << " << EOD\n";
+        for (const auto &point : points)
+          if (point.group == groups[g])
+            {
+              const auto clipped = [&](const double error) {
+                any_diverged = any_diverged || !(error <= diverged_error);
+                return number(error <= diverged_error ? error : diverged_error);
+              };
+              const auto label = [&](const double error) {
+                return quoted(error <= diverged_error ? point.label :
+                                                        point.label + " (diverged: " + format_number(error, 2) + ")");
+              };
+              out << number(point.seconds_per_step) << " " << clipped(point.max_error) << " "
+                  << clipped(point.rms_error) << " " << label(point.max_error) << " "
+                  << label(point.rms_error) << "\n";
+            }
+        out << "EOD\n";
+      }
+    // A log scale shows no error <= 0: those configurations (equal to the reference to the
+    // last bit) and the reference itself are left to the vertical line.
+    for (const bool rms : {false, true})
+      {
+        std::vector<double> seconds, errors;
+        for (const auto &point : points)
+          {
+            const double error = rms ? point.rms_error : point.max_error;
+            seconds.push_back(point.seconds_per_step);
+            errors.push_back(error <= diverged_error ? error : std::nan(""));
+          }
+        seconds.push_back(reference_seconds_per_step);
+        errors.push_back(0);
+        out << (rms ? "$front_rms" : "$front_max") << " << EOD\n";
+        for (const unsigned int i : pareto_front(seconds, errors))
+          if (errors[i] > 0)
+            out << number(seconds[i]) << " " << number(errors[i]) << "\n";
+        out << "EOD\n";
+      }
+
+    out << "\nif (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
+        << "  set terminal pngcairo size 1500,650 font \",11\"\n"
+        << "} else {\n"
+        << "  set terminal png size 1500,650\n"
+        << "}\n"
+        << "set termoption noenhanced\n"
+        << "set output " << quoted(png_file) << "\n"
+        << "set multiplot layout 1,2 title " << quoted(title) << "\n"
+        << "set logscale y\n"
+        << "set format y \"%.0e\"\n"
+        << "set grid\n"
+        << "set key below horizontal\n"
+        << "set bmargin 6\n"
+        << "set xlabel \"seconds per step\"\n"
+        << "set xrange [0:" << number(1.08 * largest_seconds) << "]\n"
+        << (any_diverged ? "set yrange [*:" + number(2 * diverged_error) + "]\n" : std::string())
+        << "set arrow 1 from " << number(reference_seconds_per_step) << ", graph 0 to "
+        << number(reference_seconds_per_step) << ", graph 1 nohead dashtype 2 linewidth 2 linecolor rgb \"black\"\n"
+        << "set label 1 " << quoted(reference_name + " (error 0)") << " at "
+        << number(reference_seconds_per_step) << ", graph 0.5 center rotate by 90 offset -1.2, 0\n";
+    for (const bool rms : {false, true})
+      {
+        out << "set ylabel " << quoted(rms ? "RMS error over the largest displacement (max over steps)" :
+                                             "worst vertex error over the largest displacement (max over steps)")
+            << "\n";
+        const std::string column = rms ? "3" : "2";
+        out << "plot " << (rms ? "$front_rms" : "$front_max")
+            << " using 1:2 with lines linewidth 2 linecolor rgb \"gray40\" title \"Pareto front\"";
+        // Each group's labels on its own side of the points, so that neighbours overlap less.
+        const char *label_places[] = {"left offset 0.8, 0.7", "left offset 0.8, -0.7",
+                                      "right offset -0.8, 0.7", "right offset -0.8, -0.7"};
+        for (unsigned int g = 0; g < groups.size(); ++g)
+          out << ", \\\n     $group" << g << " using 1:" << column << " with points pointtype "
+              << 5 + 2 * (g % 4) << " pointsize 1.6 linecolor " << g + 1 << " title " << quoted(groups[g])
+              << ", \\\n     $group" << g << " using 1:" << column << ":" << (rms ? "5" : "4")
+              << " with labels " << label_places[g % 4] << " textcolor lt " << g + 1 << " notitle";
+        out << "\n";
+      }
+    out << "unset multiplot\n";
+    return out.str();
+  }
+
+  bool ErrorTimePlot::write(const std::string &script_file, const std::string &png_file,
+                            std::ostream &messages) const
+  {
+    write_file_atomically(script_file, [&](std::ostream &out) { out << script(png_file); });
+    if (!program_on_path("gnuplot"))
+      {
+        messages << "no gnuplot on the PATH: no plot (the script " << script_file
+                 << " draws it: gnuplot " << script_file << ")" << std::endl;
+        return false;
+      }
+    std::error_code no_old_plot;
+    std::filesystem::remove(png_file, no_old_plot);
+    const int status = std::system(("gnuplot " + shell_word(script_file)).c_str());
+    if (status != 0 || !std::filesystem::exists(png_file))
+      {
+        messages << "gnuplot failed on " << script_file << ": no plot" << std::endl;
+        return false;
+      }
+    return true;
+  }
+} // namespace warpchol::app
