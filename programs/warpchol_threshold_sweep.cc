@@ -351,10 +351,10 @@ namespace
         table << row.model << "," << format_number(row.threshold) << "," << row.steps << ","
               << format_number(row.elements_updated, 4) << "," << format_number(row.flops_recomputed, 4)
               << "," << format_number(row.cg_iterations, 3) << "," << format_number(row.seconds, 4) << ","
-              << format_number(per_step, 4) << "," << per_step_ms(p.t_rotations) << ","
-              << per_step_ms(p.t_error_estimate) << "," << per_step_ms(p.t_assembly) << ","
-              << per_step_ms(p.t_factor) << "," << per_step_ms(p.t_iterations) << ","
-              << per_step_ms(p.t_solve) << "," << format_number(row.max_error, 3) << ","
+              << format_number(per_step, 4) << "," << per_step_ms(p.t_rotations()) << ","
+              << per_step_ms(p.t_error_estimate()) << "," << per_step_ms(p.t_assembly()) << ","
+              << per_step_ms(p.t_factor()) << "," << per_step_ms(p.t_iterations()) << ","
+              << per_step_ms(p.t_solve()) << "," << format_number(row.max_error, 3) << ","
               << format_number(row.final_error, 3) << ","
               << (row.failure.empty() ? "" : "\"" + row.failure + "\"") << "\n";
         std::cout << std::setw(20) << row.model << std::setw(10)
@@ -363,19 +363,19 @@ namespace
                   << format_number(row.flops_recomputed, 3) << std::setw(7)
                   << format_number(row.cg_iterations, 2) << std::setw(10) << format_number(per_step, 3)
                   << std::setw(8) << format_number(per_step > 0 ? exact_per_step / per_step : 0, 3)
-                  << std::setw(8) << per_step_ms(p.t_rotations) << std::setw(8)
-                  << per_step_ms(p.t_error_estimate) << std::setw(8) << per_step_ms(p.t_assembly)
-                  << std::setw(8) << per_step_ms(p.t_factor) << std::setw(8) << per_step_ms(p.t_iterations)
-                  << std::setw(8) << per_step_ms(p.t_solve) << std::setw(11) << format_number(row.max_error, 2)
+                  << std::setw(8) << per_step_ms(p.t_rotations()) << std::setw(8)
+                  << per_step_ms(p.t_error_estimate()) << std::setw(8) << per_step_ms(p.t_assembly())
+                  << std::setw(8) << per_step_ms(p.t_factor()) << std::setw(8) << per_step_ms(p.t_iterations())
+                  << std::setw(8) << per_step_ms(p.t_solve()) << std::setw(11) << format_number(row.max_error, 2)
                   << std::setw(11) << format_number(row.final_error, 2)
                   << (row.failure.empty() ? "" : "  " + row.failure) << "\n";
       }
     {
       double estimate_seconds = 0;
       for (const auto &row : rows)
-        if (row.phases.t_error_estimate > 0 && row.steps > 0)
-          estimate_seconds = estimate_seconds > 0 ? std::min(estimate_seconds, row.phases.t_error_estimate / row.steps) :
-                                                    row.phases.t_error_estimate / row.steps;
+        if (row.phases.t_error_estimate() > 0 && row.steps > 0)
+          estimate_seconds = estimate_seconds > 0 ? std::min(estimate_seconds, row.phases.t_error_estimate() / row.steps) :
+                                                    row.phases.t_error_estimate() / row.steps;
       app::Scene scene(corotational);
       print_kernel_costs(scene, reference.back(), estimate_seconds);
     }

@@ -12,7 +12,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace warpchol::app
 {
@@ -54,8 +56,11 @@ namespace warpchol::app
     auto       &model      = simulated_scene->model();
     const auto &body       = simulated_scene->body();
     if (vtu_series)
-      vtu_series->write(0, 0, body, integrator.displacements(), integrator.velocities(),
-                        model.update_record());
+      {
+        StageTimer timer(run_totals.stages, stage::vtu_output);
+        vtu_series->write(0, 0, body, integrator.displacements(), integrator.velocities(),
+                          model.update_record());
+      }
 
     const bool show_progress =
       settings.progress == "on" || (settings.progress == "auto" && isatty(fileno(stderr)));
@@ -87,7 +92,7 @@ namespace warpchol::app
             t.columns_recomputed_pct += 100.0 * statistics.columns_recomputed / statistics.n_columns;
             t.flops_recomputed_pct += 100.0 * statistics.flops_recomputed / statistics.flops_full;
           }
-        t.seconds.add_phase_times(statistics);
+        t.stages.add(statistics.stages);
         t.cg_iterations += statistics.cg_iterations;
         if (!statistics.refresh.empty())
           ++t.refreshes[statistics.refresh];
@@ -103,6 +108,7 @@ namespace warpchol::app
         double error_vs_corotational = -1;
         if (reference_scene)
           {
+            StageTimer          timer(t.stages, stage::reference_run);
             fem::StepStatistics reference_statistics;
             try
               {
@@ -128,6 +134,7 @@ namespace warpchol::app
         const double kinetic_energy = integrator.kinetic_energy();
         if (step_log)
           {
+            StageTimer timer(t.stages, stage::log);
             StepLogRow row;
             row.step           = step;
             row.time           = integrator.time();
@@ -140,8 +147,11 @@ namespace warpchol::app
             step_log->add(row);
           }
         if (vtu_series && step % settings.vtu_interval == 0)
-          vtu_series->write(step, integrator.time(), body, integrator.displacements(),
-                            integrator.velocities(), model.update_record());
+          {
+            StageTimer timer(t.stages, stage::vtu_output);
+            vtu_series->write(step, integrator.time(), body, integrator.displacements(),
+                              integrator.velocities(), model.update_record());
+          }
         if (show_progress && (since_progress.seconds() > 0.5 || step == n_steps))
           {
             std::cerr << "\rstep " << step << "/" << n_steps << "  t = "
@@ -157,7 +167,12 @@ namespace warpchol::app
     if (show_progress)
       std::cerr << std::endl;
     if (vtu_series)
-      vtu_series->finish();
+      {
+        // Waiting for the last file ends that file's run.
+        const Stopwatch stopwatch;
+        vtu_series->finish();
+        run_totals.stages.add(stage::vtu_output, stopwatch.seconds(), 0);
+      }
     run_totals.run_seconds = run_stopwatch.seconds();
     print_summary(out);
   }
@@ -239,15 +254,9 @@ namespace warpchol::app
     };
     out << "  energy at the end: kinetic " << energy(kinetic_energy) << ", elastic "
         << energy(elastic_energy) << "\n";
+    print_stages(out);
     if (timings)
       {
-        const double steps = std::max(1u, t.steps);
-        out << "  seconds per step: rotations " << n(t.seconds.t_rotations / steps)
-            << ", error estimate " << n(t.seconds.t_error_estimate / steps) << ", assembly "
-            << n(t.seconds.t_assembly / steps) << ", factor " << n(t.seconds.t_factor / steps)
-            << ", solve " << n(t.seconds.t_solve / steps) << ", iterations "
-            << n(t.seconds.t_iterations / steps) << ", step " << n(t.step_seconds / steps)
-            << "\n";
         out << "  set-up " << n(setup_seconds) << " s (model " << n(model.setup_seconds())
             << " s), time steps " << n(t.step_seconds) << " s; end to end (output included) "
             << n(t.run_seconds) << " s, " << n(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s\n";
@@ -257,6 +266,38 @@ namespace warpchol::app
     if (vtu_series)
       out << "  VTU: " << vtu_series->n_files() << " files, series " << vtu_series->pvd_file() << "\n";
     out << std::flush;
+  }
+
+  void Simulation::print_stages(std::ostream &out) const
+  {
+    const auto &t = run_totals;
+    if (!parameters.output.print_timings)
+      {
+        // The names alone: what ran does not change from run to run, its seconds do.
+        out << "  stages: " << t.stages.names() << "\n";
+        return;
+      }
+    // Per stage: its runs, its seconds per step and its share of the run, end to end; what
+    // no stage holds (the run's bookkeeping, the progress line) is "other".
+    const double steps = std::max(1u, t.steps);
+    const double run   = std::max(t.run_seconds, 1e-12);
+    const auto   share = [&](const double seconds) {
+      std::ostringstream text;
+      text << std::fixed << std::setprecision(1) << 100 * seconds / run;
+      return text.str();
+    };
+    const auto row = [&](const std::string &name, const std::string &runs, const double seconds) {
+      out << "    " << std::left << std::setw(22) << name << std::right << std::setw(6) << runs
+          << std::setw(12) << format_number(seconds / steps, 3) << std::setw(8) << share(seconds) << " %\n";
+    };
+    out << "  stages: " << std::left << std::setw(16) << "" << std::right << std::setw(6) << "runs"
+        << std::setw(12) << "s per step" << std::setw(10) << "share" << "\n";
+    for (const auto &stage : t.stages.stages())
+      row(stage.name, std::to_string(stage.runs), stage.seconds);
+    row("other", "", std::max(0.0, t.run_seconds - t.stages.total_seconds()));
+    out << "    " << std::left << std::setw(22) << "time steps" << std::right << std::setw(6) << t.steps
+        << std::setw(12) << format_number(t.step_seconds / steps, 3) << std::setw(8)
+        << share(t.step_seconds) << " %\n";
   }
 
   const Scene &Simulation::scene() const

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/stage_times.h>
 #include <warpchol/base/types.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
@@ -20,6 +21,37 @@
  */
 namespace warpchol::fem
 {
+  /**
+   * The stages of a time step, as StepStatistics::stages names them; a step runs only those
+   * its scene needs (no rotations for the linear model, no estimate for WCC at threshold 0
+   * or inf, no factorization when no element changed, no tool springs without a tool).
+   */
+  namespace stage
+  {
+    /** The fused element pass with rotations: element (and nodal) rotations, corotated forces, energy. */
+    constexpr const char *rotations = "rotations";
+    /** The element pass of the linear model: forces -K_e (x_e - X_e), no rotation. */
+    constexpr const char *elastic_forces = "elastic forces";
+    /** WCC's error estimate per element. */
+    constexpr const char *error_estimate = "error estimate";
+    /** (Re-)assembly of the element contributions to A. */
+    constexpr const char *assembly = "assembly";
+    /** Full or partial numeric factorization of A. */
+    constexpr const char *factorization = "factorization";
+    /** M v + dt (constant and elastic forces): the right-hand side without the tool. */
+    constexpr const char *right_hand_side = "right-hand side";
+    /** The tool's spring forces dt k (target - x) on the right-hand side. */
+    constexpr const char *tool_springs = "tool springs";
+    /** The triangular solves with the factor (directly, or as CG's preconditioner). */
+    constexpr const char *solve = "solve";
+    /** Preconditioned CG without its triangular solves: products and vector operations. */
+    constexpr const char *cg_iterations = "CG iterations";
+    /** The velocities extrapolated from the last two steps, as CG's initial guess. */
+    constexpr const char *initial_guess = "initial guess";
+    /** x += dt v, with the check that the velocities are finite. */
+    constexpr const char *position_update = "position update";
+  } // namespace stage
+
   /** What one step of a model did and what it cost (wall-clock seconds). */
   struct StepStatistics
   {
@@ -34,21 +66,26 @@ namespace warpchol::fem
     double flops_recomputed = 0;
     double flops_full       = 0;
 
-    double t_rotations      = 0;
-    double t_error_estimate = 0;
-    double t_assembly       = 0;
-    double t_factor         = 0;
-    /** The triangular solves with the factor (directly, or as CG's preconditioner). */
-    double t_solve          = 0;
-    /** Preconditioned CG without its triangular solves: products and vector operations. */
-    double t_iterations     = 0;
+    /** The stages the step ran (names in fem::stage), with their seconds. */
+    StageTimes stages;
+
+    /**
+     * The seconds of the stages under the names of the log's columns. The element pass
+     * counts as rotations with or without them (the linear model's elastic forces).
+     */
+    double t_rotations() const;
+    double t_error_estimate() const;
+    double t_assembly() const;
+    double t_factor() const;
+    double t_solve() const;
+    double t_iterations() const;
 
     /** How much of the factor was brought up to date ("all", "below_top", "none"; "" if nothing changed). */
     std::string refresh;
     /** Iterations of preconditioned CG (0 for a direct solve). */
     unsigned int cg_iterations = 0;
 
-    /** Add the phase times (t_*) of @p step to these: totals over steps. */
+    /** Add the stage times of @p step to these: totals over steps. */
     void add_phase_times(const StepStatistics &step);
   };
 
@@ -113,6 +150,12 @@ namespace warpchol::fem
     void solve(const std::vector<Vector3> &right_hand_side, std::vector<Vector3> &velocities,
                StepStatistics &statistics);
 
+    /**
+     * Whether solve() iterates (preconditioned CG, which starts from the velocities it is
+     * given) rather than solving directly with the factor.
+     */
+    bool solves_iteratively() const;
+
     /** Whether the model uses rotations at all (all but the linear one). */
     virtual bool uses_rotations() const;
 
@@ -148,7 +191,8 @@ namespace warpchol::fem
 
     /**
      * The fused element pass at @p positions (ElasticBody::evaluate): rotations as the
-     * model needs them, corotated forces, energy; timed as the step's rotations.
+     * model needs them, corotated forces, energy; timed as the step's stage "rotations",
+     * or "elastic forces" without rotations.
      */
     void evaluate_elastic_state(const std::vector<Vector3> &positions,
                                 ElasticBody::Rotations rotations, StepStatistics &statistics);
