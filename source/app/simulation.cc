@@ -44,6 +44,8 @@ namespace warpchol::app
 
   void Simulation::run(std::ostream &out)
   {
+    // End to end: the initial VTU file and the log's creation count as part of the run.
+    const Stopwatch run_stopwatch;
     const auto &settings = parameters.output;
     if (settings.write_log || settings.vtu_interval > 0)
       create_directory(directory);
@@ -65,7 +67,6 @@ namespace warpchol::app
     const bool show_progress =
       settings.progress == "on" || (settings.progress == "auto" && isatty(fileno(stderr)));
     Stopwatch since_progress;
-    const Stopwatch run_stopwatch;
     const unsigned int n_steps = parameters.time_stepping.n_steps;
     for (unsigned int step = 1; step <= n_steps; ++step)
       {

@@ -212,12 +212,13 @@ namespace warpchol::fem
     // Nothing changed and nothing is left stale: the factor is that of A.
     if (changed_columns.empty() && cholesky_solver.factor_is_exact())
       return;
-    const cholesky::Refresh refresh = choose_refresh(changed_columns);
+    const cholesky::Refresh refresh = choose_refresh(changed_columns, statistics);
     refactorize(changed_columns, statistics, refresh);
     cost_model.record_factorization(statistics.flops_recomputed, statistics.t_factor());
   }
 
-  cholesky::Refresh WarpCancelingModel::choose_refresh(const std::vector<Index> &changed_columns)
+  cholesky::Refresh WarpCancelingModel::choose_refresh(const std::vector<Index> &changed_columns,
+                                                       StepStatistics           &statistics)
   {
     using cholesky::Refresh;
     switch (strategy.kind)
@@ -239,6 +240,8 @@ namespace warpchol::fem
           {
             if (!cost_model.calibrated())
               return Refresh::all;
+            // Predicting the flops of each refresh walks the elimination tree three times.
+            StageTimer timer(statistics.stages, stage::refresh_choice);
             Refresh cheapest      = Refresh::all;
             double  least_seconds = std::numeric_limits<double>::infinity();
             for (const Refresh refresh : {Refresh::all, Refresh::below_top, Refresh::none})

@@ -36,6 +36,8 @@ namespace warpchol::fem
     constexpr const char *error_estimate = "error estimate";
     /** (Re-)assembly of the element contributions to A. */
     constexpr const char *assembly = "assembly";
+    /** The automatic strategy's choice of a refresh: the flops each would take. */
+    constexpr const char *refresh_choice = "refresh choice";
     /** Full or partial numeric factorization of A. */
     constexpr const char *factorization = "factorization";
     /** M v + dt (constant and elastic forces): the right-hand side without the tool. */
