@@ -105,6 +105,7 @@ int main()
   print_stages("corotational", {"  set Type = corotational\n"});
   print_stages("WCC, preconditioned CG", {wcc + "  set Strategy = preconditioned\n"});
   print_stages("WCC, no tool", {wcc, false});
+  // Rayleigh damping lies in A alone (its coefficients): no stage of its own either way.
   print_stages("WCC, no damping", {wcc, true, false});
   print_stages("WCC, log, VTU and the corotational run",
                {wcc, true, true,
