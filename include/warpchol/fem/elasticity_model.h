@@ -22,9 +22,10 @@
 namespace warpchol::fem
 {
   /**
-   * The stages of a time step, as StepStatistics::stages names them; a step runs only those
-   * its scene needs (no rotations for the linear model, no estimate for WCC at threshold 0
-   * or inf, no factorization when no element changed, no tool springs without a tool).
+   * The stages of a time step, in the order a step runs them, as StepStatistics::stages
+   * names them. A step runs only those its scene needs: no rotations for the linear model,
+   * no estimate for WCC at threshold 0 or inf, no factorization when no element changed, no
+   * tool springs without a tool, no CG for a direct solve.
    */
   namespace stage
   {
@@ -40,16 +41,16 @@ namespace warpchol::fem
     constexpr const char *refresh_choice = "refresh choice";
     /** Full or partial numeric factorization of A. */
     constexpr const char *factorization = "factorization";
-    /** M v + dt (constant and elastic forces): the right-hand side without the tool. */
-    constexpr const char *right_hand_side = "right-hand side";
-    /** The tool's spring forces dt k (target - x) on the right-hand side. */
+    /** The tool's spring forces k (target - x), added to the right-hand side. */
     constexpr const char *tool_springs = "tool springs";
+    /** M v + dt (gravity, constant, elastic and tool forces). */
+    constexpr const char *right_hand_side = "right-hand side";
+    /** The velocities extrapolated from the last two steps, as CG's initial guess. */
+    constexpr const char *initial_guess = "initial guess";
     /** The triangular solves with the factor (directly, or as CG's preconditioner). */
     constexpr const char *solve = "solve";
     /** Preconditioned CG without its triangular solves: products and vector operations. */
     constexpr const char *cg_iterations = "CG iterations";
-    /** The velocities extrapolated from the last two steps, as CG's initial guess. */
-    constexpr const char *initial_guess = "initial guess";
     /** x += dt v, with the check that the velocities are finite. */
     constexpr const char *position_update = "position update";
   } // namespace stage
