@@ -323,10 +323,10 @@ namespace
                   << format_number(row.flops_recomputed, 3) << std::setw(7)
                   << format_number(row.cg_iterations, 2) << std::setw(10) << format_number(per_step, 3)
                   << std::setw(8) << format_number(per_step > 0 ? exact_per_step / per_step : 0, 3)
-                  << std::setw(9) << per_step_ms(p.t_rotations) << std::setw(9)
-                  << per_step_ms(p.t_error_estimate) << std::setw(9) << per_step_ms(p.t_assembly)
-                  << std::setw(9) << per_step_ms(p.t_factor) << std::setw(9) << per_step_ms(p.t_iterations)
-                  << std::setw(9) << per_step_ms(p.t_solve) << std::setw(10) << error(row.error.max_error())
+                  << std::setw(9) << per_step_ms(p.t_rotations()) << std::setw(9)
+                  << per_step_ms(p.t_error_estimate()) << std::setw(9) << per_step_ms(p.t_assembly())
+                  << std::setw(9) << per_step_ms(p.t_factor()) << std::setw(9) << per_step_ms(p.t_iterations())
+                  << std::setw(9) << per_step_ms(p.t_solve()) << std::setw(10) << error(row.error.max_error())
                   << std::setw(10) << error(row.error.mean_error()) << std::setw(10)
                   << error(row.error.max_rms_error()) << std::setw(10) << error(row.error.mean_rms_error())
                   << (row.failure.empty() ? "" : "  " + row.failure) << "\n";
@@ -351,9 +351,9 @@ namespace
             << format_number(row.elements_updated, 4) << "," << format_number(row.flops_recomputed, 4) << ","
             << format_number(row.cg_iterations, 3) << "," << format_number(row.seconds, 4) << ","
             << format_number(row.steps > 0 ? row.seconds / row.steps : 0, 4) << ","
-            << per_step_ms(p.t_rotations) << "," << per_step_ms(p.t_error_estimate) << ","
-            << per_step_ms(p.t_assembly) << "," << per_step_ms(p.t_factor) << ","
-            << per_step_ms(p.t_iterations) << "," << per_step_ms(p.t_solve) << ","
+            << per_step_ms(p.t_rotations()) << "," << per_step_ms(p.t_error_estimate()) << ","
+            << per_step_ms(p.t_assembly()) << "," << per_step_ms(p.t_factor()) << ","
+            << per_step_ms(p.t_iterations()) << "," << per_step_ms(p.t_solve()) << ","
             << format_number(e.max_error(), 3) << "," << format_number(e.mean_error(), 3) << ","
             << format_number(e.max_rms_error(), 3) << "," << format_number(e.mean_rms_error(), 3) << ","
             << format_number(e.last_error(), 3) << ","
@@ -422,9 +422,9 @@ namespace
     {
       double estimate_seconds = 0;
       for (const auto &row : rows)
-        if (row.phases.t_error_estimate > 0 && row.steps > 0)
-          estimate_seconds = estimate_seconds > 0 ? std::min(estimate_seconds, row.phases.t_error_estimate / row.steps) :
-                                                    row.phases.t_error_estimate / row.steps;
+        if (row.phases.t_error_estimate() > 0 && row.steps > 0)
+          estimate_seconds = estimate_seconds > 0 ? std::min(estimate_seconds, row.phases.t_error_estimate() / row.steps) :
+                                                    row.phases.t_error_estimate() / row.steps;
       print_kernel_costs(scene, reference.back(), estimate_seconds);
     }
     write_file_atomically(csv_file, [&](std::ostream &out) { write_csv(rows, out); });

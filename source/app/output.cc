@@ -169,8 +169,8 @@ namespace warpchol::app
          << percent(s.elements_updated, row.n_elements) << "," << (s.refactorized ? 1 : 0) << ","
          << percent(s.columns_recomputed, s.n_columns) << ","
          << percent(s.flops_recomputed, s.flops_full) << "," << s.refresh << "," << s.cg_iterations
-         << "," << s.t_rotations << "," << s.t_error_estimate << "," << s.t_assembly << ","
-         << s.t_factor << "," << s.t_solve << "," << s.t_iterations << "," << row.step_seconds << "," << std::setprecision(10) << row.kinetic_energy << ","
+         << "," << s.t_rotations() << "," << s.t_error_estimate() << "," << s.t_assembly() << ","
+         << s.t_factor() << "," << s.t_solve() << "," << s.t_iterations() << "," << row.step_seconds << "," << std::setprecision(10) << row.kinetic_energy << ","
          << row.elastic_energy << "," << std::setprecision(6);
     // Empty where the model has no threshold or did not measure its error.
     if (s.update_threshold >= 0)

@@ -615,8 +615,10 @@ namespace warpchol::app
                         "Write the per-step CSV log SCENE/log.csv");
       prm.declare_entry("Print timings", "true", Patterns::Bool(),
                         "Print run times and the solver's figures (fill, columns and flops "
-                        "recomputed) in the summary; false leaves what depends on the model "
-                        "alone, the same from run to run and from solver to solver");
+                        "recomputed) in the summary, with a table of the stages that ran (runs, "
+                        "seconds per step, share of the run); false leaves what depends on the "
+                        "model alone, the same from run to run and from solver to solver, and "
+                        "lists the stages by name");
       prm.declare_entry("Progress", "auto", Patterns::Selection("auto|on|off"),
                         "A progress line on standard error: auto shows it on a terminal");
       prm.declare_entry("Compare with corotational", "false", Patterns::Bool(),

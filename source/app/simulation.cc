@@ -12,7 +12,9 @@
 
 #include <cmath>
 #include <cstdio>
+#include <iomanip>
 #include <iostream>
+#include <sstream>
 
 namespace warpchol::app
 {
@@ -71,8 +73,16 @@ namespace warpchol::app
       }
   }
 
+  void Simulation::add_vtu_seconds(const double seconds, const unsigned int runs)
+  {
+    // One file holds every body: each body's share of the output stage is its part.
+    for (auto &simulated : bodies)
+      simulated.totals.stages.add(stage::vtu_output, seconds / bodies.size(), runs);
+  }
+
   void Simulation::write_vtu(const unsigned int step)
   {
+    const Stopwatch stopwatch;
     std::vector<BodySnapshot> snapshots;
     for (const auto &simulated : bodies)
       {
@@ -81,6 +91,7 @@ namespace warpchol::app
                              integrator.velocities(), simulated.scene->model().update_record()});
       }
     vtu_series->write(step, bodies[0].scene->integrator().time(), std::move(snapshots));
+    add_vtu_seconds(stopwatch.seconds(), 1);
   }
 
   void Simulation::advance(SimulatedBody &simulated, const unsigned int step)
@@ -113,7 +124,7 @@ namespace warpchol::app
         t.columns_recomputed_pct += 100.0 * statistics.columns_recomputed / statistics.n_columns;
         t.flops_recomputed_pct += 100.0 * statistics.flops_recomputed / statistics.flops_full;
       }
-    t.seconds.add_phase_times(statistics);
+    t.stages.add(statistics.stages);
     t.cg_iterations += statistics.cg_iterations;
     if (statistics.update_threshold >= 0)
       {
@@ -140,6 +151,7 @@ namespace warpchol::app
     double error_vs_corotational = -1, rms_error_vs_corotational = -1;
     if (simulated.reference)
       {
+        StageTimer          timer(t.stages, stage::reference_run);
         fem::StepStatistics reference_statistics;
         try
           {
@@ -158,6 +170,7 @@ namespace warpchol::app
 
     if (simulated.log)
       {
+        StageTimer timer(t.stages, stage::log);
         StepLogRow row;
         row.step           = step;
         row.time           = integrator.time();
@@ -174,6 +187,8 @@ namespace warpchol::app
 
   void Simulation::run(std::ostream &out)
   {
+    // End to end: the initial VTU file and the log's creation count as part of the run.
+    const Stopwatch run_stopwatch;
     const auto &settings = parameters.output;
     if (settings.write_log || settings.vtu_interval > 0)
       create_directory(directory);
@@ -191,7 +206,6 @@ namespace warpchol::app
     const bool show_progress =
       settings.progress == "on" || (settings.progress == "auto" && isatty(fileno(stderr)));
     Stopwatch since_progress;
-    const Stopwatch run_stopwatch;
     const unsigned int n_steps = parameters.time_stepping.n_steps;
     for (unsigned int step = 1; step <= n_steps; ++step)
       {
@@ -240,7 +254,12 @@ namespace warpchol::app
     if (show_progress)
       std::cerr << std::endl;
     if (vtu_series)
-      vtu_series->finish();
+      {
+        // Waiting for the last file ends that file's run.
+        const Stopwatch stopwatch;
+        vtu_series->finish();
+        add_vtu_seconds(stopwatch.seconds(), 0);
+      }
     const double run_seconds = run_stopwatch.seconds();
     for (auto &simulated : bodies)
       simulated.totals.run_seconds = run_seconds;
@@ -361,21 +380,47 @@ namespace warpchol::app
     };
     out << "  energy at the end: kinetic " << energy(kinetic_energy) << ", elastic "
         << energy(elastic_energy) << "\n";
+    print_stages(out, simulated);
     if (timings)
       {
-        const double steps = std::max(1u, t.steps);
-        out << "  seconds per step: rotations " << n(t.seconds.t_rotations / steps)
-            << ", error estimate " << n(t.seconds.t_error_estimate / steps) << ", assembly "
-            << n(t.seconds.t_assembly / steps) << ", factor " << n(t.seconds.t_factor / steps)
-            << ", solve " << n(t.seconds.t_solve / steps) << ", iterations "
-            << n(t.seconds.t_iterations / steps) << ", step " << n(t.step_seconds / steps)
-            << "\n";
         out << "  set-up " << n(simulated.setup_seconds) << " s (model " << n(model.setup_seconds())
             << " s), time steps " << n(t.step_seconds) << " s; end to end (output included) "
             << n(t.run_seconds) << " s, " << n(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s\n";
       }
     if (simulated.log)
       out << "  log: " << simulated.log->filename() << "\n";
+  }
+
+  void Simulation::print_stages(std::ostream &out, const SimulatedBody &body) const
+  {
+    const auto &t = body.totals;
+    if (!parameters.output.print_timings)
+      {
+        // The names alone: what ran does not change from run to run, its seconds do.
+        out << "  stages: " << t.stages.names() << "\n";
+        return;
+      }
+    // Per stage: its runs, its seconds per step and its share of the run, end to end; what
+    // no stage holds (the run's bookkeeping, the progress line) is "other".
+    const double steps = std::max(1u, t.steps);
+    const double run   = std::max(t.run_seconds, 1e-12);
+    const auto   share = [&](const double seconds) {
+      std::ostringstream text;
+      text << std::fixed << std::setprecision(1) << 100 * seconds / run;
+      return text.str();
+    };
+    const auto row = [&](const std::string &name, const std::string &runs, const double seconds) {
+      out << "    " << std::left << std::setw(22) << name << std::right << std::setw(6) << runs
+          << std::setw(12) << format_number(seconds / steps, 3) << std::setw(8) << share(seconds) << " %\n";
+    };
+    out << "  stages: " << std::left << std::setw(16) << "" << std::right << std::setw(6) << "runs"
+        << std::setw(12) << "s per step" << std::setw(10) << "share" << "\n";
+    for (const auto &stage : t.stages.stages())
+      row(stage.name, std::to_string(stage.runs), stage.seconds);
+    row("other", "", std::max(0.0, t.run_seconds - t.stages.total_seconds()));
+    out << "    " << std::left << std::setw(22) << "time steps" << std::right << std::setw(6) << t.steps
+        << std::setw(12) << format_number(t.step_seconds / steps, 3) << std::setw(8)
+        << share(t.step_seconds) << " %\n";
   }
 
   unsigned int Simulation::n_bodies() const

@@ -1,4 +1,3 @@
-#include <warpchol/base/stopwatch.h>
 #include <warpchol/fem/corotational_model.h>
 
 namespace warpchol::fem
@@ -24,14 +23,15 @@ namespace warpchol::fem
     evaluate_elastic_state(positions, ElasticBody::Rotations::elements, statistics);
     const auto &element_rotations = elastic_state.element_rotations;
 
-    Stopwatch stopwatch;
-    // The nodal rotations of the general warped form are the identity here.
-    const std::array<Matrix3, 4> identity{
-      {Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity()}};
-    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
-      matrix = warped_element_matrix(body, e, coefficients, identity, element_rotations[e]);
-    });
-    statistics.t_assembly += stopwatch.seconds();
+    {
+      StageTimer timer(statistics.stages, stage::assembly);
+      // The nodal rotations of the general warped form are the identity here.
+      const std::array<Matrix3, 4> identity{
+        {Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity()}};
+      system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
+        matrix = warped_element_matrix(body, e, coefficients, identity, element_rotations[e]);
+      });
+    }
     statistics.elements_updated = body.n_elements();
     record_updates(true);
 

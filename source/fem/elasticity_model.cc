@@ -12,14 +12,39 @@
 
 namespace warpchol::fem
 {
+  double StepStatistics::t_rotations() const
+  {
+    return stages.seconds(stage::rotations) + stages.seconds(stage::elastic_forces);
+  }
+
+  double StepStatistics::t_error_estimate() const
+  {
+    return stages.seconds(stage::error_estimate);
+  }
+
+  double StepStatistics::t_assembly() const
+  {
+    return stages.seconds(stage::assembly);
+  }
+
+  double StepStatistics::t_factor() const
+  {
+    return stages.seconds(stage::factorization);
+  }
+
+  double StepStatistics::t_solve() const
+  {
+    return stages.seconds(stage::solve);
+  }
+
+  double StepStatistics::t_iterations() const
+  {
+    return stages.seconds(stage::cg_iterations);
+  }
+
   void StepStatistics::add_phase_times(const StepStatistics &step)
   {
-    t_rotations += step.t_rotations;
-    t_error_estimate += step.t_error_estimate;
-    t_assembly += step.t_assembly;
-    t_factor += step.t_factor;
-    t_solve += step.t_solve;
-    t_iterations += step.t_iterations;
+    stages.add(step.stages);
   }
 
   ElasticityModel::ElasticityModel(const ElasticBody &body, const SystemCoefficients &coefficients,
@@ -46,9 +71,14 @@ namespace warpchol::fem
                                                const ElasticBody::Rotations rotations,
                                                StepStatistics             &statistics)
   {
-    Stopwatch stopwatch;
+    StageTimer timer(statistics.stages, rotations == ElasticBody::Rotations::none ? stage::elastic_forces :
+                                                                                      stage::rotations);
     body.evaluate(positions, rotations, elastic_state);
-    statistics.t_rotations += stopwatch.seconds();
+  }
+
+  bool ElasticityModel::solves_iteratively() const
+  {
+    return strategy.iterates();
   }
 
   bool ElasticityModel::uses_rotations() const
@@ -87,7 +117,7 @@ namespace warpchol::fem
 
   void ElasticityModel::factorize(StepStatistics &statistics)
   {
-    Stopwatch stopwatch;
+    StageTimer timer(statistics.stages, stage::factorization);
     checked([&]() {
       if (cholesky_solver.statistics().n == 0)
         cholesky_solver.analyze(system.csc());
@@ -96,18 +126,16 @@ namespace warpchol::fem
     statistics.refresh = "full";
     last_refresh       = cholesky::Refresh::all;
     record_refactorization(statistics);
-    statistics.t_factor += stopwatch.seconds();
   }
 
   void ElasticityModel::refactorize(const std::vector<Index> &changed_columns,
                                     StepStatistics &statistics, const cholesky::Refresh refresh)
   {
-    Stopwatch stopwatch;
+    StageTimer timer(statistics.stages, stage::factorization);
     checked([&]() { cholesky_solver.refactorize(system.csc(), changed_columns, refresh); });
     statistics.refresh = to_string(refresh);
     last_refresh       = refresh;
     record_refactorization(statistics);
-    statistics.t_factor += stopwatch.seconds();
   }
 
   void ElasticityModel::record_refactorization(StepStatistics &statistics) const
@@ -140,9 +168,8 @@ namespace warpchol::fem
     last_cg_seconds    = 0;
     if (!strategy.iterates())
       {
-        Stopwatch stopwatch;
+        StageTimer timer(statistics.stages, stage::solve);
         cholesky_solver.solve(rotated, solution);
-        statistics.t_solve += stopwatch.seconds();
       }
     else
       {
@@ -165,10 +192,9 @@ namespace warpchol::fem
       }
     if (measure_velocity_error)
       {
-        Stopwatch stopwatch;
+        StageTimer timer(statistics.stages, stage::velocity_error);
         last_velocity_error       = relative_velocity_error(rotated, solution);
         statistics.velocity_error = last_velocity_error;
-        statistics.t_error_estimate += stopwatch.seconds();
       }
     from_solve_frame(solution.data(), velocities);
   }
@@ -273,8 +299,8 @@ namespace warpchol::fem
       last_cg_iterations = control.last_step();
       last_cg_seconds    = stopwatch.seconds();
       statistics.cg_iterations += control.last_step();
-      statistics.t_solve += solve_seconds;
-      statistics.t_iterations += last_cg_seconds - solve_seconds;
+      statistics.stages.add(stage::solve, solve_seconds);
+      statistics.stages.add(stage::cg_iterations, last_cg_seconds - solve_seconds);
     };
     try
       {

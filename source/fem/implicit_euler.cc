@@ -72,27 +72,42 @@ namespace warpchol::fem
         throw MatrixError("step " + std::to_string(step) + ": " + error.what());
       }
 
-    // rhs = M v + dt (f_ext + f_el(x) + k (target(t + dt) - x)).
-    std::vector<Vector3> forces = constant_forces;
-    model.add_elastic_forces(x, forces);
+    // rhs = M v + dt (f_ext + f_el(x) + k (target(t + dt) - x)). Rayleigh damping adds
+    // nothing here: in velocity form it lies in A alone (its coefficients c_M and c_K).
+    std::vector<Vector3> tool_forces;
     if (!loads.tool.vertices.empty())
       {
+        StageTimer    timer(statistics.stages, stage::tool_springs);
         const Vector3 offset = loads.tool.target_offset(new_time);
         for (const unsigned int i : loads.tool.vertices)
-          forces[i] += loads.tool.stiffness * (body.rest_positions()[i] + offset - x[i]);
+          tool_forces.push_back(loads.tool.stiffness * (body.rest_positions()[i] + offset - x[i]));
       }
     std::vector<Vector3> right_hand_side(body.n_vertices(), Vector3::Zero());
-    body.add_mass_times(v, right_hand_side);
-    for (unsigned int i = 0; i < body.n_vertices(); ++i)
-      right_hand_side[i] += time_step * forces[i];
+    {
+      StageTimer           timer(statistics.stages, stage::right_hand_side);
+      std::vector<Vector3> forces = constant_forces;
+      model.add_elastic_forces(x, forces);
+      for (std::size_t k = 0; k < tool_forces.size(); ++k)
+        forces[loads.tool.vertices[k]] += tool_forces[k];
+      body.add_mass_times(v, right_hand_side);
+      for (unsigned int i = 0; i < body.n_vertices(); ++i)
+        right_hand_side[i] += time_step * forces[i];
+    }
 
     // The initial guess of an iterative solve: the velocities extrapolated linearly from
-    // the last two steps (the last ones in the first step).
-    std::vector<Vector3> new_velocities = v;
-    if (!previous_v.empty())
-      for (unsigned int i = 0; i < body.n_vertices(); ++i)
-        new_velocities[i] += v[i] - previous_v[i];
+    // the last two steps (the last ones in the first step). A direct solve needs none.
+    std::vector<Vector3> new_velocities;
+    if (model.solves_iteratively())
+      {
+        StageTimer timer(statistics.stages, stage::initial_guess);
+        new_velocities = v;
+        if (!previous_v.empty())
+          for (unsigned int i = 0; i < body.n_vertices(); ++i)
+            new_velocities[i] += v[i] - previous_v[i];
+      }
     model.solve(right_hand_side, new_velocities, statistics);
+
+    StageTimer timer(statistics.stages, stage::position_update);
     // A velocity whose square overflows (|v| > 1e154 m/s) has long left physics: the
     // simulation diverged (stiffness warping can, as the report found).
     for (unsigned int i = 0; i < body.n_vertices(); ++i)

@@ -1,6 +1,5 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
-#include <warpchol/base/stopwatch.h>
 #include <warpchol/fem/warp_canceling_model.h>
 
 #include <deal.II/base/parallel.h>
@@ -210,7 +209,6 @@ namespace warpchol::fem
 
     evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
     record_no_refactorization(statistics);
-    Stopwatch stopwatch;
 
     // Updating an element stores its contribution with the current rotations: the system
     // matrix keeps it, the S_a and Q_e it was made with, until the next update.
@@ -222,9 +220,10 @@ namespace warpchol::fem
     if (threshold == 0)
       {
         // Every element is updated: exact corotation, assembled and factored in full.
-        stopwatch.restart();
-        system.assemble(contribution_of);
-        statistics.t_assembly += stopwatch.seconds();
+        {
+          StageTimer timer(statistics.stages, stage::assembly);
+          system.assemble(contribution_of);
+        }
         statistics.elements_updated = n_elements;
         record_updates(true);
         factorize(statistics);
@@ -237,28 +236,28 @@ namespace warpchol::fem
         return;
       }
 
-    stopwatch.restart();
+    StageTimer estimate_timer(statistics.stages, stage::error_estimate);
     const std::vector<unsigned int> update = elements_to_update(velocities);
-    statistics.t_error_estimate += stopwatch.seconds();
+    estimate_timer.stop();
     record_updates(update);
     statistics.elements_updated = update.size();
 
     std::vector<Index> changed_columns;
     if (!update.empty())
       {
-        stopwatch.restart();
+        StageTimer timer(statistics.stages, stage::assembly);
         changed_columns = system.reassemble(update, contribution_of);
-        statistics.t_assembly += stopwatch.seconds();
       }
     // Nothing changed and nothing is left stale: the factor is that of A.
     if (changed_columns.empty() && cholesky_solver.factor_is_exact())
       return;
-    const cholesky::Refresh refresh = choose_refresh(changed_columns);
+    const cholesky::Refresh refresh = choose_refresh(changed_columns, statistics);
     refactorize(changed_columns, statistics, refresh);
-    cost_model.record_factorization(statistics.flops_recomputed, statistics.t_factor);
+    cost_model.record_factorization(statistics.flops_recomputed, statistics.t_factor());
   }
 
-  cholesky::Refresh WarpCancelingModel::choose_refresh(const std::vector<Index> &changed_columns)
+  cholesky::Refresh WarpCancelingModel::choose_refresh(const std::vector<Index> &changed_columns,
+                                                       StepStatistics           &statistics)
   {
     using cholesky::Refresh;
     switch (strategy.kind)
@@ -280,6 +279,8 @@ namespace warpchol::fem
           {
             if (!cost_model.calibrated())
               return Refresh::all;
+            // Predicting the flops of each refresh walks the elimination tree three times.
+            StageTimer timer(statistics.stages, stage::refresh_choice);
             Refresh cheapest      = Refresh::all;
             double  least_seconds = std::numeric_limits<double>::infinity();
             for (const Refresh refresh : {Refresh::all, Refresh::below_top, Refresh::none})

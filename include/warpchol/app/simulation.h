@@ -19,6 +19,23 @@
  */
 namespace warpchol::app
 {
+  /**
+   * The stages of a run besides those of its steps (fem::stage), each only when asked for
+   * in the parameters.
+   */
+  namespace stage
+  {
+    /** The exact corotational run alongside, and the trajectory error against it. */
+    constexpr const char *reference_run = "reference run (error)";
+    /** A row of log.csv, with the elastic energy it needs. */
+    constexpr const char *log = "log";
+    /**
+     * What the run waits for of a VTU file: the copy of the state and the end of the file
+     * before (the files are written in the background).
+     */
+    constexpr const char *vtu_output = "VTU output";
+  } // namespace stage
+
   /** Totals over the steps of a run, for the summary. */
   struct RunTotals
   {
@@ -43,7 +60,8 @@ namespace warpchol::app
     double       max_velocity_error = 0;
     /** Steps per refresh of the factor: "full", "all", "below_top", "none". */
     std::map<std::string, unsigned int> refreshes;
-    fem::StepStatistics seconds;
+    /** The stages that ran: the steps' (fem::stage) and the run's own (app::stage). */
+    StageTimes   stages;
     double       step_seconds = 0;
     /** The whole run: steps, log, VTU files (the initial one included). */
     double       run_seconds = 0;
@@ -99,9 +117,16 @@ namespace warpchol::app
     void advance(SimulatedBody &body, unsigned int step);
     /** Write the VTU file of @p step, every body in it. */
     void write_vtu(unsigned int step);
+    /** Account @p seconds of VTU output (@p runs files) to the bodies, in equal parts. */
+    void add_vtu_seconds(double seconds, unsigned int runs);
 
     void print_summary(std::ostream &out) const;
     void print_body_summary(std::ostream &out, const SimulatedBody &body) const;
+    /**
+     * The summary's stages: with Print timings, a table of their runs, seconds per step and
+     * shares of the run; without, their names only (the same in every run).
+     */
+    void print_stages(std::ostream &out, const SimulatedBody &body) const;
 
     AllParameters                 parameters;
     std::vector<SimulatedBody>    bodies;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/stage_times.h>
 #include <warpchol/base/types.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
@@ -20,6 +21,42 @@
  */
 namespace warpchol::fem
 {
+  /**
+   * The stages of a time step, in the order a step runs them, as StepStatistics::stages
+   * names them. A step runs only those its scene needs: no rotations for the linear model,
+   * no estimate for WCC at threshold 0 or inf, no factorization when no element changed, no
+   * tool springs without a tool, no CG for a direct solve.
+   */
+  namespace stage
+  {
+    /** The fused element pass with rotations: element (and nodal) rotations, corotated forces, energy. */
+    constexpr const char *rotations = "rotations";
+    /** The element pass of the linear model: forces -K_e (x_e - X_e), no rotation. */
+    constexpr const char *elastic_forces = "elastic forces";
+    /** WCC's error estimate per element. */
+    constexpr const char *error_estimate = "error estimate";
+    /** (Re-)assembly of the element contributions to A. */
+    constexpr const char *assembly = "assembly";
+    /** The automatic strategy's choice of a refresh: the flops each would take. */
+    constexpr const char *refresh_choice = "refresh choice";
+    /** Full or partial numeric factorization of A. */
+    constexpr const char *factorization = "factorization";
+    /** The tool's spring forces k (target - x), added to the right-hand side. */
+    constexpr const char *tool_springs = "tool springs";
+    /** M v + dt (gravity, constant, elastic and tool forces). */
+    constexpr const char *right_hand_side = "right-hand side";
+    /** The velocities extrapolated from the last two steps, as CG's initial guess. */
+    constexpr const char *initial_guess = "initial guess";
+    /** The triangular solves with the factor (directly, or as CG's preconditioner). */
+    constexpr const char *solve = "solve";
+    /** Preconditioned CG without its triangular solves: products and vector operations. */
+    constexpr const char *cg_iterations = "CG iterations";
+    /** WCC with a target error: the step's velocity error against exact corotation. */
+    constexpr const char *velocity_error = "velocity error";
+    /** x += dt v, with the check that the velocities are finite. */
+    constexpr const char *position_update = "position update";
+  } // namespace stage
+
   /** What one step of a model did and what it cost (wall-clock seconds). */
   struct StepStatistics
   {
@@ -34,14 +71,19 @@ namespace warpchol::fem
     double flops_recomputed = 0;
     double flops_full       = 0;
 
-    double t_rotations      = 0;
-    double t_error_estimate = 0;
-    double t_assembly       = 0;
-    double t_factor         = 0;
-    /** The triangular solves with the factor (directly, or as CG's preconditioner). */
-    double t_solve          = 0;
-    /** Preconditioned CG without its triangular solves: products and vector operations. */
-    double t_iterations     = 0;
+    /** The stages the step ran (names in fem::stage), with their seconds. */
+    StageTimes stages;
+
+    /**
+     * The seconds of the stages under the names of the log's columns. The element pass
+     * counts as rotations with or without them (the linear model's elastic forces).
+     */
+    double t_rotations() const;
+    double t_error_estimate() const;
+    double t_assembly() const;
+    double t_factor() const;
+    double t_solve() const;
+    double t_iterations() const;
 
     /** How much of the factor was brought up to date ("all", "below_top", "none"; "" if nothing changed). */
     std::string refresh;
@@ -55,7 +97,7 @@ namespace warpchol::fem
     /** The WCC update threshold of the step (negative for the other models). */
     double update_threshold = -1;
 
-    /** Add the phase times (t_*) of @p step to these: totals over steps. */
+    /** Add the stage times of @p step to these: totals over steps. */
     void add_phase_times(const StepStatistics &step);
   };
 
@@ -120,6 +162,12 @@ namespace warpchol::fem
     void solve(const std::vector<Vector3> &right_hand_side, std::vector<Vector3> &velocities,
                StepStatistics &statistics);
 
+    /**
+     * Whether solve() iterates (preconditioned CG, which starts from the velocities it is
+     * given) rather than solving directly with the factor.
+     */
+    bool solves_iteratively() const;
+
     /** Whether the model uses rotations at all (all but the linear one). */
     virtual bool uses_rotations() const;
 
@@ -155,7 +203,8 @@ namespace warpchol::fem
 
     /**
      * The fused element pass at @p positions (ElasticBody::evaluate): rotations as the
-     * model needs them, corotated forces, energy; timed as the step's rotations.
+     * model needs them, corotated forces, energy; timed as the step's stage "rotations",
+     * or "elastic forces" without rotations.
      */
     void evaluate_elastic_state(const std::vector<Vector3> &positions,
                                 ElasticBody::Rotations rotations, StepStatistics &statistics);
@@ -182,8 +231,8 @@ namespace warpchol::fem
     /**
      * Whether solve() measures how far its solution is from the exact corotational one
      * (StepStatistics::velocity_error, kept in last_velocity_error): one matrix-free
-     * product with the corotational matrix and one solve with the factor, timed as the
-     * error estimate.
+     * product with the corotational matrix and one solve with the factor, the stage
+     * "velocity error".
      */
     bool                     measure_velocity_error = false;
     double                   last_velocity_error    = -1;

@@ -104,8 +104,9 @@ namespace warpchol::fem
      */
     std::vector<std::array<Matrix3, 4>> stored_frames;
 
-    /** The refresh of this step's factor, as the strategy says. */
-    cholesky::Refresh choose_refresh(const std::vector<Index> &changed_columns);
+    /** The refresh of this step's factor, as the strategy says (timed if it weighs them). */
+    cholesky::Refresh choose_refresh(const std::vector<Index> &changed_columns,
+                                     StepStatistics           &statistics);
 
     /** Work array of the estimate: R_v^T v_v per vertex. */
     std::vector<Vector3> nodal_velocities;
