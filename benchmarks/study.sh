@@ -19,11 +19,12 @@ command -v gnuplot > /dev/null ||
 partial_thresholds=0.03,0.1,0.3,1,3,inf
 strategies=delayed_top,preconditioned,auto
 strategy_thresholds=0.3,1,inf
+target_errors=0.003,0.01,0.03
 
 for scene in torus_pull_fine liver raptor; do
   echo "== $scene"
   "$build/warpchol-threshold-sweep" "parameters/$scene.prm" --threads "$threads" \
     --thresholds "$partial_thresholds" --strategies "$strategies" \
-    --strategy-thresholds "$strategy_thresholds" --csv "$out/$scene.csv" > "$out/$scene.txt"
+    --strategy-thresholds "$strategy_thresholds" --target-errors "$target_errors" --csv "$out/$scene.csv" > "$out/$scene.txt"
   cat "$out/$scene.txt"
 done

@@ -8,10 +8,12 @@
  *
  *   warpchol-threshold-sweep PARAMS.prm [--thresholds 0,0.03,0.1,0.3,1,inf]
  *       [--strategies delayed_top,preconditioned,auto] [--strategy-thresholds 0.3,1,inf]
- *       [--threads N] [--csv FILE]
+ *       [--target-errors 0.003,0.01,0.03] [--threads N] [--csv FILE]
  *
  * The partial strategy (direct solve of the WCC system) runs at every --thresholds; each
- * of --strategies at every --strategy-thresholds, with the scene's CG settings. The
+ * of --strategies at every --strategy-thresholds, with the scene's CG settings; the partial
+ * strategy with each of --target-errors (Model/Target error, from threshold 0.3), rows
+ * wcc_target whose threshold column is the target. The
  * scene's model entries are overridden; its output entries are ignored. The CSV goes to
  * output/SCENE/threshold_sweep.csv unless --csv says otherwise; beside it, with the same
  * name, the gnuplot script (.gp) and the plot (.png) of error against seconds per step.
@@ -49,12 +51,15 @@ namespace
 
   const char *usage =
     "usage: warpchol-threshold-sweep PARAMS.prm [--thresholds T1,T2,...] [--strategies S1,...]\n"
-    "                                [--strategy-thresholds T1,...] [--threads N] [--csv FILE]\n"
+    "                                [--strategy-thresholds T1,...] [--target-errors E1,...]\n"
+    "                                [--threads N] [--csv FILE]\n"
     "  --thresholds           WCC thresholds of the partial strategy, numbers >= 0 or inf\n"
     "                         (default 0,0.03,0.1,0.3,1,inf)\n"
     "  --strategies           the other step strategies to run (default\n"
     "                         delayed_top,preconditioned,auto; 'none' for none)\n"
     "  --strategy-thresholds  their thresholds (default 0.3,1,inf)\n"
+    "  --target-errors        WCC target errors (partial strategy, the threshold adapted;\n"
+    "                         default none)\n"
     "  --threads N            Solver/Threads of every run (default: the scene's)\n"
     "  --csv FILE             where the table goes as CSV (default output/SCENE/threshold_sweep.csv);\n"
     "                         the plot of error against time goes beside it, FILE.png drawn by\n"
@@ -68,6 +73,7 @@ namespace
                                                     fem::StepStrategy::Kind::preconditioned,
                                                     fem::StepStrategy::Kind::automatic};
     std::vector<double> strategy_thresholds{0.3, 1, std::numeric_limits<double>::infinity()};
+    std::vector<double> target_errors;
     unsigned int        threads = 0;
     std::string         csv_file;
   };
@@ -114,6 +120,13 @@ namespace
           options.thresholds = parse_thresholds(argument, command_line.value_of(argument));
         else if (argument == "--strategy-thresholds")
           options.strategy_thresholds = parse_thresholds(argument, command_line.value_of(argument));
+        else if (argument == "--target-errors")
+          {
+            options.target_errors = parse_thresholds(argument, command_line.value_of(argument));
+            for (const double target : options.target_errors)
+              if (!(target > 0 && target < 1))
+                throw InputError("--target-errors: " + format_number(target) + " is not in (0, 1)");
+          }
         else if (argument == "--strategies")
           {
             options.strategies.clear();
@@ -171,6 +184,8 @@ namespace
   std::string row_name(const app::AllParameters &parameters)
   {
     const auto kind = parameters.model.strategy.kind;
+    if (parameters.model.type == "warp_canceling" && parameters.model.target_error > 0)
+      return "wcc_target";
     if (parameters.model.type != "warp_canceling" || kind == fem::StepStrategy::Kind::partial)
       return parameters.model.type;
     return "wcc_" + fem::to_string(kind);
@@ -183,7 +198,8 @@ namespace
   {
     SweepRow row;
     row.model     = row_name(parameters);
-    row.threshold = parameters.model.update_threshold;
+    row.threshold = parameters.model.target_error > 0 ? parameters.model.target_error :
+                                                         parameters.model.update_threshold;
     app::Scene  scene(parameters);
     for (unsigned int step = 1; step <= parameters.time_stepping.n_steps; ++step)
       {
@@ -282,6 +298,8 @@ namespace
   {
     if (model == "warp_canceling")
       return "WCC partial";
+    if (model == "wcc_target")
+      return "WCC target error";
     if (model.rfind("wcc_", 0) == 0)
       return "WCC " + model.substr(4);
     return model;
@@ -409,6 +427,15 @@ namespace
           wcc.model.strategy.kind    = kind;
           runs.push_back(wcc);
         }
+    for (const double target : options.target_errors)
+      {
+        app::AllParameters wcc     = parameters;
+        wcc.model.type             = "warp_canceling";
+        wcc.model.update_threshold = 0.3;
+        wcc.model.target_error     = target;
+        wcc.model.strategy.kind    = fem::StepStrategy::Kind::partial;
+        runs.push_back(wcc);
+      }
     std::vector<SweepRow> rows{exact};
     for (const auto &run_parameters : runs)
       {
@@ -441,7 +468,9 @@ namespace
                             "corotational", exact_per_step);
     for (const auto &row : rows)
       if (&row != &rows.front() && row.failure.empty())
-        plot.add({plot_group(row.model), format_number(row.threshold), row.seconds / std::max(1u, row.steps),
+        plot.add({plot_group(row.model),
+                  row.model == "wcc_target" ? format_number(100 * row.threshold) + "%" : format_number(row.threshold),
+                  row.seconds / std::max(1u, row.steps),
                   row.error.max_error(), row.error.max_rms_error()});
     if (plot.write(stem + ".gp", stem + ".png", std::cout))
       std::cout << "plot: " << stem + ".png" << " (script " << stem + ".gp" << ")" << std::endl;
