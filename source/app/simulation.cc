@@ -4,6 +4,7 @@
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/ordering.h>
+#include <warpchol/fem/energy_balance.h>
 #include <warpchol/fem/warp_canceling_model.h>
 
 #include <deal.II/base/exceptions.h>
@@ -56,6 +57,9 @@ namespace warpchol::app
     if (vtu_series)
       vtu_series->write(0, 0, body, integrator.displacements(), integrator.velocities(),
                         model.update_record());
+
+    fem::EnergyBalance energy_balance(body);
+    energy_balance.record(integrator);
 
     const bool show_progress =
       settings.progress == "on" || (settings.progress == "auto" && isatty(fileno(stderr)));
@@ -126,6 +130,7 @@ namespace warpchol::app
           }
 
         const double kinetic_energy = integrator.kinetic_energy();
+        energy_balance.record(integrator);
         if (step_log)
           {
             StepLogRow row;
@@ -136,9 +141,16 @@ namespace warpchol::app
             row.step_seconds   = step_seconds;
             row.kinetic_energy = kinetic_energy;
             row.elastic_energy = integrator.elastic_energy();
+            row.potential_energy = integrator.potential_energy();
+            row.tool_energy      = integrator.tool_energy();
+            row.total_energy     = integrator.total_energy();
+            row.external_work    = integrator.external_work();
+            row.tool_work_on_body = integrator.tool_work_on_body();
+            row.energy_ratio     = energy_balance.ratio();
             row.error_vs_corotational = error_vs_corotational;
             step_log->add(row);
           }
+        check_energy(energy_balance, step);
         if (vtu_series && step % settings.vtu_interval == 0)
           vtu_series->write(step, integrator.time(), body, integrator.displacements(),
                             integrator.velocities(), model.update_record());
@@ -160,6 +172,28 @@ namespace warpchol::app
       vtu_series->finish();
     run_totals.run_seconds = run_stopwatch.seconds();
     print_summary(out);
+  }
+
+  void Simulation::check_energy(const fem::EnergyBalance &balance, const unsigned int step)
+  {
+    const double limit = parameters.time_stepping.energy_growth_limit;
+    const bool   not_finite = !balance.all_finite();
+    if (!not_finite && !(limit > 0 && balance.ratio() > limit))
+      return;
+    // Stop before writing the runaway state; what earlier steps wrote stays complete.
+    if (vtu_series)
+      vtu_series->finish();
+    const auto  &integrator = simulated_scene->integrator();
+    const std::string where = "step " + std::to_string(step) + ": the energy of " +
+                              simulated_scene->model().name();
+    if (not_finite)
+      throw SimulationError(where + " is not finite: the simulation diverged");
+    throw SimulationError(where + " grew to " + format_number(balance.held_energy(), 3) +
+                          " J (start " + format_number(integrator.initial_energy(), 3) +
+                          " J, work of the external loads " +
+                          format_number(balance.energy_put_in() - integrator.initial_energy(), 3) +
+                          " J), over Time stepping/Energy growth limit = " + format_number(limit) +
+                          " times what was put in: the simulation diverged");
   }
 
   void Simulation::print_summary(std::ostream &out) const

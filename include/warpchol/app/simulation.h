@@ -3,6 +3,7 @@
 #include <warpchol/app/output.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
+#include <warpchol/fem/energy_balance.h>
 
 #include <map>
 #include <memory>
@@ -51,7 +52,9 @@ namespace warpchol::app
     /**
      * Run the steps, writing the log and VTU files if asked, and print the summary to
      * @p out. If a step fails, what earlier steps wrote stays and the error (naming the
-     * step) propagates.
+     * step) propagates: MatrixError for a factorization that fails, SimulationError for a
+     * run whose energy grows past Time stepping/Energy growth limit (logged, not written
+     * as VTU) or stops being finite.
      */
     void run(std::ostream &out);
 
@@ -62,6 +65,13 @@ namespace warpchol::app
 
   private:
     void print_summary(std::ostream &out) const;
+
+    /**
+     * After step @p step: throw SimulationError naming the step, the model and the energies
+     * if an energy is not finite or the body holds more than Time stepping/Energy growth
+     * limit times the energy put into it, once the VTU files written so far are complete.
+     */
+    void check_energy(const fem::EnergyBalance &balance, unsigned int step);
 
     AllParameters                 parameters;
     std::unique_ptr<Scene>        simulated_scene;
