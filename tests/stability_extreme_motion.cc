@@ -12,6 +12,11 @@
 
 #include "stability_tests.h"
 
+#include <warpchol/app/simulation.h>
+
+#include <regex>
+#include <sstream>
+
 int main()
 {
   const auto models = tests::stability_models();
@@ -68,4 +73,17 @@ int main()
   for (const auto &[label, model] : models)
     tests::print_stability_row("release after stretch", label,
                                tests::run_stability_case(release.text(), model, 200, stretched));
+
+  // The program stops the runaway spin of stiffness warping with one line (Time
+  // stepping/Energy growth limit at its default, 10), its figures masked here.
+  tests::write_file("runaway_spin.prm",
+                    std::regex_replace(spin.text(), std::regex("  set Energy growth limit = 0\n"), "") +
+                      "subsection Model\n  set Type = stiffness_warping\nend\n"
+                      "subsection Time stepping\n  set Number of steps = 200\nend\n"
+                      "subsection Output\n  set Directory = results\n  set Write log = true\nend\n");
+  std::vector<const char *> argv{"warpchol", "runaway_spin.prm"};
+  std::ostringstream        out, err;
+  const int                 status = warpchol::app::main(argv.size(), argv.data(), out, err);
+  std::cout << "runaway spin, stiffness_warping: exit " << status << ", "
+            << std::regex_replace(err.str(), std::regex(R"([0-9][0-9.e+-]*)"), "#");
 }
