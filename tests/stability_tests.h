@@ -22,6 +22,7 @@
 #include <iomanip>
 #include <iostream>
 #include <limits>
+#include <regex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -41,7 +42,9 @@ namespace tests
             {"corotational", "  set Type = corotational\n"},
             {"wcc_0.3", "  set Type = warp_canceling\n  set Update threshold = 0.3\n"},
             {"wcc_1_auto", "  set Type = warp_canceling\n  set Update threshold = 1\n"
-                           "  set Strategy = auto\n"}};
+                           "  set Strategy = auto\n"},
+            {"wcc_inf_precond", "  set Type = warp_canceling\n  set Update threshold = inf\n"
+                                "  set Strategy = preconditioned\n"}};
   }
 
   /**
@@ -200,5 +203,9 @@ namespace tests
     if (run.runaway_step > 0)
       std::cout << " (runaway)";
     std::cout << std::endl;
+    // What stopped the run, its figures masked (they depend on the last bits).
+    if (!run.error.empty())
+      std::cout << "  stopped: " << std::regex_replace(run.error, std::regex(R"([0-9][0-9.e+-]*)"), "#")
+                << std::endl;
   }
 } // namespace tests

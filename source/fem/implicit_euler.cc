@@ -132,7 +132,14 @@ namespace warpchol::fem
     if (!previous_v.empty())
       for (unsigned int i = 0; i < body.n_vertices(); ++i)
         new_velocities[i] += v[i] - previous_v[i];
-    model.solve(right_hand_side, new_velocities, statistics);
+    try
+      {
+        model.solve(right_hand_side, new_velocities, statistics);
+      }
+    catch (const MatrixError &error)
+      {
+        throw MatrixError("step " + std::to_string(step) + ": " + error.what());
+      }
     // A velocity whose square overflows (|v| > 1e154 m/s) has long left physics: the
     // simulation diverged (stiffness warping can, as the report found).
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
