@@ -145,12 +145,12 @@ namespace warpchol::app
             row.step_seconds   = step_seconds;
             row.kinetic_energy = kinetic_energy;
             row.elastic_energy = integrator.elastic_energy();
-            row.potential_energy = integrator.potential_energy();
-            row.tool_energy      = integrator.tool_energy();
-            row.total_energy     = integrator.total_energy();
-            row.external_work    = integrator.external_work();
+            row.potential_energy  = integrator.potential_energy();
+            row.tool_energy       = integrator.tool_energy();
+            row.total_energy      = integrator.total_energy();
+            row.external_work     = integrator.external_work();
             row.tool_work_on_body = integrator.tool_work_on_body();
-            row.energy_ratio     = energy_balance.ratio();
+            row.energy_ratio      = energy_balance.ratio();
             row.error_vs_corotational = error_vs_corotational;
             step_log->add(row);
           }
@@ -181,14 +181,14 @@ namespace warpchol::app
 
   void Simulation::check_energy(const fem::EnergyBalance &balance, const unsigned int step)
   {
-    const double limit = parameters.time_stepping.energy_growth_limit;
+    const double limit      = parameters.time_stepping.energy_growth_limit;
     const bool   not_finite = !balance.all_finite();
     if (!not_finite && !(limit > 0 && balance.ratio() > limit))
       return;
     // Stop before writing the runaway state; what earlier steps wrote stays complete.
     if (vtu_series)
       vtu_series->finish();
-    const auto  &integrator = simulated_scene->integrator();
+    const auto       &integrator = simulated_scene->integrator();
     const std::string where = "step " + std::to_string(step) + ": the energy of " +
                               simulated_scene->model().name();
     if (not_finite)
