@@ -102,6 +102,9 @@ int main()
   run_scene("density = 0", "zero_density.prm", scene("subsection Material\n  set Density = 0\nend\n"));
   run_scene("negative time step", "negative_dt.prm", scene("subsection Time stepping\n  set Time step = -0.01\nend\n"));
   run_scene("time step = 0", "zero_dt.prm", scene("subsection Time stepping\n  set Time step = 0\nend\n"));
+  run_scene("energy growth limit below 1", "growth_limit.prm", scene("subsection Time stepping\n  set Energy growth limit = 0.5\nend\n"));
+  run_scene("angular velocity of 2 components", "angular_velocity.prm", scene("subsection Initial state\n  set Angular velocity = 1, 2\nend\n"));
+  run_scene("box grading below 1", "box_grading.prm", scene("subsection Mesh\n  set Source = box\n  set Box grading = 0.5\nend\n"));
   run_scene("threshold not a number", "threshold_text.prm", scene("subsection Model\n  set Update threshold = often\nend\n"));
   run_scene("negative threshold", "threshold_negative.prm", scene("subsection Model\n  set Update threshold = -1\nend\n"));
   run_scene("unknown model", "unknown_model.prm", scene("subsection Model\n  set Type = magic\nend\n"));

@@ -81,8 +81,10 @@ int main()
     }
   tests::check("the folder holds the log, the series and 3 VTU files, nothing else", n_files == 5);
 
-  // Stiffness warping under a violent pull diverges (the report's "explosion"): the run
-  // stops with status 1 at the step that failed, and the log keeps every step before it.
+  // Stiffness warping under a violent pull diverges (the report's "explosion"): the energy
+  // detector stops the run with status 1 at the step whose energy passed the limit, long
+  // before the velocities overflow; the log keeps every step up to that one, the VTU series
+  // every file written before it.
   tests::write_file("diverging.prm",
                     "subsection Mesh\n  set Source = torus\n  set Torus toroidal cells = 8\nend\n"
                     "subsection Time stepping\n  set Time step = 0.02\n  set Number of steps = 400\nend\n"
@@ -92,18 +94,26 @@ int main()
                     "subsection Tool\n  set Region = sphere\n  set Sphere center = 0.4, 0, 0\n"
                     "  set Sphere radius = 0.06\n  set Spring stiffness = 200\n"
                     "  set Velocity = 0, 3, -3\n  set Duration = 1\nend\n"
-                    "subsection Output\n  set Directory = results\n  set Write log = true\nend\n");
+                    "subsection Output\n  set Directory = results\n  set Write log = true\n"
+                    "  set VTU interval = 5\nend\n");
   std::string message;
   const int   status = run({"diverging.prm"}, &message);
   std::smatch step;
-  const bool  named  = std::regex_search(message, step, std::regex(R"(step (\d+): .* diverged)"));
-  tests::check("a diverging run exits with 1, naming the step", status == 1 && named);
+  const bool  named  = std::regex_search(
+    message, step, std::regex(R"(step (\d+): the energy of stiffness_warping grew to .* J \(start 0 J, work of the external loads .* J\), over .*: the simulation diverged)"));
+  tests::check("a diverging run exits with 1, naming the step, the model and the energies", status == 1 && named);
   std::istringstream partial_log(read("results/diverging/log.csv"));
   unsigned int       logged_rows = 0;
   while (std::getline(partial_log, line))
     ++logged_rows;
-  tests::check("its log holds the header and every step before the failing one",
-               named && logged_rows == std::stoul(step[1].str()));
+  const unsigned int failing_step = named ? std::stoul(step[1].str()) : 0;
+  tests::check("its log holds the header and every step up to the failing one",
+               named && logged_rows == failing_step + 1);
+  const std::string diverging_pvd = read("results/diverging/diverging.pvd");
+  unsigned int vtu_files = 0;
+  for (auto at = diverging_pvd.find(".vtu"); at != std::string::npos; at = diverging_pvd.find(".vtu", at + 1))
+    ++vtu_files;
+  tests::check("its VTU series holds every file before the failing step", named && vtu_files == (failing_step - 1) / 5 + 1);
 
   tests::check("--print-parameters defaults.prm exits with 0", run({"--print-parameters", "defaults.prm"}) == 0);
   std::ostringstream printed;

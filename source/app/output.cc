@@ -153,7 +153,8 @@ namespace warpchol::app
     return std::string(
              "step,time,elements_updated,elements_updated_pct,refactorized,columns_recomputed_pct,"
              "flops_recomputed_pct,refresh,cg_iterations,t_rotations,t_error_estimate,t_assembly,"
-             "t_factor,t_solve,t_iterations,t_step,kinetic_energy,elastic_energy,update_threshold,"
+             "t_factor,t_solve,t_iterations,t_step,kinetic_energy,elastic_energy,potential_energy,"
+             "tool_energy,total_energy,external_work,tool_work_on_body,energy_ratio,update_threshold,"
              "velocity_error") +
            (with_error ? ",error_vs_corotational,rms_error_vs_corotational" : "");
   }
@@ -171,7 +172,9 @@ namespace warpchol::app
          << percent(s.flops_recomputed, s.flops_full) << "," << s.refresh << "," << s.cg_iterations
          << "," << s.t_rotations() << "," << s.t_error_estimate() << "," << s.t_assembly() << ","
          << s.t_factor() << "," << s.t_solve() << "," << s.t_iterations() << "," << row.step_seconds << "," << std::setprecision(10) << row.kinetic_energy << ","
-         << row.elastic_energy << "," << std::setprecision(6);
+         << row.elastic_energy << "," << row.potential_energy << "," << row.tool_energy << ","
+         << row.total_energy << "," << row.external_work << "," << row.tool_work_on_body << ","
+         << std::setprecision(6) << row.energy_ratio << ",";
     // Empty where the model has no threshold or did not measure its error.
     if (s.update_threshold >= 0)
       line << s.update_threshold;

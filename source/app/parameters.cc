@@ -228,6 +228,15 @@ namespace warpchol::app
       prm.declare_entry("Box subdivisions", "8, 2, 2",
                         Patterns::List(Patterns::Integer(1, 1000), 3, 3, ","),
                         "Source = box: hexahedra along x, y, z (each becomes 24 tetrahedra)");
+      prm.declare_entry("Box grading", "1", Patterns::Double(1),
+                        "Source = box: >= 1; the hexahedra grow geometrically along every axis, "
+                        "the last this many times as long as the first (a graded mesh whose "
+                        "element sizes span this factor)");
+      prm.declare_entry("Box sliver flattening", "1", Patterns::Double(0, 1),
+                        "Source = box: in (0, 1]; below 1, each hexahedron becomes the 6 "
+                        "tetrahedra around its main diagonal and the box is flattened by this "
+                        "factor along (-1, 0, 1): slivers, flat tetrahedra without a short edge "
+                        "(a parallelepiped body)");
       prm.leave_subsection();
     }
 
@@ -254,6 +263,10 @@ namespace warpchol::app
       const fem::Vector3 upper = get_vector(prm, "Box upper corner");
       if (source == "box" && !(upper.array() > lower.array()).all())
         file.fail(prm, "Mesh", "Box upper corner", "must lie above Box lower corner along every axis");
+      box.grading           = prm.get_double("Box grading");
+      box.sliver_flattening = prm.get_double("Box sliver flattening");
+      if (!(box.sliver_flattening > 0))
+        file.fail(prm, "Mesh", "Box sliver flattening", "must be > 0 (a flat box has no volume)");
       const auto subdivisions = dealii::Utilities::split_string_list(prm.get("Box subdivisions"), ',');
       for (unsigned int d = 0; d < 3; ++d)
         {
@@ -312,6 +325,12 @@ namespace warpchol::app
                         "If > 0, stop once the kinetic energy (J) falls below it after the "
                         "first step: the body is at rest. Needs a fixed vertex when gravity or "
                         "a region force acts (otherwise the body never comes to rest)");
+      prm.declare_entry("Energy growth limit", "10", Patterns::Double(0),
+                        "Stop with an error (status 1) once the energy the body holds "
+                        "(kinetic, elastic, tool springs) exceeds this many times the energy "
+                        "put into it (initial energy, work of the tool and of gravity and the "
+                        "region force): a diverging simulation. Implicit Euler dissipates, so a "
+                        "stable run stays at or below 1; 0: never stop");
       prm.leave_subsection();
     }
 
@@ -323,7 +342,11 @@ namespace warpchol::app
       rayleigh_mass       = prm.get_double("Rayleigh mass");
       rayleigh_stiffness  = prm.get_double("Rayleigh stiffness");
       rest_kinetic_energy = prm.get_double("Rest kinetic energy");
+      energy_growth_limit = prm.get_double("Energy growth limit");
       require_positive(prm, file, "Time stepping", "Time step");
+      if (energy_growth_limit > 0 && energy_growth_limit < 1)
+        file.fail(prm, "Time stepping", "Energy growth limit",
+                  "must be 0 (off) or >= 1: a stable run may hold all the energy put in");
       prm.leave_subsection();
     }
 
@@ -463,6 +486,25 @@ namespace warpchol::app
       settings.n_threads          = prm.get_integer("Threads");
       settings.top_flops_fraction = prm.get_double("Top flops fraction");
       settings.single_precision_preconditioner = prm.get("Preconditioner precision") == "single";
+      prm.leave_subsection();
+    }
+
+    void InitialState::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Initial state");
+      prm.declare_entry("Linear velocity", "0, 0, 0", vector_pattern,
+                        "Initial velocity (m/s) of every vertex that is not fixed");
+      prm.declare_entry("Angular velocity", "0, 0, 0", vector_pattern,
+                        "Initial angular velocity (rad/s, a vector along the axis) about the "
+                        "rest centre of mass, added to the linear velocity: a spinning body");
+      prm.leave_subsection();
+    }
+
+    void InitialState::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &)
+    {
+      prm.enter_subsection("Initial state");
+      linear_velocity  = get_vector(prm, "Linear velocity");
+      angular_velocity = get_vector(prm, "Angular velocity");
       prm.leave_subsection();
     }
 
@@ -651,6 +693,7 @@ namespace warpchol::app
     parameters::TimeStepping::declare_parameters(prm);
     parameters::Model::declare_parameters(prm);
     parameters::Solver::declare_parameters(prm);
+    parameters::InitialState::declare_parameters(prm);
     parameters::FixedVertices::declare_parameters(prm);
     parameters::Gravity::declare_parameters(prm);
     parameters::RegionForce::declare_parameters(prm);
@@ -666,6 +709,7 @@ namespace warpchol::app
     time_stepping.parse_parameters(prm, file);
     model.parse_parameters(prm, file);
     solver.parse_parameters(prm, file);
+    initial_state.parse_parameters(prm, file);
     fixed_vertices.parse_parameters(prm, file);
     gravity.parse_parameters(prm, file);
     region_force.parse_parameters(prm, file);

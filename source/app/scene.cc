@@ -64,6 +64,10 @@ namespace warpchol::app
       {
         fem::create_box(triangulation, mesh.box);
         mesh_text = "generated box";
+        if (mesh.box.grading > 1)
+          mesh_text += ", graded " + format_number(mesh.box.grading);
+        if (mesh.box.sliver_flattening < 1)
+          mesh_text += ", slivers flattened to " + format_number(mesh.box.sliver_flattening);
       }
     else
       {
@@ -174,6 +178,10 @@ namespace warpchol::app
     elasticity_model = create_model(all.model, *elastic_body, coefficients, all.solver.settings);
     time_integrator  = std::make_unique<fem::ImplicitEuler>(*elastic_body, *elasticity_model,
                                                            scene_loads, all.time_stepping.time_step);
+    const auto &initial = all.initial_state;
+    if (initial.linear_velocity.norm() > 0 || initial.angular_velocity.norm() > 0)
+      time_integrator->set_initial_velocities(fem::rigid_body_velocities(
+        *elastic_body, initial.linear_velocity, initial.angular_velocity));
   }
 
   const AllParameters &Scene::parameters() const

@@ -4,6 +4,7 @@
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/ordering.h>
+#include <warpchol/fem/energy_balance.h>
 #include <warpchol/fem/warp_canceling_model.h>
 
 #include <deal.II/base/exceptions.h>
@@ -52,6 +53,8 @@ namespace warpchol::app
             throw MatrixError(body_label(body_parameters, i) + ": " + error.what());
           }
         simulated.setup_seconds = stopwatch.seconds();
+        simulated.energy_balance = std::make_unique<fem::EnergyBalance>(simulated.scene->body());
+        simulated.energy_balance->record(simulated.scene->integrator());
         simulated.offset        = static_cast<double>(i) * parameters.bodies.spacing;
         if (n_bodies > 1)
           simulated.label = body_label(body_parameters, i);
@@ -168,6 +171,14 @@ namespace warpchol::app
         t.error_vs_corotational.add(error);
       }
 
+    // The balance needs the elastic energy, a pass over the elements: only when the
+    // detector or the log uses it.
+    const bool track_energy = parameters.time_stepping.energy_growth_limit > 0 || simulated.log;
+    if (track_energy)
+      {
+        StageTimer timer(t.stages, stage::energy_balance);
+        simulated.energy_balance->record(integrator);
+      }
     if (simulated.log)
       {
         StageTimer timer(t.stages, stage::log);
@@ -179,10 +190,18 @@ namespace warpchol::app
         row.step_seconds   = step_seconds;
         row.kinetic_energy = integrator.kinetic_energy();
         row.elastic_energy = integrator.elastic_energy();
+        row.potential_energy  = integrator.potential_energy();
+        row.tool_energy       = integrator.tool_energy();
+        row.total_energy      = integrator.total_energy();
+        row.external_work     = integrator.external_work();
+        row.tool_work_on_body = integrator.tool_work_on_body();
+        row.energy_ratio      = simulated.energy_balance->ratio();
         row.error_vs_corotational     = error_vs_corotational;
         row.rms_error_vs_corotational = rms_error_vs_corotational;
         simulated.log->add(row);
       }
+    if (track_energy)
+      check_energy(simulated, step);
   }
 
   void Simulation::run(std::ostream &out)
@@ -212,9 +231,25 @@ namespace warpchol::app
         bool all_at_rest = step > 1;
         for (auto &simulated : bodies)
           {
+            if (!simulated.stopped.empty())
+              continue;
             try
               {
                 advance(simulated, step);
+              }
+            catch (const SimulationError &error)
+              {
+                if (simulated.label.empty())
+                  {
+                    if (vtu_series)
+                      vtu_series->finish();
+                    throw;
+                  }
+                // One body of several diverged: it stays where it was (the report's
+                // side-by-side pictures show it), the others go on.
+                simulated.stopped = error.what();
+                std::cerr << "warpchol: " << simulated.label << ": " << simulated.stopped
+                          << "; it stops there, the other bodies go on" << std::endl;
               }
             catch (const Error &error)
               {
@@ -230,8 +265,9 @@ namespace warpchol::app
                   throw MatrixError(message);
                 throw Error(message);
               }
-            all_at_rest = all_at_rest && simulated.scene->integrator().kinetic_energy() <
-                                           parameters.time_stepping.rest_kinetic_energy;
+            all_at_rest = all_at_rest && (!simulated.stopped.empty() ||
+                                          simulated.scene->integrator().kinetic_energy() <
+                                            parameters.time_stepping.rest_kinetic_energy);
           }
         if (vtu_series && step % settings.vtu_interval == 0)
           write_vtu(step);
@@ -264,6 +300,29 @@ namespace warpchol::app
     for (auto &simulated : bodies)
       simulated.totals.run_seconds = run_seconds;
     print_summary(out);
+  }
+
+  void Simulation::check_energy(const SimulatedBody &simulated, const unsigned int step)
+  {
+    const auto  &balance    = *simulated.energy_balance;
+    const double limit      = parameters.time_stepping.energy_growth_limit;
+    const bool   not_finite = !balance.all_finite();
+    if (!not_finite && !(limit > 0 && balance.ratio() > limit))
+      return;
+    // Stop before writing the runaway state; what earlier steps wrote stays complete.
+    if (vtu_series)
+      vtu_series->finish();
+    const auto       &integrator = simulated.scene->integrator();
+    const std::string where = "step " + std::to_string(step) + ": the energy of " +
+                              simulated.scene->model().name();
+    if (not_finite)
+      throw SimulationError(where + " is not finite: the simulation diverged");
+    throw SimulationError(where + " grew to " + format_number(balance.held_energy(), 3) +
+                          " J (start " + format_number(integrator.initial_energy(), 3) +
+                          " J, work of the external loads " +
+                          format_number(balance.energy_put_in() - integrator.initial_energy(), 3) +
+                          " J), over Time stepping/Energy growth limit = " + format_number(limit) +
+                          " times what was put in: the simulation diverged");
   }
 
   void Simulation::print_summary(std::ostream &out) const
@@ -387,6 +446,8 @@ namespace warpchol::app
             << " s), time steps " << n(t.step_seconds) << " s; end to end (output included) "
             << n(t.run_seconds) << " s, " << n(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s\n";
       }
+    if (!simulated.stopped.empty())
+      out << "  stopped: " << simulated.stopped << "\n";
     if (simulated.log)
       out << "  log: " << simulated.log->filename() << "\n";
   }

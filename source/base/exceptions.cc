@@ -16,6 +16,10 @@ namespace warpchol
     : Error(one_line_message)
   {}
 
+  SimulationError::SimulationError(const std::string &one_line_message)
+    : Error(one_line_message)
+  {}
+
   namespace
   {
     std::string describe_pivot(const long long column, const double pivot)

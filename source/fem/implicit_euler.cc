@@ -2,6 +2,8 @@
 #include <warpchol/base/format.h>
 #include <warpchol/fem/implicit_euler.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 
@@ -18,6 +20,19 @@ namespace warpchol::fem
       return true;
     return std::any_of(vertex_forces.begin(), vertex_forces.end(),
                        [](const Vector3 &force) { return force.norm() > 0; });
+  }
+
+  std::vector<Vector3> rigid_body_velocities(const ElasticBody &body, const Vector3 &linear,
+                                             const Vector3 &angular)
+  {
+    Vector3 centre = Vector3::Zero();
+    for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      centre += body.vertex_mass(i) * body.rest_positions()[i];
+    centre /= body.total_mass();
+    std::vector<Vector3> velocities(body.n_vertices());
+    for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      velocities[i] = linear + angular.cross(body.rest_positions()[i] - centre);
+    return velocities;
   }
 
   SystemCoefficients ImplicitEuler::coefficients(const ElasticBody &body, const double time_step,
@@ -57,6 +72,31 @@ namespace warpchol::fem
         if (!loads.vertex_forces.empty())
           constant_forces[i] += loads.vertex_forces[i];
       }
+  }
+
+  void ImplicitEuler::set_initial_velocities(const std::vector<Vector3> &velocities)
+  {
+    if (steps_done > 0)
+      throw InputError("the initial velocities can only be set before the first step");
+    if (velocities.size() != body.n_vertices())
+      throw InputError("initial velocities: " + std::to_string(velocities.size()) +
+                       " given for " + std::to_string(body.n_vertices()) + " vertices");
+    for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      v[i] = body.is_fixed(i) ? Vector3::Zero() : velocities[i];
+    start_energy = total_energy();
+  }
+
+  void ImplicitEuler::set_initial_positions(const std::vector<Vector3> &positions)
+  {
+    if (steps_done > 0)
+      throw InputError("the initial positions can only be set before the first step");
+    if (positions.size() != body.n_vertices())
+      throw InputError("initial positions: " + std::to_string(positions.size()) +
+                       " given for " + std::to_string(body.n_vertices()) + " vertices");
+    for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      x[i] = body.is_fixed(i) ? body.rest_positions()[i] : positions[i];
+    cached_elastic_step = static_cast<unsigned int>(-1);
+    start_energy        = total_energy();
   }
 
   void ImplicitEuler::advance(StepStatistics &statistics)
@@ -105,7 +145,14 @@ namespace warpchol::fem
           for (unsigned int i = 0; i < body.n_vertices(); ++i)
             new_velocities[i] += v[i] - previous_v[i];
       }
-    model.solve(right_hand_side, new_velocities, statistics);
+    try
+      {
+        model.solve(right_hand_side, new_velocities, statistics);
+      }
+    catch (const MatrixError &error)
+      {
+        throw MatrixError("step " + std::to_string(step) + ": " + error.what());
+      }
 
     StageTimer timer(statistics.stages, stage::position_update);
     // A velocity whose square overflows (|v| > 1e154 m/s) has long left physics: the
@@ -115,10 +162,34 @@ namespace warpchol::fem
         throw MatrixError("step " + std::to_string(step) + ": the velocity of vertex " +
                           std::to_string(i) + " is not finite: the simulation diverged");
 
+    // The tool's work: the springs' energy gained by moving the targets at x(t) (see
+    // external_work()).
+    if (!loads.tool.vertices.empty())
+      {
+        const Vector3 old_offset = loads.tool.target_offset(current_time);
+        const Vector3 new_offset = loads.tool.target_offset(new_time);
+        for (const unsigned int i : loads.tool.vertices)
+          {
+            const Vector3 &rest = body.rest_positions()[i];
+            tool_work += 0.5 * loads.tool.stiffness *
+                         ((rest + new_offset - x[i]).squaredNorm() -
+                          (rest + old_offset - x[i]).squaredNorm());
+          }
+      }
+
     previous_v = std::move(v);
     v          = std::move(new_velocities);
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
       x[i] += time_step * v[i];
+    // The work of the springs on the body: the implicit force k (target(t+dt) - x(t+dt))
+    // the step applied, times the displacement.
+    if (!loads.tool.vertices.empty())
+      {
+        const Vector3 new_offset = loads.tool.target_offset(new_time);
+        for (const unsigned int i : loads.tool.vertices)
+          tool_work_on_body_sum += loads.tool.stiffness *
+                               (body.rest_positions()[i] + new_offset - x[i]).dot(time_step * v[i]);
+      }
     current_time = new_time;
     steps_done   = step;
   }
@@ -158,10 +229,55 @@ namespace warpchol::fem
 
   double ImplicitEuler::elastic_energy() const
   {
+    if (cached_elastic_step == steps_done)
+      return cached_elastic_energy;
     if (!model.uses_rotations())
-      return body.elastic_energy(x, nullptr);
-    std::vector<Matrix3> rotations;
-    body.compute_element_rotations(x, rotations);
-    return body.elastic_energy(x, &rotations);
+      cached_elastic_energy = body.elastic_energy(x, nullptr);
+    else
+      {
+        std::vector<Matrix3> rotations;
+        body.compute_element_rotations(x, rotations);
+        cached_elastic_energy = body.elastic_energy(x, &rotations);
+      }
+    cached_elastic_step = steps_done;
+    return cached_elastic_energy;
+  }
+
+  double ImplicitEuler::potential_energy() const
+  {
+    double energy = 0;
+    for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      energy -= constant_forces[i].dot(x[i] - body.rest_positions()[i]);
+    return energy;
+  }
+
+  double ImplicitEuler::tool_energy() const
+  {
+    const Vector3 offset = loads.tool.target_offset(current_time);
+    double        energy = 0;
+    for (const unsigned int i : loads.tool.vertices)
+      energy += 0.5 * loads.tool.stiffness *
+                (body.rest_positions()[i] + offset - x[i]).squaredNorm();
+    return energy;
+  }
+
+  double ImplicitEuler::total_energy() const
+  {
+    return kinetic_energy() + elastic_energy() + potential_energy() + tool_energy();
+  }
+
+  double ImplicitEuler::initial_energy() const
+  {
+    return start_energy;
+  }
+
+  double ImplicitEuler::external_work() const
+  {
+    return tool_work;
+  }
+
+  double ImplicitEuler::tool_work_on_body() const
+  {
+    return tool_work_on_body_sum;
   }
 } // namespace warpchol::fem

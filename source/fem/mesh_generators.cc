@@ -1,6 +1,7 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/fem/mesh_generators.h>
+#include <warpchol/fem/mesh_readers.h>
 
 #include <deal.II/grid/grid_generator.h>
 
@@ -128,6 +129,87 @@ namespace warpchol::fem
     split_into_tetrahedra(hexahedra, triangulation);
   }
 
+  namespace
+  {
+    /**
+     * The lengths of @p n cells along an axis of length @p length, growing geometrically so
+     * that the last is @p grading times the first.
+     */
+    std::vector<double> graded_steps(const double length, const unsigned int n, const double grading)
+    {
+      const double        ratio = n > 1 ? std::pow(grading, 1.0 / (n - 1)) : 1.0;
+      std::vector<double> steps(n);
+      double              sum = 0;
+      for (unsigned int i = 0; i < n; ++i)
+        sum += steps[i] = std::pow(ratio, i);
+      for (double &step : steps)
+        step *= length / sum;
+      return steps;
+    }
+
+    /**
+     * The box's hexahedra split into the 6 tetrahedra around their main diagonal (from the
+     * lower to the upper corner), the grid flattened by @p flattening along (-1, 0, 1)/sqrt 2
+     * about the lower corner.
+     */
+    TetrahedralMesh kuhn_split_box(const BoxGeometry                         &geometry,
+                                   const std::array<std::vector<double>, 3> &steps)
+    {
+      std::array<std::vector<double>, 3> coordinates;
+      for (unsigned int d = 0; d < 3; ++d)
+        {
+          coordinates[d].push_back(geometry.lower_corner[d]);
+          for (const double step : steps[d])
+            coordinates[d].push_back(coordinates[d].back() + step);
+        }
+      const auto         &s = geometry.subdivisions;
+      TetrahedralMesh     mesh;
+      mesh.name = "sliver box";
+      const double n[3]   = {-M_SQRT1_2, 0, M_SQRT1_2};
+      for (unsigned int k = 0; k <= s[2]; ++k)
+        for (unsigned int j = 0; j <= s[1]; ++j)
+          for (unsigned int i = 0; i <= s[0]; ++i)
+            {
+              std::array<double, 3> x{coordinates[0][i], coordinates[1][j], coordinates[2][k]};
+              double                along = 0;
+              for (unsigned int d = 0; d < 3; ++d)
+                along += n[d] * (x[d] - geometry.lower_corner[d]);
+              for (unsigned int d = 0; d < 3; ++d)
+                x[d] -= (1 - geometry.sliver_flattening) * along * n[d];
+              mesh.vertices.push_back(x);
+            }
+      const auto vertex = [&](const unsigned int i, const unsigned int j, const unsigned int k) {
+        return i + (s[0] + 1) * (j + (s[1] + 1) * k);
+      };
+      // Kuhn's split: one tetrahedron per order in which the path from the lower corner to
+      // the upper one steps along the three axes. Neighbouring hexahedra split their shared
+      // faces along the same diagonal, so the mesh is conforming.
+      const unsigned int orders[6][3] = {{0, 1, 2}, {0, 2, 1}, {1, 0, 2},
+                                         {1, 2, 0}, {2, 0, 1}, {2, 1, 0}};
+      for (unsigned int k = 0; k < s[2]; ++k)
+        for (unsigned int j = 0; j < s[1]; ++j)
+          for (unsigned int i = 0; i < s[0]; ++i)
+            for (const auto &order : orders)
+              {
+                std::array<unsigned int, 3>  corner{i, j, k};
+                std::array<unsigned int, 4> tetrahedron;
+                tetrahedron[0] = vertex(corner[0], corner[1], corner[2]);
+                for (unsigned int a = 0; a < 3; ++a)
+                  {
+                    ++corner[order[a]];
+                    tetrahedron[a + 1] = vertex(corner[0], corner[1], corner[2]);
+                  }
+                // Odd orders give negatively oriented tetrahedra: swap two vertices.
+                if (order[0] + 1 != order[1] && !(order[0] == 2 && order[1] == 0))
+                  std::swap(tetrahedron[2], tetrahedron[3]);
+                mesh.tetrahedra.push_back(tetrahedron);
+                mesh.locations.push_back("sliver box tetrahedron " +
+                                         std::to_string(mesh.tetrahedra.size() - 1));
+              }
+      return mesh;
+    }
+  } // namespace
+
   void create_box(dealii::Triangulation<3> &triangulation, const BoxGeometry &geometry)
   {
     for (unsigned int d = 0; d < 3; ++d)
@@ -139,12 +221,24 @@ namespace warpchol::fem
           throw InputError("box: at least one subdivision per axis is needed (axis " +
                            std::to_string(d) + ")");
       }
-    dealii::Triangulation<3>                hexahedra;
-    const std::vector<unsigned int>         subdivisions(geometry.subdivisions.begin(),
-                                                 geometry.subdivisions.end());
-    dealii::GridGenerator::subdivided_hyper_rectangle(hexahedra, subdivisions,
-                                                      geometry.lower_corner,
-                                                      geometry.upper_corner);
+    if (!(geometry.grading >= 1))
+      throw InputError("box: the grading must be >= 1, got " + format_number(geometry.grading));
+    if (!(geometry.sliver_flattening > 0 && geometry.sliver_flattening <= 1))
+      throw InputError("box: the sliver flattening must lie in (0, 1], got " +
+                       format_number(geometry.sliver_flattening));
+    std::array<std::vector<double>, 3> steps;
+    for (unsigned int d = 0; d < 3; ++d)
+      steps[d] = graded_steps(geometry.upper_corner[d] - geometry.lower_corner[d],
+                              geometry.subdivisions[d], geometry.grading);
+    if (geometry.sliver_flattening < 1)
+      {
+        create_triangulation(kuhn_split_box(geometry, steps), triangulation);
+        return;
+      }
+    dealii::Triangulation<3> hexahedra;
+    dealii::GridGenerator::subdivided_hyper_rectangle(
+      hexahedra, std::vector<std::vector<double>>(steps.begin(), steps.end()),
+      geometry.lower_corner, geometry.upper_corner);
     split_into_tetrahedra(hexahedra, triangulation);
   }
 } // namespace warpchol::fem

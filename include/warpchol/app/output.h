@@ -85,6 +85,15 @@ namespace warpchol::app
     double                    step_seconds   = 0;
     double                    kinetic_energy = 0;
     double                    elastic_energy = 0;
+    /** ImplicitEuler's energy accounting: potential of the constant loads, tool springs. */
+    double                    potential_energy = 0;
+    double                    tool_energy      = 0;
+    double                    total_energy     = 0;
+    /** Work of the tool's moving targets so far. */
+    double                    external_work    = 0;
+    double                    tool_work_on_body = 0;
+    /** fem::EnergyBalance::ratio(): held over put in. */
+    double                    energy_ratio     = 0;
     /** Trajectory error against the corotational run (app::PositionError, worst vertex and
         RMS); negative when none runs. */
     double                    error_vs_corotational     = -1;

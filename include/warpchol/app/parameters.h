@@ -109,6 +109,11 @@ namespace warpchol::app
       double       rayleigh_stiffness = 0;
       /** Stop before n_steps once the kinetic energy falls below this (J); 0: never. */
       double       rest_kinetic_energy = 0;
+      /**
+       * Stop with a SimulationError once the energy the body holds exceeds this many times
+       * the energy put into it (fem::EnergyBalance); 0: never.
+       */
+      double       energy_growth_limit = 10;
 
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
@@ -135,6 +140,17 @@ namespace warpchol::app
 
       /** The supernodal method by default: the fast one, which refactorizes partially. */
       Solver();
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /** Subsection "Initial state": a rigid motion to start from (rest by default). */
+    struct InitialState
+    {
+      fem::Vector3 linear_velocity{0, 0, 0};
+      /** rad/s, about the rest centre of mass. */
+      fem::Vector3 angular_velocity{0, 0, 0};
 
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
@@ -228,6 +244,7 @@ namespace warpchol::app
     parameters::TimeStepping  time_stepping;
     parameters::Model         model;
     parameters::Solver        solver;
+    parameters::InitialState  initial_state;
     parameters::FixedVertices fixed_vertices;
     parameters::Gravity       gravity;
     parameters::RegionForce   region_force;

@@ -4,6 +4,7 @@
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
 #include <warpchol/app/trajectory_error.h>
+#include <warpchol/fem/energy_balance.h>
 
 #include <limits>
 #include <map>
@@ -27,6 +28,8 @@ namespace warpchol::app
   {
     /** The exact corotational run alongside, and the trajectory error against it. */
     constexpr const char *reference_run = "reference run (error)";
+    /** The energy the body holds against what was put in (the divergence detector). */
+    constexpr const char *energy_balance = "energy balance";
     /** A row of log.csv, with the elastic energy it needs. */
     constexpr const char *log = "log";
     /**
@@ -83,6 +86,13 @@ namespace warpchol::app
     std::unique_ptr<StepLog>   log;
     /** Where the VTU series shows it: its index times Bodies/Spacing. */
     fem::Vector3               offset = fem::Vector3::Zero();
+    /** What the body put in and holds, for the divergence detector and the log. */
+    std::unique_ptr<fem::EnergyBalance> energy_balance;
+    /**
+     * Why the body stopped (a scene of several bodies: its energy ran away, the others go
+     * on); empty while it runs.
+     */
+    std::string                stopped;
     /** "body 2 (warp_canceling, threshold 0.3)" when the scene has several, else "". */
     std::string                label;
     double                     setup_seconds = 0;
@@ -100,7 +110,11 @@ namespace warpchol::app
     /**
      * Run the steps, writing the log and VTU files if asked, and print the summary to
      * @p out. If a step fails, what earlier steps wrote stays and the error (naming the
-     * step, and the body when there are several) propagates.
+     * step, and the body when there are several) propagates: MatrixError for a
+     * factorization that fails, SimulationError for a run whose energy grows past Time
+     * stepping/Energy growth limit (logged, not written as VTU) or stops being finite. In a
+     * scene of several bodies a body whose energy runs away stops alone (one line on
+     * standard error, its summary says why) and the others go on.
      */
     void run(std::ostream &out);
 
@@ -127,6 +141,13 @@ namespace warpchol::app
      * shares of the run; without, their names only (the same in every run).
      */
     void print_stages(std::ostream &out, const SimulatedBody &body) const;
+
+    /**
+     * After step @p step: throw SimulationError naming the step, the model and the energies
+     * if an energy is not finite or the body holds more than Time stepping/Energy growth
+     * limit times the energy put into it, once the VTU files written so far are complete.
+     */
+    void check_energy(const SimulatedBody &body, unsigned int step);
 
     AllParameters                 parameters;
     std::vector<SimulatedBody>    bodies;

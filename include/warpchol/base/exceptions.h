@@ -33,6 +33,16 @@ namespace warpchol
   };
 
   /**
+   * A simulation that diverges: its energy grew far past what the loads put in, or a value
+   * stopped being finite. Names the step.
+   */
+  class SimulationError : public Error
+  {
+  public:
+    explicit SimulationError(const std::string &one_line_message);
+  };
+
+  /**
    * A non-positive pivot met during a Cholesky factorization: the matrix is not positive
    * definite. Carries the column (in the user's numbering) and the pivot value.
    */

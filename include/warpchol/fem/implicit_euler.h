@@ -44,6 +44,13 @@ namespace warpchol::fem
   };
 
   /**
+   * The velocities of a rigid motion of @p body at rest: v_i = @p linear +
+   * @p angular x (X_i - c), c the rest centre of mass (lumped masses), @p angular in rad/s.
+   */
+  std::vector<Vector3> rigid_body_velocities(const ElasticBody &body, const Vector3 &linear,
+                                             const Vector3 &angular);
+
+  /**
    * One implicit Euler step in velocity form (DESIGN.md eq. 1):
    *   (M + dt B + dt^2 K) v(t+dt) = M v(t) + dt (f_ext + f_el(x(t)))
    *   x(t+dt) = x(t) + dt v(t+dt)
@@ -68,6 +75,19 @@ namespace warpchol::fem
                   double time_step);
 
     /**
+     * Start from @p velocities (one per vertex) instead of rest; the fixed vertices keep
+     * zero. Only before the first step: it sets the initial energy.
+     */
+    void set_initial_velocities(const std::vector<Vector3> &velocities);
+
+    /**
+     * Start from the deformed @p positions (one per vertex) instead of rest, for instance to
+     * release a body stretched by another run; the fixed vertices keep their rest
+     * positions. Only before the first step: it sets the initial energy.
+     */
+    void set_initial_positions(const std::vector<Vector3> &positions);
+
+    /**
      * Advance by one time step. Throws MatrixError "step N: ..." if the factorization
      * fails or a velocity is not finite, or so large that its square overflows (the
      * simulation diverged).
@@ -81,9 +101,48 @@ namespace warpchol::fem
     double               time() const;
     unsigned int         step_number() const;
 
+    /**
+     * @name Energy accounting
+     *
+     * The total energy is kinetic + elastic + the potential of the constant loads + the
+     * energy of the tool's springs. The only external power is that of the tool's moving
+     * targets; a dissipative step (implicit Euler is one: it damps) then keeps
+     *   total_energy() <= initial_energy() + external_work(),
+     * exactly for the linear model (quadratic energy, fully implicit forces) and up to the
+     * linearization of the rotations for the others. A model that gains energy breaks it.
+     */
+    /** @{ */
     double kinetic_energy() const;
     /** Elastic energy of the current positions, with fresh rotations where the model uses them. */
     double elastic_energy() const;
+    /**
+     * Potential energy of the constant loads (gravity, region forces) relative to rest:
+     * -sum_i f_i . (x_i - X_i); minus it is the work they have done.
+     */
+    double potential_energy() const;
+    /** Energy of the tool's springs: sum over its vertices of 1/2 k |target - x_i|^2. */
+    double tool_energy() const;
+    /** kinetic + elastic + potential + tool energy. */
+    double total_energy() const;
+    /** The total energy at time 0 (the kinetic energy of the initial velocities). */
+    double initial_energy() const;
+    /**
+     * Work done on the body so far by the tool's moving targets: per step,
+     * 1/2 k (|target(t+dt) - x(t)|^2 - |target(t) - x(t)|^2) per tool vertex, the springs'
+     * energy gained by moving the targets alone. It is what implicit Euler's energy
+     * inequality needs: the step with the new targets dissipates.
+     */
+    double external_work() const;
+    /**
+     * Work done on the body so far by the tool's springs: per step, the force
+     * k (target(t+dt) - x(t+dt)) the implicit step applied, times x(t+dt) - x(t), summed
+     * over the grabbed vertices. Unlike external_work() it leaves out what the springs
+     * themselves hold and dissipate: the body's own balance,
+     *   kinetic + elastic + potential <= their initial sum + tool_work_on_body(),
+     * holds by the same argument, and is much tighter with stiff springs.
+     */
+    double tool_work_on_body() const;
+    /** @} */
 
   private:
     const ElasticBody   &body;
@@ -98,5 +157,11 @@ namespace warpchol::fem
     std::vector<Vector3> previous_v;
     /** m_i g + constant forces: what does not change from step to step. */
     std::vector<Vector3> constant_forces;
+    double               start_energy = 0;
+    double               tool_work    = 0;
+    double               tool_work_on_body_sum = 0;
+    /** elastic_energy() costs a pass over the elements: kept for the step it was computed at. */
+    mutable double       cached_elastic_energy = 0;
+    mutable unsigned int cached_elastic_step   = static_cast<unsigned int>(-1);
   };
 } // namespace warpchol::fem

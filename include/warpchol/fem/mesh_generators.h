@@ -47,12 +47,25 @@ namespace warpchol::fem
   /** Fill @p triangulation (cleared first) with the tetrahedral torus of @p geometry. */
   void create_torus(dealii::Triangulation<3> &triangulation, const TorusGeometry &geometry);
 
-  /** An axis-aligned box split into subdivisions[d] hexahedra along axis d. */
+  /**
+   * An axis-aligned box split into subdivisions[d] hexahedra along axis d, and two ways to
+   * spoil it on purpose (the meshes of the stability tests):
+   * - @p grading > 1: the hexahedra grow geometrically along every axis, the last one
+   *   @p grading times as long as the first: element sizes span a factor @p grading;
+   * - @p sliver_flattening < 1: every hexahedron is split into the 6 tetrahedra around its
+   *   main diagonal (Kuhn's split) instead of 24, and the box is flattened along
+   *   (-1, 0, 1) / sqrt 2 by this factor. No edge of those tetrahedra is parallel to that
+   *   direction, so they flatten without a short edge: slivers (four nearly coplanar
+   *   vertices, dihedral angles near 0 and 180 degrees) whose volume is this fraction of
+   *   the unflattened one, on cubic hexahedra. The body becomes a parallelepiped.
+   */
   struct BoxGeometry
   {
     dealii::Point<3>            lower_corner{0, 0, 0};
     dealii::Point<3>            upper_corner{1, 1, 1};
     std::array<unsigned int, 3> subdivisions{{1, 1, 1}};
+    double                      grading           = 1;
+    double                      sliver_flattening = 1;
   };
 
   /** Fill @p triangulation (cleared first) with the tetrahedral box of @p geometry. */
