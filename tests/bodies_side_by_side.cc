@@ -22,13 +22,6 @@ namespace
     return text + "subsection Time stepping\n  set Number of steps = 10\nend\n" + output + extra;
   }
 
-  std::string read(const std::string &filename)
-  {
-    std::ifstream     file(filename);
-    std::stringstream text;
-    text << file.rdbuf();
-    return text.str();
-  }
 } // namespace
 
 int main()
@@ -51,7 +44,7 @@ int main()
                          1e-12);
     }
 
-  const std::string vtu = read(three.output_directory() + "/three-00010.vtu");
+  const std::string vtu = tests::read_file(three.output_directory() + "/three-00010.vtu");
   std::smatch       cells;
   tests::check("the VTU file holds the cells of the three bodies",
                std::regex_search(vtu, cells, std::regex("NumberOfCells=\"([0-9]+)\"")) &&

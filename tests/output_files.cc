@@ -30,13 +30,6 @@ namespace
     return status;
   }
 
-  std::string read(const std::string &filename)
-  {
-    std::ifstream      file(filename);
-    std::ostringstream text;
-    text << file.rdbuf();
-    return text.str();
-  }
 } // namespace
 
 int main()
@@ -51,7 +44,7 @@ int main()
   tests::check("warpchol scene.prm exits with 0", run({"scene.prm"}) == 0);
 
   const std::string directory = "results/box_scene/";
-  std::istringstream log(read(directory + "log.csv"));
+  std::istringstream log(tests::read_file(directory + "log.csv"));
   std::string        header, line;
   std::getline(log, header);
   std::cout << "log header: " << header << std::endl;
@@ -63,10 +56,10 @@ int main()
     }
   tests::check("log: 4 rows with a value per column", rows == 4 && well_formed == 4);
 
-  const std::string pvd = read(directory + "box_scene.pvd");
+  const std::string pvd = tests::read_file(directory + "box_scene.pvd");
   for (const std::string name : {"box_scene-00000.vtu", "box_scene-00002.vtu", "box_scene-00004.vtu"})
     {
-      const std::string vtu = read(directory + name);
+      const std::string vtu = tests::read_file(directory + name);
       bool fields = true;
       for (const std::string field : {"displacement", "velocity", "updated", "steps_since_update", "error_estimate"})
         fields = fields && vtu.find("Name=\"" + field + "\"") != std::string::npos;
@@ -102,14 +95,14 @@ int main()
   const bool  named  = std::regex_search(
     message, step, std::regex(R"(step (\d+): the energy of stiffness_warping grew to .* J \(start 0 J, work of the external loads .* J\), over .*: the simulation diverged)"));
   tests::check("a diverging run exits with 1, naming the step, the model and the energies", status == 1 && named);
-  std::istringstream partial_log(read("results/diverging/log.csv"));
+  std::istringstream partial_log(tests::read_file("results/diverging/log.csv"));
   unsigned int       logged_rows = 0;
   while (std::getline(partial_log, line))
     ++logged_rows;
   const unsigned int failing_step = named ? std::stoul(step[1].str()) : 0;
   tests::check("its log holds the header and every step up to the failing one",
                named && logged_rows == failing_step + 1);
-  const std::string diverging_pvd = read("results/diverging/diverging.pvd");
+  const std::string diverging_pvd = tests::read_file("results/diverging/diverging.pvd");
   unsigned int vtu_files = 0;
   for (auto at = diverging_pvd.find(".vtu"); at != std::string::npos; at = diverging_pvd.find(".vtu", at + 1))
     ++vtu_files;
@@ -118,7 +111,7 @@ int main()
   tests::check("--print-parameters defaults.prm exits with 0", run({"--print-parameters", "defaults.prm"}) == 0);
   std::ostringstream printed;
   app::AllParameters::print_defaults(printed);
-  tests::check("the file holds the documented defaults", read("defaults.prm") == printed.str() &&
+  tests::check("the file holds the documented defaults", tests::read_file("defaults.prm") == printed.str() &&
                                                             printed.str().find("# ") != std::string::npos);
   tests::expect_error("the defaults read back", [] {
     const app::AllParameters parameters("defaults.prm");

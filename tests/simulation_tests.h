@@ -64,6 +64,15 @@ namespace tests
            "end\n";
   }
 
+  /** @p text without its "subsection NAME ... end" (the first one). */
+  inline std::string without_subsection(std::string text, const std::string &name)
+  {
+    const auto begin = text.find("subsection " + name + "\n");
+    if (begin != std::string::npos)
+      text.erase(begin, text.find("end\n", begin) + 4 - begin);
+    return text;
+  }
+
   /** Build the scene of parameter file @p filename (written from @p text) and run @p steps steps. */
   inline std::vector<warpchol::fem::Vector3> run_scene(const std::string &filename,
                                                        const std::string &text,

@@ -28,42 +28,19 @@ namespace
   /** The small torus of the simulation tests, held and pulled, 5 steps. */
   std::string scene(const Variant &variant)
   {
-    std::string text = "subsection Mesh\n"
-                       "  set Source = torus\n"
-                       "  set Torus toroidal cells = 8\n"
-                       "end\n"
-                       "subsection Time stepping\n"
-                       "  set Time step = 0.01\n"
-                       "  set Number of steps = 5\n";
-    if (variant.damping)
-      text += "  set Rayleigh mass = 0.1\n"
-              "  set Rayleigh stiffness = 0.1\n";
-    text += "end\n"
-            "subsection Model\n" + variant.model + "end\n"
-            "subsection Fixed vertices\n"
-            "  set Region = box\n"
-            "  set Box lower corner = -1, -1, -1\n"
-            "  set Box upper corner = -0.33, 1, 1\n"
-            "end\n"
-            "subsection Gravity\n"
-            "  set Acceleration = 0, -9.81, 0\n"
-            "end\n";
-    if (variant.tool)
-      text += "subsection Tool\n"
-              "  set Region = sphere\n"
-              "  set Sphere center = 0.4, 0, 0\n"
-              "  set Sphere radius = 0.06\n"
-              "  set Spring stiffness = 20\n"
-              "  set Velocity = 0, 0.5, 0\n"
-              "  set Duration = 0.2\n"
-              "end\n";
+    std::string text = tests::small_torus_scene(variant.model);
+    if (!variant.tool)
+      text = tests::without_subsection(text, "Tool");
+    if (!variant.damping)
+      for (const std::string entry : {"  set Rayleigh mass = 0.1\n", "  set Rayleigh stiffness = 0.1\n"})
+        text.erase(text.find(entry), entry.size());
     // Not "output": the test driver writes a file of that name here.
-    text += "subsection Output\n"
-            "  set Directory = results\n"
-            "  set Progress = off\n"
-            "  set Print timings = false\n" +
-            variant.output + "end\n";
-    return text;
+    return text + "subsection Time stepping\n  set Number of steps = 5\nend\n"
+                  "subsection Output\n"
+                  "  set Directory = results\n"
+                  "  set Progress = off\n"
+                  "  set Print timings = false\n" +
+           variant.output + "end\n";
   }
 
   /** Run @p variant and return its summary. */

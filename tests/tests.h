@@ -18,8 +18,10 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdlib>
+#include <fstream>
 #include <functional>
 #include <iostream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -29,6 +31,15 @@ namespace tests
   inline std::string data_file(const std::string &name)
   {
     return std::string(SOURCE_DIR) + "/data/" + name;
+  }
+
+  /** The whole text of file @p filename ("" if it cannot be read). */
+  inline std::string read_file(const std::string &filename)
+  {
+    std::ifstream      file(filename);
+    std::ostringstream text;
+    text << file.rdbuf();
+    return text.str();
   }
 
   /** Print "label: value <= bound: yes" (or NO); returns whether the check held. */

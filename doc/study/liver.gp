@@ -6,45 +6,54 @@
 
 # WCC partial
 $group0 << EOD
-0.000430982 0.00542781 0.00244898 "0.03" "0.03"
-0.000326516 0.0151035 0.00677565 "0.1" "0.1"
-0.00027086 0.0261565 0.0117701 "0.3" "0.3"
-0.000318225 0.0406232 0.0183263 "1" "1"
-0.000230014 0.0505519 0.0229148 "3" "3"
-0.00012606 0.119057 0.0606778 "inf" "inf"
+0.000257906 0.00542781 0.00244898 "0.03" "0.03"
+0.000196209 0.0151035 0.00677565 "0.1" "0.1"
+0.000167805 0.0261565 0.0117701 "0.3" "0.3"
+0.000154598 0.0406232 0.0183263 "1" "1"
+0.000144632 0.0505519 0.0229148 "3" "3"
+8.33423e-05 0.119057 0.0606778 "inf" "inf"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.000420356 0.000116003 2.1682e-05 "0.3" "0.3"
-0.000398245 5.21885e-05 2.66912e-05 "1" "1"
-0.000398767 8.59023e-05 1.88908e-05 "inf" "inf"
+0.000261551 0.000116003 2.1682e-05 "0.3" "0.3"
+0.000250881 5.21885e-05 2.66912e-05 "1" "1"
+0.000240333 8.59023e-05 1.88908e-05 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.000411752 0.000118866 2.24838e-05 "0.3" "0.3"
-0.000387677 4.93769e-05 2.50142e-05 "1" "1"
-0.000388978 8.59023e-05 1.88908e-05 "inf" "inf"
+0.000265255 0.000118866 2.24838e-05 "0.3" "0.3"
+0.000258055 4.93769e-05 2.50142e-05 "1" "1"
+0.000242922 8.59023e-05 1.88908e-05 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.000387761 0.000118866 2.49582e-05 "0.3" "0.3"
-0.000448127 8.13155e-05 2.54444e-05 "1" "1"
-0.000372232 8.59023e-05 1.88908e-05 "inf" "inf"
+0.000299324 0.000118866 2.70359e-05 "0.3" "0.3"
+0.000294394 8.13155e-05 2.54444e-05 "1" "1"
+0.000247396 8.59023e-05 1.88908e-05 "inf" "inf"
+EOD
+# WCC target error
+$group4 << EOD
+0.000391032 0.00268097 0.00152406 "0.3%" "0.3%"
+0.00028024 0.00947801 0.00524934 "1%" "1%"
+0.000227008 0.0257485 0.01338 "3%" "3%"
 EOD
 $front_max << EOD
-0.00012606 0.119057
-0.000230014 0.0505519
-0.00027086 0.0261565
-0.000326516 0.0151035
-0.000372232 8.59023e-05
-0.000387677 4.93769e-05
+8.33423e-05 0.119057
+0.000144632 0.0505519
+0.000154598 0.0406232
+0.000167805 0.0261565
+0.000196209 0.0151035
+0.000240333 8.59023e-05
+0.000250881 5.21885e-05
+0.000258055 4.93769e-05
 EOD
 $front_rms << EOD
-0.00012606 0.0606778
-0.000230014 0.0229148
-0.00027086 0.0117701
-0.000326516 0.00677565
-0.000372232 1.88908e-05
+8.33423e-05 0.0606778
+0.000144632 0.0229148
+0.000154598 0.0183263
+0.000167805 0.0117701
+0.000196209 0.00677565
+0.000240333 1.88908e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -61,9 +70,9 @@ set grid
 set key below horizontal
 set bmargin 6
 set xlabel "seconds per step"
-set xrange [0:0.00126396]
-set arrow 1 from 0.00117033, graph 0 to 0.00117033, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.00117033, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.000764955]
+set arrow 1 from 0.000708292, graph 0 to 0.000708292, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.000708292, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
@@ -73,7 +82,9 @@ plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "P
      $group2 using 1:2 with points pointtype 9 pointsize 1.6 linecolor 3 title "WCC preconditioned", \
      $group2 using 1:2:4 with labels right offset -0.8, 0.7 textcolor lt 3 notitle, \
      $group3 using 1:2 with points pointtype 11 pointsize 1.6 linecolor 4 title "WCC auto", \
-     $group3 using 1:2:4 with labels right offset -0.8, -0.7 textcolor lt 4 notitle
+     $group3 using 1:2:4 with labels right offset -0.8, -0.7 textcolor lt 4 notitle, \
+     $group4 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 5 title "WCC target error", \
+     $group4 using 1:2:4 with labels left offset 0.8, 0.7 textcolor lt 5 notitle
 set ylabel "RMS error over the largest displacement (max over steps)"
 plot $front_rms using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
@@ -83,5 +94,7 @@ plot $front_rms using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "P
      $group2 using 1:3 with points pointtype 9 pointsize 1.6 linecolor 3 title "WCC preconditioned", \
      $group2 using 1:3:5 with labels right offset -0.8, 0.7 textcolor lt 3 notitle, \
      $group3 using 1:3 with points pointtype 11 pointsize 1.6 linecolor 4 title "WCC auto", \
-     $group3 using 1:3:5 with labels right offset -0.8, -0.7 textcolor lt 4 notitle
+     $group3 using 1:3:5 with labels right offset -0.8, -0.7 textcolor lt 4 notitle, \
+     $group4 using 1:3 with points pointtype 5 pointsize 1.6 linecolor 5 title "WCC target error", \
+     $group4 using 1:3:5 with labels left offset 0.8, 0.7 textcolor lt 5 notitle
 unset multiplot

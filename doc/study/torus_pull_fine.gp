@@ -6,38 +6,46 @@
 
 # WCC partial
 $group0 << EOD
-0.0735456 0.00121876 0.00067165 "0.03" "0.03"
-0.0604599 0.00450525 0.00283519 "0.1" "0.1"
-0.047753 0.0161133 0.00868627 "0.3" "0.3"
-0.0337716 0.0633659 0.0348156 "1" "1"
-0.0217632 0.098221 0.0521267 "3" "3"
-0.00809343 0.110339 0.0583573 "inf" "inf"
+0.0343231 0.00121876 0.00067165 "0.03" "0.03"
+0.0276167 0.00450525 0.00283519 "0.1" "0.1"
+0.022672 0.0161133 0.00868627 "0.3" "0.3"
+0.0170088 0.0633659 0.0348156 "1" "1"
+0.0127674 0.098221 0.0521267 "3" "3"
+0.00396178 0.110339 0.0583573 "inf" "inf"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.0376704 0.000705587 0.000306944 "0.3" "0.3"
-0.0341413 0.000752632 0.000320605 "1" "1"
-0.0131551 0.000501095 0.000205999 "inf" "inf"
+0.0183706 0.000705587 0.000306944 "0.3" "0.3"
+0.0168037 0.000752632 0.000320605 "1" "1"
+0.00647442 0.000501095 0.000205999 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.0553489 0.000703096 0.000305437 "0.3" "0.3"
-0.0280304 0.00073673 0.000322758 "1" "1"
-0.00742501 0.000501095 0.000205999 "inf" "inf"
+0.0310923 0.000703097 0.000305437 "0.3" "0.3"
+0.024195 0.00073673 0.000322758 "1" "1"
+0.00737512 0.000501095 0.000205999 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.0199504 0.000440963 0.000211813 "0.3" "0.3"
-0.0157572 0.000313262 0.00015512 "1" "1"
-0.00731882 0.000501095 0.000205999 "inf" "inf"
+0.0171058 0.000447142 0.000215527 "0.3" "0.3"
+0.0131898 0.000313261 0.00015512 "1" "1"
+0.00677828 0.000501095 0.000205999 "inf" "inf"
+EOD
+# WCC target error
+$group4 << EOD
+0.0437778 0.0016588 0.000994027 "0.3%" "0.3%"
+0.0312382 0.00542029 0.00352566 "1%" "1%"
+0.0253444 0.0230799 0.0136745 "3%" "3%"
 EOD
 $front_max << EOD
-0.00731882 0.000501095
-0.0157572 0.000313262
+0.00396178 0.110339
+0.00647442 0.000501095
+0.0131898 0.000313261
 EOD
 $front_rms << EOD
-0.00731882 0.000205999
-0.0157572 0.00015512
+0.00396178 0.0583573
+0.00647442 0.000205999
+0.0131898 0.00015512
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -54,9 +62,9 @@ set grid
 set key below horizontal
 set bmargin 6
 set xlabel "seconds per step"
-set xrange [0:0.0869239]
-set arrow 1 from 0.0804851, graph 0 to 0.0804851, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0804851, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.04728]
+set arrow 1 from 0.0395705, graph 0 to 0.0395705, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0395705, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
@@ -66,7 +74,9 @@ plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "P
      $group2 using 1:2 with points pointtype 9 pointsize 1.6 linecolor 3 title "WCC preconditioned", \
      $group2 using 1:2:4 with labels right offset -0.8, 0.7 textcolor lt 3 notitle, \
      $group3 using 1:2 with points pointtype 11 pointsize 1.6 linecolor 4 title "WCC auto", \
-     $group3 using 1:2:4 with labels right offset -0.8, -0.7 textcolor lt 4 notitle
+     $group3 using 1:2:4 with labels right offset -0.8, -0.7 textcolor lt 4 notitle, \
+     $group4 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 5 title "WCC target error", \
+     $group4 using 1:2:4 with labels left offset 0.8, 0.7 textcolor lt 5 notitle
 set ylabel "RMS error over the largest displacement (max over steps)"
 plot $front_rms using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
@@ -76,5 +86,7 @@ plot $front_rms using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "P
      $group2 using 1:3 with points pointtype 9 pointsize 1.6 linecolor 3 title "WCC preconditioned", \
      $group2 using 1:3:5 with labels right offset -0.8, 0.7 textcolor lt 3 notitle, \
      $group3 using 1:3 with points pointtype 11 pointsize 1.6 linecolor 4 title "WCC auto", \
-     $group3 using 1:3:5 with labels right offset -0.8, -0.7 textcolor lt 4 notitle
+     $group3 using 1:3:5 with labels right offset -0.8, -0.7 textcolor lt 4 notitle, \
+     $group4 using 1:3 with points pointtype 5 pointsize 1.6 linecolor 5 title "WCC target error", \
+     $group4 using 1:3:5 with labels left offset 0.8, 0.7 textcolor lt 5 notitle
 unset multiplot
