@@ -415,6 +415,7 @@ namespace
         app::AllParameters wcc     = parameters;
         wcc.model.type             = "warp_canceling";
         wcc.model.update_threshold = threshold;
+        wcc.model.target_error     = 0; // a fixed threshold, whatever the scene says
         wcc.model.strategy.kind    = fem::StepStrategy::Kind::partial;
         runs.push_back(wcc);
       }
@@ -424,6 +425,7 @@ namespace
           app::AllParameters wcc     = parameters;
           wcc.model.type             = "warp_canceling";
           wcc.model.update_threshold = threshold;
+          wcc.model.target_error     = 0;
           wcc.model.strategy.kind    = kind;
           runs.push_back(wcc);
         }

@@ -1,0 +1,61 @@
+# The error-against-time study, written by warpchol-threshold-sweep: edit and
+# rerun with `gnuplot THIS_FILE` from the directory the sweep ran in.
+# Per configuration: seconds per step, the largest over the steps of the worst
+# vertex's error max_i |x_i - x_i(ref)| and of the RMS error
+# sqrt(mean_i |x_i - x_i(ref)|^2), both over max_i |x_i(ref) - X_i|; its label.
+
+# WCC partial
+$group0 << EOD
+0.0372609 0.00450525 0.00283519 "0.1" "0.1"
+0.0300637 0.0161133 0.00868627 "0.3" "0.3"
+0.022843 0.0633659 0.0348156 "1" "1"
+EOD
+# WCC target error
+$group1 << EOD
+0.0523748 0.0016588 0.000994027 "0.3%" "0.3%"
+0.0431141 0.00542029 0.00352566 "1%" "1%"
+0.0300322 0.0230799 0.0136745 "3%" "3%"
+EOD
+$front_max << EOD
+0.022843 0.0633659
+0.0300322 0.0230799
+0.0300637 0.0161133
+0.0372609 0.00450525
+EOD
+$front_rms << EOD
+0.022843 0.0348156
+0.0300322 0.0136745
+0.0300637 0.00868627
+0.0372609 0.00283519
+EOD
+
+if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
+  set terminal pngcairo size 1500,650 font ",11"
+} else {
+  set terminal png size 1500,650
+}
+set termoption noenhanced
+set output "doc/calibration/torus_pull_fine.png"
+set multiplot layout 1,2 title "torus_pull_fine: 10035 unknowns, 100 steps, 1 thread(s); error against the exact corotational run"
+set logscale y
+set format y "%.0e"
+set grid
+set key below horizontal
+set bmargin 6
+set xlabel "seconds per step"
+set xrange [0:0.0565648]
+set arrow 1 from 0.0515151, graph 0 to 0.0515151, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0515151, graph 0.5 center rotate by 90 offset -1.2, 0
+set ylabel "worst vertex error over the largest displacement (max over steps)"
+plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
+     $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
+     $group0 using 1:2:4 with labels left offset 0.8, 0.7 textcolor lt 1 notitle, \
+     $group1 using 1:2 with points pointtype 7 pointsize 1.6 linecolor 2 title "WCC target error", \
+     $group1 using 1:2:4 with labels left offset 0.8, -0.7 textcolor lt 2 notitle
+set ylabel "RMS error over the largest displacement (max over steps)"
+plot $front_rms using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
+     $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
+     $group0 using 1:3:5 with labels left offset 0.8, 0.7 textcolor lt 1 notitle, \
+     $group1 using 1:3 with points pointtype 7 pointsize 1.6 linecolor 2 title "WCC target error", \
+     $group1 using 1:3:5 with labels left offset 0.8, -0.7 textcolor lt 2 notitle
+unset multiplot
