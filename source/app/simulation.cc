@@ -239,6 +239,8 @@ namespace warpchol::app
               }
             catch (const SimulationError &error)
               {
+                if (simulated.log)
+                  simulated.log->flush();
                 if (simulated.label.empty())
                   {
                     if (vtu_series)
@@ -253,6 +255,9 @@ namespace warpchol::app
               }
             catch (const Error &error)
               {
+                for (auto &body : bodies)
+                  if (body.log)
+                    body.log->flush();
                 if (vtu_series)
                   vtu_series->finish();
                 if (simulated.label.empty())
@@ -296,6 +301,12 @@ namespace warpchol::app
         vtu_series->finish();
         add_vtu_seconds(stopwatch.seconds(), 0);
       }
+    for (auto &simulated : bodies)
+      if (simulated.log)
+        {
+          StageTimer timer(simulated.totals.stages, stage::log);
+          simulated.log->flush();
+        }
     const double run_seconds = run_stopwatch.seconds();
     for (auto &simulated : bodies)
       simulated.totals.run_seconds = run_seconds;

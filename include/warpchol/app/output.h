@@ -2,6 +2,7 @@
 
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/elasticity_model.h>
+#include <warpchol/base/stopwatch.h>
 #include <warpchol/fem/small_dense.h>
 
 #include <future>
@@ -100,14 +101,23 @@ namespace warpchol::app
     double                    rms_error_vs_corotational = -1;
   };
 
-  /** The CSV log: a header row, then a row per step; the file is rewritten after each step. */
+  /**
+   * The CSV log: a header row, then a row per step. The file is rewritten whole (under a
+   * temporary name, then renamed) after the first row and then at most every half second,
+   * and by flush(), which the run calls at its end and before it reports an error, and the
+   * destructor.
+   */
   class StepLog
   {
   public:
     /** @p with_error: add the columns error_vs_corotational and rms_error_vs_corotational. */
     StepLog(const std::string &filename, bool with_error);
+    /** Flushes (errors are swallowed: a destructor must not throw). */
+    ~StepLog();
 
     void add(const StepLogRow &row);
+    /** Write every row added so far; throws InputError if the file cannot be written. */
+    void flush();
 
     const std::string &filename() const;
 
@@ -118,5 +128,7 @@ namespace warpchol::app
     std::string              file;
     bool                     with_error;
     std::vector<std::string> rows;
+    std::size_t              written_rows = 0;
+    Stopwatch                since_written;
   };
 } // namespace warpchol::app
