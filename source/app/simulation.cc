@@ -171,13 +171,15 @@ namespace warpchol::app
         t.error_vs_corotational.add(error);
       }
 
-    // The balance needs the elastic energy, a pass over the elements: only when the
-    // detector or the log uses it.
+    // The balance of the detector takes the elastic energy the step computed (one step
+    // late); the log, which shows it, the current one (a pass over the elements).
     const bool track_energy = parameters.time_stepping.energy_growth_limit > 0 || simulated.log;
     if (track_energy)
       {
         StageTimer timer(t.stages, stage::energy_balance);
-        simulated.energy_balance->record(integrator);
+        simulated.energy_balance->record(integrator, simulated.log ?
+                                                       fem::EnergyBalance::ElasticEnergy::current :
+                                                       fem::EnergyBalance::ElasticEnergy::at_step_start);
       }
     if (simulated.log)
       {

@@ -369,6 +369,11 @@ namespace warpchol::fem
       }
   }
 
+  double ElasticityModel::elastic_energy_at_last_evaluation() const
+  {
+    return elastic_state.elastic_energy;
+  }
+
   const ElementUpdateRecord &ElasticityModel::update_record() const
   {
     return record;

@@ -10,10 +10,12 @@ namespace warpchol::fem
     : noise_floor(0.5 * body.material().youngs_modulus * body.total_volume() * 1e-16)
   {}
 
-  void EnergyBalance::record(const ImplicitEuler &integrator)
+  void EnergyBalance::record(const ImplicitEuler &integrator, const ElasticEnergy elastic)
   {
     const double potential = integrator.potential_energy();
-    held   = integrator.kinetic_energy() + integrator.elastic_energy() + integrator.tool_energy();
+    held   = integrator.kinetic_energy() + integrator.tool_energy() +
+           (elastic == ElasticEnergy::current ? integrator.elastic_energy() :
+                                                integrator.elastic_energy_at_step_start());
     put_in = integrator.initial_energy() + integrator.external_work() - potential;
     finite = finite && std::isfinite(held) && std::isfinite(put_in);
     if (std::isfinite(held))

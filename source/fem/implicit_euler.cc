@@ -227,6 +227,11 @@ namespace warpchol::fem
     return body.kinetic_energy(v);
   }
 
+  double ImplicitEuler::elastic_energy_at_step_start() const
+  {
+    return steps_done == 0 ? elastic_energy() : model.elastic_energy_at_last_evaluation();
+  }
+
   double ImplicitEuler::elastic_energy() const
   {
     if (cached_elastic_step == steps_done)

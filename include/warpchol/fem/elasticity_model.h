@@ -171,6 +171,12 @@ namespace warpchol::fem
     /** Whether the model uses rotations at all (all but the linear one). */
     virtual bool uses_rotations() const;
 
+    /**
+     * The elastic energy at the positions of the last prepare_step() (the start of the
+     * last step), which its element pass computed anyway.
+     */
+    double elastic_energy_at_last_evaluation() const;
+
     const ElementUpdateRecord &update_record() const;
     const SystemMatrix        &system_matrix() const;
     const cholesky::SparseCholesky &solver() const;

@@ -30,8 +30,20 @@ namespace warpchol::fem
      */
     explicit EnergyBalance(const ElasticBody &body);
 
+    /** Which elastic energy record() takes. */
+    enum class ElasticEnergy
+    {
+      /** That of the current positions: a pass over the elements. */
+      current,
+      /**
+       * That of the start of the last step, which the step computed anyway: one step
+       * late, enough to see an energy run away (it grows by orders of magnitude).
+       */
+      at_step_start
+    };
+
     /** Record the state of @p integrator (at the start, or after a step). */
-    void record(const ImplicitEuler &integrator);
+    void record(const ImplicitEuler &integrator, ElasticEnergy elastic = ElasticEnergy::current);
 
     /** Of the last record(): kinetic + elastic + the tool's springs (J). */
     double held_energy() const;

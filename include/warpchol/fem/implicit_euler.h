@@ -116,6 +116,12 @@ namespace warpchol::fem
     /** Elastic energy of the current positions, with fresh rotations where the model uses them. */
     double elastic_energy() const;
     /**
+     * The elastic energy at the start of the last step (that of the positions one step
+     * back), which the model's element pass computed anyway: free where elastic_energy()
+     * costs a pass over the elements. elastic_energy() before the first step.
+     */
+    double elastic_energy_at_step_start() const;
+    /**
      * Potential energy of the constant loads (gravity, region forces) relative to rest:
      * -sum_i f_i . (x_i - X_i); minus it is the work they have done.
      */
