@@ -126,6 +126,10 @@ int main()
   run_scene("an unknown model for a body", "bodies_model.prm",
             scene("subsection Bodies\n  set Number of bodies = 2\n  set Spacing = 1, 0, 0\n"
                   "  set Models = linear, magic\nend\n"));
+  run_scene("a target error from a body's infinite threshold", "bodies_target.prm",
+            scene("subsection Model\n  set Update threshold = 0.3\n  set Target error = 0.01\nend\n"
+                  "subsection Bodies\n  set Number of bodies = 2\n  set Spacing = 1, 0, 0\n"
+                  "  set Update thresholds = 0.3, inf\nend\n"));
   run_scene("bodies on top of each other", "bodies_spacing.prm",
             scene("subsection Bodies\n  set Number of bodies = 2\nend\n"));
   run_scene("unknown ordering", "unknown_ordering.prm", scene("subsection Solver\n  set Ordering = random\nend\n"));

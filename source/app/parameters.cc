@@ -717,6 +717,18 @@ namespace warpchol::app
     bodies.parse_parameters(prm, file);
     output.parse_parameters(prm, file);
     // What one entry allows only with another: said at the entry that asks for it.
+    for (unsigned int i = 0; model.target_error > 0 && i < bodies.update_thresholds.size(); ++i)
+      {
+        const double threshold = bodies.update_thresholds[i];
+        const auto  &type      = bodies.model_types.empty() ? model.type : bodies.model_types[i];
+        if (type == "warp_canceling" && (!(threshold > 0) || std::isinf(threshold)))
+          {
+            prm.enter_subsection("Bodies");
+            file.fail(prm, "Bodies", "Update thresholds",
+                      "with Model/Target error each body's threshold is where its adaptation "
+                      "starts: finite and > 0 (got " + format_number(threshold) + ")");
+          }
+      }
     if (model.target_error > 0 && model.type == "warp_canceling" && model.strategy.iterates() &&
         model.strategy.iterate_on == fem::StepStrategy::Target::corotational)
       {
