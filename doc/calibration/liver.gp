@@ -6,29 +6,27 @@
 
 # WCC partial
 $group0 << EOD
-0.000307747 0.0151035 0.00677565 "0.1" "0.1"
-0.000258519 0.0261565 0.0117701 "0.3" "0.3"
-0.000232674 0.0406232 0.0183263 "1" "1"
+0.000361486 0.0151035 0.00677565 "0.1" "0.1"
+0.000167734 0.0261565 0.0117701 "0.3" "0.3"
+0.000153313 0.0406232 0.0183263 "1" "1"
 EOD
 # WCC target error
 $group1 << EOD
-0.000620582 0.00268097 0.00152406 "0.3%" "0.3%"
-0.0004145 0.00947801 0.00524934 "1%" "1%"
-0.000331281 0.0257485 0.01338 "3%" "3%"
+0.000973155 0.00268097 0.00152406 "0.3%" "0.3%"
+0.000403483 0.00947801 0.00524934 "1%" "1%"
+0.000383199 0.0257485 0.01338 "3%" "3%"
 EOD
 $front_max << EOD
-0.000232674 0.0406232
-0.000258519 0.0261565
-0.000307747 0.0151035
-0.0004145 0.00947801
-0.000620582 0.00268097
+0.000153313 0.0406232
+0.000167734 0.0261565
+0.000361486 0.0151035
+0.000403483 0.00947801
 EOD
 $front_rms << EOD
-0.000232674 0.0183263
-0.000258519 0.0117701
-0.000307747 0.00677565
-0.0004145 0.00524934
-0.000620582 0.00152406
+0.000153313 0.0183263
+0.000167734 0.0117701
+0.000361486 0.00677565
+0.000403483 0.00524934
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -45,9 +43,9 @@ set grid
 set key below horizontal
 set bmargin 6
 set xlabel "seconds per step"
-set xrange [0:0.00122321]
-set arrow 1 from 0.0011326, graph 0 to 0.0011326, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0011326, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.00105101]
+set arrow 1 from 0.000897895, graph 0 to 0.000897895, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.000897895, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \

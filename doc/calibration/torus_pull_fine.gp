@@ -6,27 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.0372609 0.00450525 0.00283519 "0.1" "0.1"
-0.0300637 0.0161133 0.00868627 "0.3" "0.3"
-0.022843 0.0633659 0.0348156 "1" "1"
+0.0508741 0.00450525 0.00283519 "0.1" "0.1"
+0.0378222 0.0161133 0.00868627 "0.3" "0.3"
+0.0317225 0.0633659 0.0348156 "1" "1"
 EOD
 # WCC target error
 $group1 << EOD
-0.0523748 0.0016588 0.000994027 "0.3%" "0.3%"
-0.0431141 0.00542029 0.00352566 "1%" "1%"
-0.0300322 0.0230799 0.0136745 "3%" "3%"
+0.067327 0.0016588 0.000994027 "0.3%" "0.3%"
+0.058337 0.00542029 0.00352566 "1%" "1%"
+0.0470259 0.0230799 0.0136745 "3%" "3%"
 EOD
 $front_max << EOD
-0.022843 0.0633659
-0.0300322 0.0230799
-0.0300637 0.0161133
-0.0372609 0.00450525
+0.0317225 0.0633659
+0.0378222 0.0161133
+0.0508741 0.00450525
 EOD
 $front_rms << EOD
-0.022843 0.0348156
-0.0300322 0.0136745
-0.0300637 0.00868627
-0.0372609 0.00283519
+0.0317225 0.0348156
+0.0378222 0.00868627
+0.0508741 0.00283519
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -43,9 +41,9 @@ set grid
 set key below horizontal
 set bmargin 6
 set xlabel "seconds per step"
-set xrange [0:0.0565648]
-set arrow 1 from 0.0515151, graph 0 to 0.0515151, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0515151, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0727131]
+set arrow 1 from 0.0622419, graph 0 to 0.0622419, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0622419, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \

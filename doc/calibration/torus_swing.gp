@@ -6,23 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0603996 0.0176013 0.00879185 "0.1" "0.1"
-0.0484668 0.098095 0.0501287 "0.3" "0.3"
-0.0350058 0.423156 0.251612 "1" "1"
+0.0807647 0.0176013 0.00879185 "0.1" "0.1"
+0.0679205 0.098095 0.0501287 "0.3" "0.3"
+0.0457895 0.423156 0.251612 "1" "1"
 EOD
 # WCC target error
 $group1 << EOD
-0.0814679 0.00271414 0.000708929 "0.3%" "0.3%"
-0.0702778 0.00743204 0.00344969 "1%" "1%"
-0.0533664 0.0438228 0.0209244 "3%" "3%"
+0.112781 0.00271414 0.000682074 "0.3%" "0.3%"
+0.0918989 0.00743204 0.00344969 "1%" "1%"
+0.0796768 0.0438228 0.0209244 "3%" "3%"
 EOD
 $front_max << EOD
-0.0350058 0.423156
-0.0484668 0.098095
+0.0457895 0.423156
+0.0679205 0.098095
 EOD
 $front_rms << EOD
-0.0350058 0.251612
-0.0484668 0.0501287
+0.0457895 0.251612
+0.0679205 0.0501287
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +39,9 @@ set grid
 set key below horizontal
 set bmargin 6
 set xlabel "seconds per step"
-set xrange [0:0.0879853]
-set arrow 1 from 0.0526957, graph 0 to 0.0526957, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0526957, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.121804]
+set arrow 1 from 0.0775295, graph 0 to 0.0775295, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0775295, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \

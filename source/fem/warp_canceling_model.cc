@@ -197,13 +197,14 @@ namespace warpchol::fem
       {
         // The last step's error against exact corotation steers this step's threshold
         // (in logarithms, a gain of 0.7 on an error that grows like the threshold to a
-        // power of 0.6 to 1.1, bounded per step). A step without motion (error 0) lets
-        // it grow.
+        // power of 0.6 to 1.1). It falls fast (to 1/8 per step) and rises slowly (2x), and
+        // stays below 100, above which hardly an element is ever updated: a body that
+        // rested (error 0, the threshold rising) and moves again is caught within steps.
         const double goal   = target / 2;
         const double factor = last_velocity_error > 0 ?
-                                std::clamp(std::pow(goal / last_velocity_error, 0.7), 0.5, 2.0) :
+                                std::clamp(std::pow(goal / last_velocity_error, 0.7), 0.125, 2.0) :
                                 2.0;
-        adapted_threshold = std::clamp(adapted_threshold * factor, 1e-6, 1e6);
+        adapted_threshold = std::clamp(adapted_threshold * factor, 1e-6, 100.0);
       }
     statistics.update_threshold = adapted_threshold;
 

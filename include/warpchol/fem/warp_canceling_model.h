@@ -53,7 +53,7 @@ namespace warpchol::fem
    * velocities are from exact corotation (ElasticityModel::relative_velocity_error, one
    * matrix-free product and one solve), e_k = max_i |v_i - v_i*| / max_i |v_i|, and moves
    * the threshold of the next step so that e_k follows t / 2:
-   *   threshold *= clamp((t / 2 / e_k)^0.7, 1/2, 2).
+   *   threshold *= clamp((t / 2 / e_k)^0.7, 1/8, 2), at most 100.
    * Measured on four scenes (parameters/README.md), the trajectory error is 1 to 2.5
    * times the mean step error: t / 2 keeps it near t whatever the scene.
    */
