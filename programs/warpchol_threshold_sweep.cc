@@ -78,32 +78,16 @@ namespace
     std::string         csv_file;
   };
 
-
-
-  double parse_threshold(const std::string &text)
-  {
-    if (text == "inf" || text == "infinity")
-      return std::numeric_limits<double>::infinity();
-    std::size_t used  = 0;
-    double      value = -1;
-    try
-      {
-        value = std::stod(text, &used);
-      }
-    catch (...)
-      {
-        used = 0;
-      }
-    if (used != text.size() || !(value >= 0) || std::isinf(value))
-      throw InputError("--thresholds: '" + text + "' is not a number >= 0 or inf");
-    return value;
-  }
-
   std::vector<double> parse_thresholds(const std::string &option, const std::string &list)
   {
     std::vector<double> thresholds;
     for (const auto &text : dealii::Utilities::split_string_list(list, ','))
-      thresholds.push_back(parse_threshold(text));
+      {
+        double threshold = 0;
+        if (!app::parse_threshold(text, threshold))
+          throw InputError(option + ": '" + text + "' is not a number >= 0 or inf");
+        thresholds.push_back(threshold);
+      }
     if (thresholds.empty())
       throw InputError(option + ": no threshold given");
     return thresholds;

@@ -26,26 +26,6 @@ namespace warpchol::app
       return text.substr(first, text.find_last_not_of(" \t\r") - first + 1);
     }
 
-    /** A WCC update threshold: a number >= 0 or inf; false if @p text is neither. */
-    bool parse_threshold(const std::string &text, double &threshold)
-    {
-      const std::string value = trim(text);
-      if (value == "inf" || value == "infinity")
-        {
-          threshold = std::numeric_limits<double>::infinity();
-          return true;
-        }
-      std::size_t used = 0;
-      try
-        {
-          threshold = std::stod(value, &used);
-        }
-      catch (...)
-        {
-          return false;
-        }
-      return !value.empty() && used == value.size() && threshold >= 0 && !std::isinf(threshold);
-    }
 
     /** Collapse runs of white space into one blank. */
     std::string one_line(const std::string &text)
@@ -158,6 +138,26 @@ namespace warpchol::app
   }
 
   // ---------------------------------------------------------------------------------------
+  bool parse_threshold(const std::string &text, double &threshold)
+  {
+    const std::string value = trim(text);
+    if (value == "inf" || value == "infinity")
+      {
+        threshold = std::numeric_limits<double>::infinity();
+        return true;
+      }
+    std::size_t used = 0;
+    try
+      {
+        threshold = std::stod(value, &used);
+      }
+    catch (...)
+      {
+        return false;
+      }
+    return !value.empty() && used == value.size() && threshold >= 0 && !std::isinf(threshold);
+  }
+
   void RegionParameters::declare_parameters(ParameterHandler &prm, const std::string &what,
                                             const std::string &default_kind)
   {

@@ -74,13 +74,18 @@ namespace warpchol::fem
       }
   }
 
-  void ImplicitEuler::set_initial_velocities(const std::vector<Vector3> &velocities)
+  void ImplicitEuler::check_initial_field(const std::string &what, const std::size_t size) const
   {
     if (steps_done > 0)
-      throw InputError("the initial velocities can only be set before the first step");
-    if (velocities.size() != body.n_vertices())
-      throw InputError("initial velocities: " + std::to_string(velocities.size()) +
-                       " given for " + std::to_string(body.n_vertices()) + " vertices");
+      throw InputError("the initial " + what + " can only be set before the first step");
+    if (size != body.n_vertices())
+      throw InputError("initial " + what + ": " + std::to_string(size) + " given for " +
+                       std::to_string(body.n_vertices()) + " vertices");
+  }
+
+  void ImplicitEuler::set_initial_velocities(const std::vector<Vector3> &velocities)
+  {
+    check_initial_field("velocities", velocities.size());
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
       v[i] = body.is_fixed(i) ? Vector3::Zero() : velocities[i];
     start_energy = total_energy();
@@ -88,11 +93,7 @@ namespace warpchol::fem
 
   void ImplicitEuler::set_initial_positions(const std::vector<Vector3> &positions)
   {
-    if (steps_done > 0)
-      throw InputError("the initial positions can only be set before the first step");
-    if (positions.size() != body.n_vertices())
-      throw InputError("initial positions: " + std::to_string(positions.size()) +
-                       " given for " + std::to_string(body.n_vertices()) + " vertices");
+    check_initial_field("positions", positions.size());
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
       x[i] = body.is_fixed(i) ? body.rest_positions()[i] : positions[i];
     cached_elastic_step = static_cast<unsigned int>(-1);

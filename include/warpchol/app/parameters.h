@@ -52,6 +52,12 @@ namespace warpchol::app
     std::vector<std::pair<std::string, int>> set_lines;
   };
 
+  /**
+   * A WCC update threshold as a parameter file or a command line writes it: a number >= 0
+   * or inf (infinity). Returns false (and leaves @p threshold unspecified) for anything else.
+   */
+  bool parse_threshold(const std::string &text, double &threshold);
+
   /** A set of vertices given by a region: a box, a sphere, a list of ids, all or none. */
   struct RegionParameters
   {

@@ -5,6 +5,7 @@
 #include <warpchol/fem/small_dense.h>
 #include <warpchol/fem/system_matrix.h>
 
+#include <string>
 #include <vector>
 
 /**
@@ -151,6 +152,12 @@ namespace warpchol::fem
     /** @} */
 
   private:
+    /**
+     * Throw InputError unless the initial @p what ("velocities", "positions") of @p size
+     * vertices can still be set: before the first step, one per vertex.
+     */
+    void check_initial_field(const std::string &what, std::size_t size) const;
+
     const ElasticBody   &body;
     ElasticityModel     &model;
     const Loads          loads;
