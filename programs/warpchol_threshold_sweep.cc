@@ -381,8 +381,7 @@ namespace
 
     // The exact run, recorded step by step, after a few steps of it that warm the machine
     // up (the first run of a process was measured up to 30 % slower than its twins).
-    app::AllParameters corotational = parameters;
-    corotational.model.type         = "corotational";
+    const app::AllParameters corotational = parameters.exact_corotational();
     {
       app::AllParameters warm_up           = corotational;
       warm_up.time_stepping.n_steps = std::min(5u, parameters.time_stepping.n_steps);

@@ -456,6 +456,21 @@ namespace warpchol::app
                         "The top of the elimination tree that Model/Strategy = delayed_top or "
                         "auto may leave stale: the smallest upward-closed set of supernodes "
                         "holding this fraction of the factorization flops");
+      prm.declare_entry("Backend", "warpchol", Patterns::Anything(),
+                        "Who factors and solves each step's system: warpchol (this project's "
+                        "factor, refactorized partially), or a peer: cholmod (CHOLMOD "
+                        "supernodal, its own ordering), umfpack (deal.II's SparseDirectUMFPACK), "
+                        "eigen (Eigen's SimplicialLLT), eigen_cholmod (Eigen's CHOLMOD "
+                        "wrapper), each refactorizing in full every step; trilinos_amg_cg "
+                        "(Trilinos CG with an ML AMG preconditioner set up once, rigid-body "
+                        "modes as near null space); warp_preconditioned_cg (SOFA's: CG on the "
+                        "corotational matrix, the rest factor rotated by the nodal rotations "
+                        "as preconditioner; Model/Type = corotational)");
+      prm.declare_entry("Tolerance", "1e-6", Patterns::Double(0),
+                        "The iterative backends (trilinos_amg_cg, warp_preconditioned_cg) stop "
+                        "at |b - A x| <= Tolerance |b|");
+      prm.declare_entry("Max iterations", "1000", Patterns::Integer(1),
+                        "The iterative backends fail past this many iterations");
       prm.declare_entry("Preconditioner precision", "double", Patterns::Selection("double|single"),
                         "The factor as CG's preconditioner (Model/Strategy other than partial, "
                         "supernodal method): single keeps a single-precision copy of L and "
@@ -483,6 +498,18 @@ namespace warpchol::app
         {
           file.fail(prm, "Solver", "Method", error.what());
         }
+      try
+        {
+          backend.backend = backends::parse_backend(trim(prm.get("Backend")));
+        }
+      catch (const Error &error)
+        {
+          file.fail(prm, "Solver", "Backend", error.what());
+        }
+      backend.tolerance      = prm.get_double("Tolerance");
+      backend.max_iterations = prm.get_integer("Max iterations");
+      if (!(backend.tolerance > 0 && backend.tolerance < 1))
+        file.fail(prm, "Solver", "Tolerance", "must be in (0, 1)");
       settings.n_threads          = prm.get_integer("Threads");
       settings.top_flops_fraction = prm.get_double("Top flops fraction");
       settings.single_precision_preconditioner = prm.get("Preconditioner precision") == "single";
@@ -737,6 +764,7 @@ namespace warpchol::app
                   "needs a step that solves the WCC system (Strategy = partial, or Iterate on = "
                   "warp_canceling): CG on the corotational matrix is exact to the CG tolerance");
       }
+    check_backend(prm);
     const auto strategy = model.strategy.kind;
     if ((strategy == fem::StepStrategy::Kind::delayed_top || strategy == fem::StepStrategy::Kind::automatic) &&
         solver.settings.method != cholesky::FactorizationMethod::supernodal)
@@ -746,6 +774,40 @@ namespace warpchol::app
                 "refreshes the factor below the top of its tree, which needs Solver/Method = supernodal (not " +
                     cholesky::to_string(solver.settings.method) + ")");
       }
+  }
+
+  void AllParameters::check_backend(ParameterHandler &prm) const
+  {
+    const backends::Backend backend = solver.backend.backend;
+    if (backend == backends::Backend::warpchol)
+      return;
+    const std::string name = backends::to_string(backend);
+    const auto        fail = [&](const std::string &message) {
+      prm.enter_subsection("Solver");
+      file.fail(prm, "Solver", "Backend", message);
+    };
+    const std::vector<std::string> types = bodies.model_types.empty() ? std::vector<std::string>{model.type} :
+                                                                        bodies.model_types;
+    for (const std::string &type : types)
+      {
+        if (backend == backends::Backend::warp_preconditioned_cg && type != "corotational")
+          fail("solves the exact corotational system (CG preconditioned by the rotated rest "
+               "factor): needs Model/Type = corotational, not " + type);
+        if (type == "warp_canceling" && model.strategy.kind != fem::StepStrategy::Kind::partial)
+          fail(name + " factors in full and solves by itself: needs Model/Strategy = partial, not " +
+               fem::to_string(model.strategy.kind));
+        if (type == "warp_canceling" && model.target_error > 0)
+          fail(name + " has no factor of warpchol's to measure a step's error with: needs "
+                      "Model/Target error = 0");
+      }
+  }
+
+  AllParameters AllParameters::exact_corotational() const
+  {
+    AllParameters exact          = *this;
+    exact.model.type             = "corotational";
+    exact.solver.backend.backend = backends::Backend::warpchol;
+    return exact;
   }
 
   AllParameters::AllParameters()

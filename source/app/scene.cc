@@ -2,6 +2,7 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/fem/corotational_model.h>
+#include <warpchol/fem/implicit_euler.h>
 #include <warpchol/fem/linear_model.h>
 #include <warpchol/fem/mesh_generators.h>
 #include <warpchol/fem/stiffness_warping_model.h>
@@ -11,25 +12,56 @@
 #include <deal.II/grid/grid_tools.h>
 
 #include <cmath>
+#include <limits>
 
 namespace warpchol::app
 {
+  namespace
+  {
+    /** The model of @p model's type with warpchol's factor. */
+    std::unique_ptr<fem::ElasticityModel>
+    create_factored_model(const parameters::Model &model, const fem::ElasticBody &body,
+                          const fem::SystemCoefficients            &coefficients,
+                          const cholesky::SparseCholesky::Settings &solver_settings)
+    {
+      if (model.type == "linear")
+        return std::make_unique<fem::LinearModel>(body, coefficients, solver_settings);
+      if (model.type == "corotational")
+        return std::make_unique<fem::CorotationalModel>(body, coefficients, solver_settings);
+      if (model.type == "stiffness_warping")
+        return std::make_unique<fem::StiffnessWarpingModel>(body, coefficients, solver_settings);
+      if (model.type == "warp_canceling")
+        return std::make_unique<fem::WarpCancelingModel>(body, coefficients, solver_settings,
+                                                         model.update_threshold, model.strategy,
+                                                         model.target_error);
+      throw InputError("unknown model type '" + model.type + "'");
+    }
+  } // namespace
+
   std::unique_ptr<fem::ElasticityModel>
   create_model(const parameters::Model &model, const fem::ElasticBody &body,
-               const fem::SystemCoefficients            &coefficients,
-               const cholesky::SparseCholesky::Settings &solver_settings)
+               const fem::SystemCoefficients &coefficients, const parameters::Solver &solver)
   {
-    if (model.type == "linear")
-      return std::make_unique<fem::LinearModel>(body, coefficients, solver_settings);
-    if (model.type == "corotational")
-      return std::make_unique<fem::CorotationalModel>(body, coefficients, solver_settings);
-    if (model.type == "stiffness_warping")
-      return std::make_unique<fem::StiffnessWarpingModel>(body, coefficients, solver_settings);
-    if (model.type == "warp_canceling")
-      return std::make_unique<fem::WarpCancelingModel>(body, coefficients, solver_settings,
-                                                       model.update_threshold, model.strategy,
-                                                       model.target_error);
-    throw InputError("unknown model type '" + model.type + "'");
+    const backends::Settings &backend = solver.backend;
+    if (backend.backend == backends::Backend::warp_preconditioned_cg)
+      {
+        // SOFA's warp preconditioner: the rest factor, never updated, in the nodal frames
+        // (WCC at threshold inf), preconditions CG on the exact corotational matrix.
+        parameters::Model warped      = model;
+        warped.type                   = "warp_canceling";
+        warped.update_threshold       = std::numeric_limits<double>::infinity();
+        warped.target_error           = 0;
+        warped.strategy.kind          = fem::StepStrategy::Kind::preconditioned;
+        warped.strategy.iterate_on    = fem::StepStrategy::Target::corotational;
+        warped.strategy.cg_tolerance  = backend.tolerance;
+        warped.strategy.max_cg_iterations = backend.max_iterations;
+        return create_factored_model(warped, body, coefficients, solver.settings);
+      }
+    auto created = create_factored_model(model, body, coefficients, solver.settings);
+    if (backends::replaces_factor(backend.backend))
+      created->use_linear_solver(
+        backends::create_linear_solver(backend, body.n_unknowns(), fem::rigid_body_modes(body)));
+    return created;
   }
 
   namespace
@@ -175,7 +207,7 @@ namespace warpchol::app
     const fem::SystemCoefficients coefficients = fem::ImplicitEuler::coefficients(
       *elastic_body, all.time_stepping.time_step, all.time_stepping.rayleigh_mass,
       all.time_stepping.rayleigh_stiffness, scene_loads);
-    elasticity_model = create_model(all.model, *elastic_body, coefficients, all.solver.settings);
+    elasticity_model = create_model(all.model, *elastic_body, coefficients, all.solver);
     time_integrator  = std::make_unique<fem::ImplicitEuler>(*elastic_body, *elasticity_model,
                                                            scene_loads, all.time_stepping.time_step);
     const auto &initial = all.initial_state;

@@ -60,9 +60,7 @@ namespace warpchol::app
           simulated.label = body_label(body_parameters, i);
         if (parameters.output.compare_with_corotational)
           {
-            AllParameters reference = body_parameters;
-            reference.model.type    = "corotational";
-            simulated.reference     = std::make_unique<Scene>(reference);
+            simulated.reference = std::make_unique<Scene>(body_parameters.exact_corotational());
           }
 
         const auto &body = simulated.scene->body();
@@ -386,10 +384,25 @@ namespace warpchol::app
     else if (wcc)
       out << ", update threshold " << n(wcc->update_threshold());
     const auto &solver = model.solver();
-    out << "; solver: " << cholesky::to_string(solver.settings().ordering.method) << " ordering, "
-        << cholesky::to_string(solver.settings().method);
+    const auto &backend = scene.parameters().solver.backend;
+    if (const auto *peer = model.linear_solver())
+      {
+        out << "; solver: " << peer->name();
+        if (peer->is_iterative())
+          out << ", to " << n(backend.tolerance, 2) << ", iterations per step mean "
+              << n(static_cast<double>(t.cg_iterations) / std::max(1u, t.steps));
+      }
+    else
+      {
+        out << "; solver: " << cholesky::to_string(solver.settings().ordering.method) << " ordering, "
+            << cholesky::to_string(solver.settings().method);
+        if (timings)
+          out << ", fill " << n(solver.statistics().fill());
+        if (backend.backend == backends::Backend::warp_preconditioned_cg)
+          out << ", its rest factor rotated as CG's preconditioner (warp_preconditioned_cg)";
+      }
     if (timings)
-      out << ", fill " << n(solver.statistics().fill());
+      out << ", factor memory " << n(model.factor_memory_bytes() / 1048576.) << " MiB";
     out << "\n";
     out << "  steps: " << t.steps << ", simulated time " << n(integrator.time(), 4) << " s\n";
     if (model.uses_rotations())

@@ -39,9 +39,6 @@ namespace warpchol::cholesky
     blas::use_single_threaded_blas();
     cholmod_common &common = implementation->common;
     cholmod_l_start(&common);
-    common.nmethods           = 1;
-    common.method[0].ordering = CHOLMOD_GIVEN;
-    common.postorder          = 0;
     common.supernodal         = supernodal ? CHOLMOD_SUPERNODAL : CHOLMOD_SIMPLICIAL;
     common.final_ll           = 1;
     common.print              = 0;
@@ -56,13 +53,32 @@ namespace warpchol::cholesky
 
   void CholmodReference::analyze(const sparse::CSCMatrix &matrix, const std::vector<Index> &permutation)
   {
+    // Exactly P^T A P: the given permutation, no postorder.
+    cholmod_common &common    = implementation->common;
+    common.nmethods           = 1;
+    common.method[0].ordering = CHOLMOD_GIVEN;
+    common.postorder          = 0;
+    analyze_with(matrix, permutation.data());
+  }
+
+  void CholmodReference::analyze(const sparse::CSCMatrix &matrix)
+  {
+    // CHOLMOD's defaults (analyze() with a permutation replaces them).
+    implementation->common.nmethods  = 0;
+    implementation->common.postorder = 1;
+    analyze_with(matrix, nullptr);
+  }
+
+  void CholmodReference::analyze_with(const sparse::CSCMatrix &matrix, const Index *permutation)
+  {
     const Stopwatch stopwatch;
-    cholmod_l_free_factor(&implementation->factor, &implementation->common);
+    cholmod_common &common = implementation->common;
+    cholmod_l_free_factor(&implementation->factor, &common);
     cholmod_sparse a = Implementation::view(matrix);
-    implementation->factor =
-      cholmod_l_analyze_p(&a, const_cast<Index *>(permutation.data()), nullptr, 0, &implementation->common);
+    // No permutation: CHOLMOD orders as its settings say.
+    implementation->factor = cholmod_l_analyze_p(&a, const_cast<Index *>(permutation), nullptr, 0, &common);
     if (implementation->factor == nullptr)
-      throw Error("CHOLMOD analysis failed with status " + std::to_string(implementation->common.status));
+      throw Error("CHOLMOD analysis failed with status " + std::to_string(common.status));
     implementation->n = matrix.n_cols;
     analyze_seconds   = stopwatch.seconds();
   }

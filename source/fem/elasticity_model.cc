@@ -78,7 +78,7 @@ namespace warpchol::fem
 
   bool ElasticityModel::solves_iteratively() const
   {
-    return strategy.iterates();
+    return peer_solver ? peer_solver->is_iterative() : strategy.iterates();
   }
 
   bool ElasticityModel::uses_rotations() const
@@ -115,9 +115,31 @@ namespace warpchol::fem
     setup_time = stopwatch.seconds();
   }
 
+  void ElasticityModel::use_linear_solver(std::unique_ptr<backends::LinearSolver> linear_solver)
+  {
+    peer_solver = std::move(linear_solver);
+    StepStatistics setup;
+    factorize(setup);
+  }
+
+  const backends::LinearSolver *ElasticityModel::linear_solver() const
+  {
+    return peer_solver.get();
+  }
+
+  std::size_t ElasticityModel::factor_memory_bytes() const
+  {
+    return peer_solver ? peer_solver->memory_bytes() : cholesky_solver.statistics().factor_bytes;
+  }
+
   void ElasticityModel::factorize(StepStatistics &statistics)
   {
     StageTimer timer(statistics.stages, stage::factorization);
+    if (peer_solver)
+      {
+        factorize_with_peer(statistics);
+        return;
+      }
     checked([&]() {
       if (cholesky_solver.statistics().n == 0)
         cholesky_solver.analyze(system.csc());
@@ -132,10 +154,27 @@ namespace warpchol::fem
                                     StepStatistics &statistics, const cholesky::Refresh refresh)
   {
     StageTimer timer(statistics.stages, stage::factorization);
+    if (peer_solver)
+      {
+        // The peers have no partial refactorization: in full.
+        factorize_with_peer(statistics);
+        return;
+      }
     checked([&]() { cholesky_solver.refactorize(system.csc(), changed_columns, refresh); });
     statistics.refresh = to_string(refresh);
     last_refresh       = refresh;
     record_refactorization(statistics);
+  }
+
+  void ElasticityModel::factorize_with_peer(StepStatistics &statistics)
+  {
+    checked([&]() { peer_solver->factorize(system.matrix(), system.csc()); });
+    statistics.refresh            = "full";
+    statistics.refactorized       = true;
+    statistics.columns_recomputed = body.n_unknowns();
+    record_no_refactorization(statistics);
+    // warpchol's count of a full factorization's flops: the peers' own counts differ.
+    statistics.flops_recomputed = statistics.flops_full;
   }
 
   void ElasticityModel::record_refactorization(StepStatistics &statistics) const
@@ -166,7 +205,18 @@ namespace warpchol::fem
       to_solve_frame(velocities, solution.data());
     last_cg_iterations = 0;
     last_cg_seconds    = 0;
-    if (!strategy.iterates())
+    if (peer_solver)
+      {
+        // An iterating peer starts from the guess as CG does; its iterations and
+        // preconditioner all count as its solve.
+        StageTimer timer(statistics.stages, stage::solve);
+        if (peer_solver->is_iterative() && velocities.size() == body.n_vertices())
+          to_solve_frame(velocities, solution.data());
+        peer_solver->solve(rotated, solution);
+        last_cg_iterations = peer_solver->last_iterations();
+        statistics.cg_iterations += last_cg_iterations;
+      }
+    else if (!strategy.iterates())
       {
         StageTimer timer(statistics.stages, stage::solve);
         cholesky_solver.solve(rotated, solution);
@@ -279,7 +329,6 @@ namespace warpchol::fem
   {
     Stopwatch    stopwatch;
     double       solve_seconds = 0;
-    const Index  n             = body.n_unknowns();
     const FunctionOperator target([this](const dealii::Vector<double> &in, dealii::Vector<double> &out) {
       target_times(in, out);
     });

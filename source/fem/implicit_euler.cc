@@ -35,6 +35,24 @@ namespace warpchol::fem
     return velocities;
   }
 
+  std::vector<std::vector<double>> rigid_body_modes(const ElasticBody &body)
+  {
+    std::vector<std::vector<double>> modes;
+    for (unsigned int k = 0; k < 6; ++k)
+      {
+        const Vector3              unit      = Vector3::Unit(k % 3);
+        const std::vector<Vector3> velocities = k < 3 ? rigid_body_velocities(body, unit, Vector3::Zero()) :
+                                                         rigid_body_velocities(body, Vector3::Zero(), unit);
+        std::vector<double> mode(body.n_unknowns());
+        for (unsigned int v = 0; v < body.n_vertices(); ++v)
+          if (const Index first = body.first_unknown(v); first >= 0)
+            for (unsigned int c = 0; c < 3; ++c)
+              mode[first + c] = velocities[v][c];
+        modes.push_back(std::move(mode));
+      }
+    return modes;
+  }
+
   SystemCoefficients ImplicitEuler::coefficients(const ElasticBody &body, const double time_step,
                                                  const double rayleigh_mass,
                                                  const double rayleigh_stiffness,

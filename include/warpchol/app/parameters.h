@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/mesh_generators.h>
@@ -143,6 +144,8 @@ namespace warpchol::app
     struct Solver
     {
       cholesky::SparseCholesky::Settings settings;
+      /** Who factors and solves the step's system: warpchol's factor or a peer's. */
+      backends::Settings                 backend;
 
       /** The supernodal method by default: the fast one, which refactorizes partially. */
       Solver();
@@ -281,6 +284,12 @@ namespace warpchol::app
      */
     AllParameters body(unsigned int index) const;
 
+    /**
+     * These parameters with the exact corotational model solved by warpchol's direct
+     * factor: the reference a run's trajectory error is measured against.
+     */
+    AllParameters exact_corotational() const;
+
     /** The mesh file with a relative name taken relative to the parameter file. */
     std::string mesh_file_path() const;
 
@@ -288,5 +297,7 @@ namespace warpchol::app
 
   private:
     void parse_parameters(dealii::ParameterHandler &prm);
+    /** Throw InputError at Solver/Backend if the backend cannot run the model as set. */
+    void check_backend(dealii::ParameterHandler &prm) const;
   };
 } // namespace warpchol::app

@@ -19,11 +19,15 @@
  */
 namespace warpchol::app
 {
-  /** Build the model of @p type ("linear", ...) for @p body. */
+  /**
+   * Build the model of @p model's type ("linear", ...) for @p body, solved as @p solver's
+   * backend says: with warpchol's factor, a peer's linear solver, or (the corotational
+   * model with warp_preconditioned_cg) warp-canceling corotation that never updates,
+   * solving by CG on the corotational matrix.
+   */
   std::unique_ptr<fem::ElasticityModel>
   create_model(const parameters::Model &model, const fem::ElasticBody &body,
-               const fem::SystemCoefficients &coefficients,
-               const cholesky::SparseCholesky::Settings &solver_settings);
+               const fem::SystemCoefficients &coefficients, const parameters::Solver &solver);
 
   class Scene
   {

@@ -100,6 +100,9 @@ namespace warpchol::backends
      */
     virtual void solve(const std::vector<double> &b, std::vector<double> &x) = 0;
 
+    /** Whether solve() iterates from the guess it is given (false: a direct solver). */
+    virtual bool is_iterative() const;
+
     /** Iterations of the last solve() (0 for a direct solver). */
     virtual unsigned int last_iterations() const;
 

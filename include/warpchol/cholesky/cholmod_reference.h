@@ -30,6 +30,13 @@ namespace warpchol::cholesky
     /** Symbolic analysis of @p matrix (lower triangle used) with perm[k] = column of A. */
     void analyze(const sparse::CSCMatrix &matrix, const std::vector<Index> &permutation);
 
+    /**
+     * Symbolic analysis of @p matrix with CHOLMOD's own choice of ordering (its defaults:
+     * AMD, and METIS too when AMD fills much; the elimination tree postordered), as a user
+     * who calls cholmod_l_analyze gets it.
+     */
+    void analyze(const sparse::CSCMatrix &matrix);
+
     /** Numeric factorization; throws NotPositiveDefinite if CHOLMOD reports one. */
     void factorize(const sparse::CSCMatrix &matrix);
 
@@ -46,6 +53,9 @@ namespace warpchol::cholesky
     double factorize_seconds = 0;
 
   private:
+    /** cholmod_l_analyze_p with @p permutation (null: CHOLMOD's own choice). */
+    void analyze_with(const sparse::CSCMatrix &matrix, const Index *permutation);
+
     struct Implementation;
     std::unique_ptr<Implementation> implementation;
   };

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/backends/linear_solver.h>
 #include <warpchol/base/stage_times.h>
 #include <warpchol/base/types.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
@@ -10,6 +11,7 @@
 
 #include <deal.II/lac/vector.h>
 
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -177,6 +179,19 @@ namespace warpchol::fem
      */
     double elastic_energy_at_last_evaluation() const;
 
+    /**
+     * From now on factor and solve A with @p linear_solver, a peer's (Solver/Backend),
+     * instead of warpchol's factor: every factorization is in full, and solve() is the
+     * peer's, directly or by its own iterations. A step that needs warpchol's factor
+     * (an iterating strategy, a target error) is refused by the parameters before this.
+     * The current A is factored with it at once.
+     */
+    void use_linear_solver(std::unique_ptr<backends::LinearSolver> linear_solver);
+    /** The peer's solver, or null for warpchol's factor. */
+    const backends::LinearSolver *linear_solver() const;
+    /** Bytes of the factor (warpchol's or the peer's) or of the peer's preconditioner. */
+    std::size_t factor_memory_bytes() const;
+
     const ElementUpdateRecord &update_record() const;
     const SystemMatrix        &system_matrix() const;
     const cholesky::SparseCholesky &solver() const;
@@ -244,6 +259,8 @@ namespace warpchol::fem
     double                   last_velocity_error    = -1;
     /** How much of the factor the last refactorize() refreshed. */
     cholesky::Refresh        last_refresh = cholesky::Refresh::all;
+    /** The peer that replaces cholesky_solver (Solver/Backend); null: warpchol's own. */
+    std::unique_ptr<backends::LinearSolver> peer_solver;
 
   private:
     /**
@@ -279,6 +296,9 @@ namespace warpchol::fem
     /** Run @p factor; a failed pivot becomes a MatrixError naming column and vertex. */
     template <typename Factor>
     void checked(const Factor &factor);
+
+    /** A full factorization of A by the peer's solver, recorded in @p statistics. */
+    void factorize_with_peer(StepStatistics &statistics);
 
     /** Copy what the solver's last (re)factorization did into @p statistics. */
     void record_refactorization(StepStatistics &statistics) const;

@@ -50,6 +50,12 @@ namespace warpchol::fem
    */
   std::vector<Vector3> rigid_body_velocities(const ElasticBody &body, const Vector3 &linear,
                                              const Vector3 &angular);
+  /**
+   * The 6 rigid-body modes of @p body over its unknowns (free dofs): the translations along
+   * x, y, z and the rotations about them through the rest centre of mass. The near null
+   * space of the stiffness matrix, which algebraic multigrid needs for elasticity.
+   */
+  std::vector<std::vector<double>> rigid_body_modes(const ElasticBody &body);
 
   /**
    * One implicit Euler step in velocity form (DESIGN.md eq. 1):

@@ -1,0 +1,88 @@
+#pragma once
+
+#include <warpchol/backends/linear_solver.h>
+#include <warpchol/cholesky/cholmod_reference.h>
+
+#include <deal.II/lac/sparse_direct.h>
+
+#include <memory>
+
+/**
+ * @file
+ * The direct peers: what a user refactorizes with every step when the matrix changes.
+ * Each keeps its symbolic analysis where its library allows it and factors in full.
+ */
+namespace warpchol::backends
+{
+  /**
+   * CHOLMOD supernodal LL^T as a user calls it: its own choice of ordering (AMD, or METIS
+   * when AMD fills much), analyzed once, the numeric factorization in full every step.
+   */
+  class CholmodSolver : public LinearSolver
+  {
+  public:
+    CholmodSolver();
+    std::string name() const override;
+    void        factorize(const dealii::SparseMatrix<double> &matrix, const sparse::CSCMatrix &csc) override;
+    void        solve(const std::vector<double> &b, std::vector<double> &x) override;
+    std::size_t memory_bytes() const override;
+
+  private:
+    cholesky::CholmodReference cholmod;
+    bool                       analyzed = false;
+  };
+
+  /**
+   * deal.II's SparseDirectUMFPACK (LU, no use of symmetry), as step-8 and its successors
+   * use it: every factorize() is UMFPACK's symbolic and numeric factorization.
+   */
+  class UmfpackSolver : public LinearSolver
+  {
+  public:
+    std::string name() const override;
+    void        factorize(const dealii::SparseMatrix<double> &matrix, const sparse::CSCMatrix &csc) override;
+    void        solve(const std::vector<double> &b, std::vector<double> &x) override;
+    /** Heap growth over the first factorization (UMFPACK does not report its size). */
+    std::size_t memory_bytes() const override;
+
+  private:
+    dealii::SparseDirectUMFPACK umfpack;
+    std::size_t                 factor_bytes = 0;
+  };
+
+  /**
+   * Eigen's SimplicialLLT with its AMD ordering: the pattern analyzed once, the numeric
+   * factorization in full every step (up-looking, column by column).
+   */
+  class EigenSimplicialSolver : public LinearSolver
+  {
+  public:
+    EigenSimplicialSolver();
+    ~EigenSimplicialSolver() override;
+    std::string name() const override;
+    void        factorize(const dealii::SparseMatrix<double> &matrix, const sparse::CSCMatrix &csc) override;
+    void        solve(const std::vector<double> &b, std::vector<double> &x) override;
+    std::size_t memory_bytes() const override;
+
+  private:
+    struct Implementation;
+    std::unique_ptr<Implementation> implementation;
+  };
+
+  /** Eigen's CholmodSupernodalLLT, its wrapper of CHOLMOD's supernodal factorization. */
+  class EigenCholmodSolver : public LinearSolver
+  {
+  public:
+    EigenCholmodSolver();
+    ~EigenCholmodSolver() override;
+    std::string name() const override;
+    void        factorize(const dealii::SparseMatrix<double> &matrix, const sparse::CSCMatrix &csc) override;
+    void        solve(const std::vector<double> &b, std::vector<double> &x) override;
+    /** Heap growth over the first factorization (the wrapper hides CHOLMOD's factor). */
+    std::size_t memory_bytes() const override;
+
+  private:
+    struct Implementation;
+    std::unique_ptr<Implementation> implementation;
+  };
+} // namespace warpchol::backends

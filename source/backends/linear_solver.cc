@@ -1,0 +1,102 @@
+#include <warpchol/backends/direct_solvers.h>
+#include <warpchol/backends/linear_solver.h>
+#include <warpchol/base/exceptions.h>
+
+#include <malloc.h>
+
+namespace warpchol::backends
+{
+  std::vector<Backend> all_backends()
+  {
+    return {Backend::warpchol,      Backend::cholmod,         Backend::umfpack,
+            Backend::eigen,         Backend::eigen_cholmod,   Backend::trilinos_amg_cg,
+            Backend::warp_preconditioned_cg};
+  }
+
+  std::string to_string(const Backend backend)
+  {
+    switch (backend)
+      {
+        case Backend::warpchol:
+          return "warpchol";
+        case Backend::cholmod:
+          return "cholmod";
+        case Backend::umfpack:
+          return "umfpack";
+        case Backend::eigen:
+          return "eigen";
+        case Backend::eigen_cholmod:
+          return "eigen_cholmod";
+        case Backend::trilinos_amg_cg:
+          return "trilinos_amg_cg";
+        case Backend::warp_preconditioned_cg:
+          return "warp_preconditioned_cg";
+      }
+    return "?";
+  }
+
+  std::string backend_names()
+  {
+    std::string names;
+    for (const Backend backend : all_backends())
+      names += (names.empty() ? "" : ", ") + to_string(backend);
+    return names;
+  }
+
+  Backend parse_backend(const std::string &name)
+  {
+    for (const Backend backend : all_backends())
+      if (to_string(backend) == name)
+        return backend;
+    throw InputError("unknown backend '" + name + "' (valid: " + backend_names() + ")");
+  }
+
+  bool replaces_factor(const Backend backend)
+  {
+    return backend != Backend::warpchol && backend != Backend::warp_preconditioned_cg;
+  }
+
+  bool iterates(const Backend backend)
+  {
+    return backend == Backend::trilinos_amg_cg || backend == Backend::warp_preconditioned_cg;
+  }
+
+  bool LinearSolver::is_iterative() const
+  {
+    return false;
+  }
+
+  unsigned int LinearSolver::last_iterations() const
+  {
+    return 0;
+  }
+
+  std::unique_ptr<LinearSolver> create_linear_solver(const Settings &settings, const Index n_unknowns,
+                                                     const std::vector<std::vector<double>> &rigid_body_modes)
+  {
+    (void)n_unknowns;
+    (void)rigid_body_modes;
+    switch (settings.backend)
+      {
+        case Backend::cholmod:
+          return std::make_unique<CholmodSolver>();
+        case Backend::umfpack:
+          return std::make_unique<UmfpackSolver>();
+        case Backend::eigen:
+          return std::make_unique<EigenSimplicialSolver>();
+        case Backend::eigen_cholmod:
+          return std::make_unique<EigenCholmodSolver>();
+        default:
+          break;
+      }
+    throw InputError("backend " + to_string(settings.backend) + " has no linear solver of its own: it uses warpchol's factor");
+  }
+
+  std::size_t heap_bytes_in_use()
+  {
+    // Small blocks (uordblks) and the large ones glibc maps on their own (hblkhd): a
+    // factor's arrays are mostly the latter.
+    const struct mallinfo2 info = mallinfo2();
+    return info.uordblks + info.hblkhd;
+  }
+} // namespace warpchol::backends
