@@ -8,12 +8,15 @@
  *
  *   warpchol-threshold-sweep PARAMS.prm [--thresholds 0,0.03,0.1,0.3,1,inf]
  *       [--strategies delayed_top,preconditioned,auto] [--strategy-thresholds 0.3,1,inf]
- *       [--target-errors 0.003,0.01,0.03] [--threads N] [--csv FILE]
+ *       [--target-errors 0.003,0.01,0.03] [--backends all|B1,B2,...]
+ *       [--peer-tolerances 1e-6,1e-3] [--threads N] [--csv FILE]
  *
  * The partial strategy (direct solve of the WCC system) runs at every --thresholds; each
  * of --strategies at every --strategy-thresholds, with the scene's CG settings; the partial
  * strategy with each of --target-errors (Model/Target error, from threshold 0.3), rows
- * wcc_target whose threshold column is the target. The
+ * wcc_target whose threshold column is the target; each peer of --backends (Solver/Backend)
+ * on the exact corotational model, the iterative ones at each of --peer-tolerances, rows
+ * named by the backend whose threshold column is the tolerance. The
  * scene's model entries are overridden; its output entries are ignored. The CSV goes to
  * output/SCENE/threshold_sweep.csv unless --csv says otherwise; beside it, with the same
  * name, the gnuplot script (.gp) and the plot (.png) of error against seconds per step.
@@ -29,6 +32,7 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
+#include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/blas.h>
 #include <warpchol/fem/rotations.h>
 
@@ -52,6 +56,7 @@ namespace
   const char *usage =
     "usage: warpchol-threshold-sweep PARAMS.prm [--thresholds T1,T2,...] [--strategies S1,...]\n"
     "                                [--strategy-thresholds T1,...] [--target-errors E1,...]\n"
+    "                                [--backends all|B1,...] [--peer-tolerances T1,...]\n"
     "                                [--threads N] [--csv FILE]\n"
     "  --thresholds           WCC thresholds of the partial strategy, numbers >= 0 or inf\n"
     "                         (default 0,0.03,0.1,0.3,1,inf)\n"
@@ -60,6 +65,9 @@ namespace
     "  --strategy-thresholds  their thresholds (default 0.3,1,inf)\n"
     "  --target-errors        WCC target errors (partial strategy, the threshold adapted;\n"
     "                         default none)\n"
+    "  --backends             the peers to run the exact corotational model with (Solver/\n"
+    "                         Backend; 'all' for every one but warpchol; default none)\n"
+    "  --peer-tolerances      the tolerances of the iterative peers (default 1e-6,1e-3)\n"
     "  --threads N            Solver/Threads of every run (default: the scene's)\n"
     "  --csv FILE             where the table goes as CSV (default output/SCENE/threshold_sweep.csv);\n"
     "                         the plot of error against time goes beside it, FILE.png drawn by\n"
@@ -74,6 +82,8 @@ namespace
                                                     fem::StepStrategy::Kind::automatic};
     std::vector<double> strategy_thresholds{0.3, 1, std::numeric_limits<double>::infinity()};
     std::vector<double> target_errors;
+    std::vector<backends::Backend> peers;
+    std::vector<double> peer_tolerances{1e-6, 1e-3};
     unsigned int        threads = 0;
     std::string         csv_file;
   };
@@ -124,6 +134,27 @@ namespace
                   options.strategies.push_back(kind);
                 }
           }
+        else if (argument == "--backends")
+          {
+            const std::string list = command_line.value_of(argument);
+            options.peers.clear();
+            for (const auto &text : dealii::Utilities::split_string_list(list, ','))
+              if (text == "all")
+                for (const auto backend : backends::all_backends())
+                  options.peers.push_back(backend);
+              else
+                options.peers.push_back(backends::parse_backend(text));
+            // warpchol's own exact run is the first row already.
+            options.peers.erase(std::remove(options.peers.begin(), options.peers.end(), backends::Backend::warpchol),
+                                options.peers.end());
+          }
+        else if (argument == "--peer-tolerances")
+          {
+            options.peer_tolerances = parse_thresholds(argument, command_line.value_of(argument));
+            for (const double tolerance : options.peer_tolerances)
+              if (!(tolerance > 0 && tolerance < 1))
+                throw InputError("--peer-tolerances: " + format_number(tolerance) + " is not in (0, 1)");
+          }
         else if (argument == "--threads")
           {
             const std::string text = command_line.value_of(argument);
@@ -159,6 +190,8 @@ namespace
     double              flops_recomputed = 0; // mean percentage per step (0 without refactorization)
     double              cg_iterations    = 0; // mean per step
     double              seconds          = 0; // time steps only
+    double              factor_mib       = 0; // the factor's or preconditioner's memory
+    bool                has_threshold    = false; // a WCC threshold or target, or a peer's tolerance
     fem::StepStatistics phases;               // seconds summed over the steps
     app::TrajectoryError error;               // against the exact run (none for itself)
     std::string         failure;
@@ -167,6 +200,8 @@ namespace
   /** The name of a run in the model column: the model, or the WCC strategy. */
   std::string row_name(const app::AllParameters &parameters)
   {
+    if (parameters.solver.backend.backend != backends::Backend::warpchol)
+      return backends::to_string(parameters.solver.backend.backend);
     const auto kind = parameters.model.strategy.kind;
     if (parameters.model.type == "warp_canceling" && parameters.model.target_error > 0)
       return "wcc_target";
@@ -184,6 +219,12 @@ namespace
     row.model     = row_name(parameters);
     row.threshold = parameters.model.target_error > 0 ? parameters.model.target_error :
                                                          parameters.model.update_threshold;
+    row.has_threshold = parameters.model.type == "warp_canceling";
+    if (backends::iterates(parameters.solver.backend.backend))
+      {
+        row.threshold     = parameters.solver.backend.tolerance;
+        row.has_threshold = true;
+      }
     app::Scene  scene(parameters);
     for (unsigned int step = 1; step <= parameters.time_stepping.n_steps; ++step)
       {
@@ -211,6 +252,7 @@ namespace
         if (!reference.empty())
           row.error.add(app::position_error(x, reference[step - 1], scene.body().rest_positions()));
       }
+    row.factor_mib = scene.model().factor_memory_bytes() / 1048576.;
     if (row.steps > 0)
       {
         row.elements_updated /= row.steps;
@@ -277,6 +319,12 @@ namespace
               << "\n";
   }
 
+  /** The threshold column: the WCC threshold or target, the peer's tolerance, or "-". */
+  std::string threshold_text(const SweepRow &row)
+  {
+    return row.has_threshold ? format_number(row.threshold) : std::string("-");
+  }
+
   /** The legend entry of a row's model in the plot. */
   std::string plot_group(const std::string &model)
   {
@@ -303,11 +351,11 @@ namespace
               << "|x_i - x_i(corotational)| / max_i |x_i(corotational) - X_i|, RMS = sqrt(mean_i "
               << "|x_i - x_i(corotational)|^2) / the same; max and mean over the steps; phases in ms "
               << "per step\n"
-              << std::setw(20) << "model" << std::setw(10) << "threshold" << std::setw(9) << "updated%"
+              << std::setw(24) << "model" << std::setw(10) << "threshold" << std::setw(9) << "updated%"
               << std::setw(8) << "flops%" << std::setw(7) << "CG it" << std::setw(10) << "s/step"
               << std::setw(8) << "speedup" << std::setw(9) << "rotat" << std::setw(9) << "estim"
               << std::setw(9) << "assem" << std::setw(9) << "factor" << std::setw(9) << "iterat"
-              << std::setw(9) << "solve" << std::setw(10) << "max err" << std::setw(10) << "mean err"
+              << std::setw(9) << "solve" << std::setw(8) << "MiB" << std::setw(10) << "max err" << std::setw(10) << "mean err"
               << std::setw(10) << "max RMS" << std::setw(10) << "mean RMS" << "\n";
     for (const auto &row : rows)
       {
@@ -319,8 +367,7 @@ namespace
         const auto  error = [&](const double value) {
           return row.model == "corotational" ? std::string("0") : format_number(value, 2);
         };
-        std::cout << std::setw(20) << row.model << std::setw(10)
-                  << (row.model == "corotational" ? "-" : format_number(row.threshold)) << std::setw(9)
+        std::cout << std::setw(24) << row.model << std::setw(10) << threshold_text(row) << std::setw(9)
                   << format_number(row.elements_updated, 3) << std::setw(8)
                   << format_number(row.flops_recomputed, 3) << std::setw(7)
                   << format_number(row.cg_iterations, 2) << std::setw(10) << format_number(per_step, 3)
@@ -328,7 +375,8 @@ namespace
                   << std::setw(9) << per_step_ms(p.t_rotations()) << std::setw(9)
                   << per_step_ms(p.t_error_estimate()) << std::setw(9) << per_step_ms(p.t_assembly())
                   << std::setw(9) << per_step_ms(p.t_factor()) << std::setw(9) << per_step_ms(p.t_iterations())
-                  << std::setw(9) << per_step_ms(p.t_solve()) << std::setw(10) << error(row.error.max_error())
+                  << std::setw(9) << per_step_ms(p.t_solve()) << std::setw(8) << format_number(row.factor_mib, 3)
+                  << std::setw(10) << error(row.error.max_error())
                   << std::setw(10) << error(row.error.mean_error()) << std::setw(10)
                   << error(row.error.max_rms_error()) << std::setw(10) << error(row.error.mean_rms_error())
                   << (row.failure.empty() ? "" : "  " + row.failure) << "\n";
@@ -341,7 +389,7 @@ namespace
     out << "model,threshold,steps,elements_updated_pct,flops_recomputed_pct,cg_iterations,seconds,"
            "seconds_per_step,t_rotations,t_error_estimate,t_assembly,t_factor,t_iterations,t_solve,"
            "max_error_vs_corotational,mean_error_vs_corotational,max_rms_error_vs_corotational,"
-           "mean_rms_error_vs_corotational,final_error_vs_corotational,failure\n";
+           "mean_rms_error_vs_corotational,final_error_vs_corotational,factor_mib,failure\n";
     for (const auto &row : rows)
       {
         const auto per_step_ms = [&](const double seconds) {
@@ -358,7 +406,7 @@ namespace
             << per_step_ms(p.t_iterations()) << "," << per_step_ms(p.t_solve()) << ","
             << format_number(e.max_error(), 3) << "," << format_number(e.mean_error(), 3) << ","
             << format_number(e.max_rms_error(), 3) << "," << format_number(e.mean_rms_error(), 3) << ","
-            << format_number(e.last_error(), 3) << ","
+            << format_number(e.last_error(), 3) << "," << format_number(row.factor_mib, 4) << ","
             << (row.failure.empty() ? "" : "\"" + row.failure + "\"") << "\n";
       }
   }
@@ -412,6 +460,19 @@ namespace
           wcc.model.strategy.kind    = kind;
           runs.push_back(wcc);
         }
+    for (const auto backend : options.peers)
+      {
+        app::AllParameters peer      = parameters.exact_corotational();
+        peer.solver.backend.backend  = backend;
+        if (!backends::iterates(backend))
+          runs.push_back(peer);
+        else
+          for (const double tolerance : options.peer_tolerances)
+            {
+              peer.solver.backend.tolerance = tolerance;
+              runs.push_back(peer);
+            }
+      }
     for (const double target : options.target_errors)
       {
         app::AllParameters wcc     = parameters;
@@ -430,6 +491,9 @@ namespace
 
     const double exact_per_step = exact.seconds / std::max(1u, exact.steps);
     print_table(parameters, rows, exact_per_step);
+    // The ceiling of every factorization on this machine, to read the times against.
+    std::cout << "machine: dgemm " << format_number(cholesky::blas::measure_dgemm_gflops(), 3)
+              << " GFLOP/s on one thread (1000x1000 products)\n";
     const app::Scene scene(corotational);
     {
       double estimate_seconds = 0;
@@ -454,7 +518,8 @@ namespace
     for (const auto &row : rows)
       if (&row != &rows.front() && row.failure.empty())
         plot.add({plot_group(row.model),
-                  row.model == "wcc_target" ? format_number(100 * row.threshold) + "%" : format_number(row.threshold),
+                  row.model == "wcc_target" ? format_number(100 * row.threshold) + "%" :
+                                              (row.has_threshold ? format_number(row.threshold) : std::string()),
                   row.seconds / std::max(1u, row.steps),
                   row.error.max_error(), row.error.max_rms_error()});
     if (plot.write(stem + ".gp", stem + ".png", std::cout))

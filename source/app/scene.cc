@@ -55,7 +55,10 @@ namespace warpchol::app
         warped.strategy.iterate_on    = fem::StepStrategy::Target::corotational;
         warped.strategy.cg_tolerance  = backend.tolerance;
         warped.strategy.max_cg_iterations = backend.max_iterations;
-        return create_factored_model(warped, body, coefficients, solver.settings);
+        // SOFA's factor is in double precision: the single-precision copy is warpchol's.
+        cholesky::SparseCholesky::Settings settings       = solver.settings;
+        settings.single_precision_preconditioner          = false;
+        return create_factored_model(warped, body, coefficients, settings);
       }
     auto created = create_factored_model(model, body, coefficients, solver.settings);
     if (backends::replaces_factor(backend.backend))

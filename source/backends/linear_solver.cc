@@ -3,6 +3,9 @@
 #include <warpchol/base/exceptions.h>
 
 #include <malloc.h>
+#include <mpi.h>
+
+#include <cstdlib>
 
 namespace warpchol::backends
 {
@@ -90,6 +93,23 @@ namespace warpchol::backends
           break;
       }
     throw InputError("backend " + to_string(settings.backend) + " has no linear solver of its own: it uses warpchol's factor");
+  }
+
+  void require_mpi()
+  {
+    int initialized = 0;
+    MPI_Initialized(&initialized);
+    if (initialized)
+      return;
+    int provided = 0;
+    if (MPI_Init_thread(nullptr, nullptr, MPI_THREAD_SERIALIZED, &provided) != MPI_SUCCESS)
+      throw Error("MPI could not be started (Solver/Backend = trilinos_amg_cg needs it)");
+    std::atexit([] {
+      int finalized = 0;
+      MPI_Finalized(&finalized);
+      if (!finalized)
+        MPI_Finalize();
+    });
   }
 
   std::size_t heap_bytes_in_use()

@@ -1,6 +1,10 @@
 #include <warpchol/cholesky/blas.h>
+#include <warpchol/base/stopwatch.h>
 
+#include <algorithm>
 #include <cstdlib>
+#include <limits>
+#include <vector>
 #include <unistd.h>
 
 extern "C"
@@ -143,5 +147,18 @@ namespace warpchol::cholesky::blas
     if (n > 0)
       dpotrf_("L", &n, a, &lda, &info);
     return info;
+  }
+  double measure_dgemm_gflops()
+  {
+    const int           n = 1000;
+    std::vector<double> a(n * n, 0.5), b(n * n, 0.25), c(n * n, 0.);
+    double              best = std::numeric_limits<double>::infinity();
+    for (int repetition = 0; repetition < 3; ++repetition)
+      {
+        const Stopwatch stopwatch;
+        gemm(false, false, n, n, n, 1.0, a.data(), n, b.data(), n, 0.0, c.data(), n);
+        best = std::min(best, stopwatch.seconds());
+      }
+    return 2.0 * n * n * n / best / 1e9;
   }
 } // namespace warpchol::cholesky::blas

@@ -122,6 +122,13 @@ namespace warpchol::backends
                                                      const std::vector<std::vector<double>> &rigid_body_modes);
 
   /**
+   * Start MPI (one process) unless it runs already, for the Trilinos objects that need it,
+   * and finalize it at exit. Only the runs that use Trilinos pay its start-up (a second
+   * with Open MPI's singleton daemon): the programs do not start it in main().
+   */
+  void require_mpi();
+
+  /**
    * Bytes in use on the heap now (glibc's mallinfo2): the difference around a library's
    * set-up measures what it allocated, for libraries that do not report it themselves.
    */
