@@ -21,7 +21,7 @@ namespace warpchol::backends
    *
    * The preconditioner is set up once, at the first factorize(), and kept while the
    * matrix changes: later calls copy the new values into the Trilinos matrix only. The
-   * finest level of the hierarchy reads that matrix, so CG's products and the smoother's
+   * finest level of the hierarchy reads that matrix, so CG's products and the smoother
    * see the new values; the aggregates, the coarse matrices, the smoother's inverse
    * diagonal and its bound of the spectrum stay those of the first matrix. That is what
    * a deal.II user does with a slowly changing matrix, and it holds while the changes stay
