@@ -7,6 +7,7 @@
 // MatrixErrors. Iterations are printed against bounds, not as numbers.
 
 #include <warpchol/backends/trilinos_amg_cg.h>
+#include <warpchol/fem/implicit_euler.h>
 #include <warpchol/sparse/residual.h>
 
 #include <deal.II/base/mpi.h>
@@ -22,34 +23,6 @@ using namespace warpchol;
 
 namespace
 {
-  /**
-   * The near null space of the body's unknowns: 3 translations and 3 rotations about the
-   * centre of the rest positions, u = e_axis x (X - centre).
-   */
-  std::vector<std::vector<double>> rigid_body_modes(const fem::ElasticBody &body)
-  {
-    fem::Vector3 centre = fem::Vector3::Zero();
-    for (const fem::Vector3 &position : body.rest_positions())
-      centre += position;
-    centre /= static_cast<double>(body.n_vertices());
-
-    std::vector<std::vector<double>> modes(6, std::vector<double>(body.n_unknowns(), 0.));
-    for (unsigned int v = 0; v < body.n_vertices(); ++v)
-      {
-        const Index first = body.first_unknown(v);
-        if (first < 0)
-          continue;
-        const fem::Vector3 arm = body.rest_positions()[v] - centre;
-        for (unsigned int axis = 0; axis < 3; ++axis)
-          {
-            modes[axis][first + axis]        = 1.;
-            const fem::Vector3 rotation      = fem::Vector3::Unit(axis).cross(arm);
-            for (unsigned int c = 0; c < 3; ++c)
-              modes[3 + axis][first + c] = rotation[c];
-          }
-      }
-    return modes;
-  }
 
   /** b with entries uniform in [-1, 1) (a load, not the image of a known x). */
   std::vector<double> random_right_hand_side(const Index n, const std::uint64_t seed)
@@ -86,7 +59,7 @@ int main(int argc, char **argv)
   settings.backend        = backends::Backend::trilinos_amg_cg;
   settings.tolerance      = 1e-6;
   settings.max_iterations = 200;
-  const std::vector<std::vector<double>> modes = rigid_body_modes(body);
+  const std::vector<std::vector<double>> modes = fem::rigid_body_modes(body);
   backends::TrilinosAmgCgSolver          solver(settings, modes);
   std::cout << "name: " << solver.name() << std::endl;
 

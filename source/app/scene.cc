@@ -63,7 +63,7 @@ namespace warpchol::app
     auto created = create_factored_model(model, body, coefficients, solver.settings);
     if (backends::replaces_factor(backend.backend))
       created->use_linear_solver(
-        backends::create_linear_solver(backend, body.n_unknowns(), fem::rigid_body_modes(body)));
+        backends::create_linear_solver(backend, fem::rigid_body_modes(body)));
     return created;
   }
 

@@ -1,5 +1,6 @@
 #include <warpchol/backends/direct_solvers.h>
 #include <warpchol/backends/linear_solver.h>
+#include <warpchol/backends/trilinos_amg_cg.h>
 #include <warpchol/base/exceptions.h>
 
 #include <malloc.h>
@@ -74,11 +75,9 @@ namespace warpchol::backends
     return 0;
   }
 
-  std::unique_ptr<LinearSolver> create_linear_solver(const Settings &settings, const Index n_unknowns,
+  std::unique_ptr<LinearSolver> create_linear_solver(const Settings &settings,
                                                      const std::vector<std::vector<double>> &rigid_body_modes)
   {
-    (void)n_unknowns;
-    (void)rigid_body_modes;
     switch (settings.backend)
       {
         case Backend::cholmod:
@@ -89,6 +88,9 @@ namespace warpchol::backends
           return std::make_unique<EigenSimplicialSolver>();
         case Backend::eigen_cholmod:
           return std::make_unique<EigenCholmodSolver>();
+        case Backend::trilinos_amg_cg:
+          require_mpi();
+          return std::make_unique<TrilinosAmgCgSolver>(settings, rigid_body_modes);
         default:
           break;
       }

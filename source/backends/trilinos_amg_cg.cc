@@ -238,6 +238,11 @@ namespace warpchol::backends
     x.assign(self.solution.begin(), self.solution.end());
   }
 
+  bool TrilinosAmgCgSolver::is_iterative() const
+  {
+    return true;
+  }
+
   unsigned int TrilinosAmgCgSolver::last_iterations() const
   {
     return implementation->last_iterations;

@@ -114,11 +114,11 @@ namespace warpchol::backends
   };
 
   /**
-   * The linear solver of @p settings (a backend that replaces_factor()), for matrices of
-   * @p n_unknowns unknowns whose near null space is @p rigid_body_modes (6 vectors of
-   * n_unknowns entries: 3 translations and 3 rotations; used by AMG).
+   * The linear solver of @p settings (a backend that replaces_factor()), for matrices whose
+   * near null space is @p rigid_body_modes (6 vectors over the unknowns: 3 translations
+   * and 3 rotations; used by AMG).
    */
-  std::unique_ptr<LinearSolver> create_linear_solver(const Settings &settings, Index n_unknowns,
+  std::unique_ptr<LinearSolver> create_linear_solver(const Settings &settings,
                                                      const std::vector<std::vector<double>> &rigid_body_modes);
 
   /**

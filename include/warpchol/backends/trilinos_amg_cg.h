@@ -67,6 +67,9 @@ namespace warpchol::backends
      */
     void solve(const std::vector<double> &b, std::vector<double> &x) override;
 
+    /** True: CG from the guess it is given. */
+    bool is_iterative() const override;
+
     unsigned int last_iterations() const override;
 
     /** Heap bytes allocated by the first factorize(): the matrix copy and the hierarchy. */
