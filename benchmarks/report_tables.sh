@@ -29,6 +29,19 @@ machine="$(grep -m1 'model name' /proc/cpuinfo | sed 's/.*: //'), $(env -u OMP_T
 # The 1-minute load average: others' work on a shared machine slows the measurements.
 load_average() { cut -d ' ' -f 1 /proc/loadavg; }
 
+# The opening of table TABLE's Markdown: its title and how it was produced (the paragraph
+# goes on). Needs load_before, the load average when its measurements began.
+opening() {
+  cat << EOF
+# Table $1 of the report, with this project's solver
+
+Produced by \`sh benchmarks/report_tables.sh\` (BUILD=$build, a
+$(sed -n 's/^CMAKE_BUILD_TYPE:STRING=//p' "$build/CMakeCache.txt") build; OMP_THREAD_LIMIT=1,
+OPENBLAS_NUM_THREADS=1; $machine; load average $load_before before, $(load_average) after:
+a shared machine, so compare ratios, not seconds).
+EOF
+}
+
 # ---------------------------------------------------------------------------------------
 # Table 5.1
 # ---------------------------------------------------------------------------------------
@@ -123,13 +136,9 @@ table_5_1() {
   done
 
   {
+    opening 5.1
     cat << EOF
-# Table 5.1 of the report, with this project's solver
-
-Produced by \`sh benchmarks/report_tables.sh\` (BUILD=$build, Release build;
-OMP_THREAD_LIMIT=1, OPENBLAS_NUM_THREADS=1; $machine;
-load average $load_before before, $(load_average) after: a shared machine, so compare
-ratios, not seconds). Each row is one
+Each row is one
 \`warpchol-factor MATRIX --method M --ordering O --changed-fraction 0 --compare cholmod
 --repeat $repeat --max-seconds $max_seconds\`; the raw key=value lines are in
 \`$results\`.
@@ -319,13 +328,9 @@ table_5_4() {
   done
 
   {
+    opening 5.4
     cat << EOF
-# Table 5.4 of the report, with this project's solver
-
-Produced by \`sh benchmarks/report_tables.sh\` (BUILD=$build, Release build;
-OMP_THREAD_LIMIT=1, OPENBLAS_NUM_THREADS=1; $machine;
-load average $load_before before, $(load_average) after: a shared machine, so compare
-ratios, not seconds). It runs the scene \`$scene\` (the report's fine torus pulled by a
+It runs the scene \`$scene\` (the report's fine torus pulled by a
 tool, 100 steps of 0.01 s) with WCC and the partial strategy (the WCC system solved
 directly with the partially refactorized factor, as in the report) by \`warpchol\` with a
 parameter file that includes the scene and overrides the model, the solver and the output
