@@ -26,28 +26,6 @@ namespace warpchol::backends
       std::copy(csc.values.begin(), csc.values.end(), matrix.valuePtr());
     }
 
-    /** x = solver^-1 b for one of Eigen's sparse Cholesky solvers. */
-    template <typename Solver>
-    void eigen_solve(const Solver &solver, const std::vector<double> &b, std::vector<double> &x)
-    {
-      const Eigen::Map<const Eigen::VectorXd> rhs(b.data(), static_cast<Eigen::Index>(b.size()));
-      x.resize(b.size());
-      Eigen::Map<Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())) = solver.solve(rhs);
-    }
-
-    /** Factor @p matrix with @p solver, its pattern analyzed on the first call. */
-    template <typename Solver>
-    void eigen_factorize(Solver &solver, const EigenMatrix &matrix, bool &analyzed, const std::string &name)
-    {
-      if (!analyzed)
-        {
-          solver.analyzePattern(matrix);
-          analyzed = true;
-        }
-      solver.factorize(matrix);
-      if (solver.info() != Eigen::Success)
-        throw MatrixError(name + " failed: the system matrix is not positive definite");
-    }
   } // namespace
 
   CholmodSolver::CholmodSolver()
@@ -86,18 +64,17 @@ namespace warpchol::backends
 
   void UmfpackSolver::factorize(const dealii::SparseMatrix<double> &matrix, const sparse::CSCMatrix &)
   {
-    const bool        first  = factor_bytes == 0;
-    const std::size_t before = first ? heap_bytes_in_use() : 0;
     try
       {
-        umfpack.factorize(matrix);
+        if (factor_bytes > 0)
+          umfpack.factorize(matrix);
+        else
+          factor_bytes = std::max<std::size_t>(heap_growth_of([&] { umfpack.factorize(matrix); }), 1);
       }
-    catch (const dealii::ExceptionBase &error)
+    catch (const dealii::ExceptionBase &)
       {
         throw MatrixError("UMFPACK failed to factor the system matrix (singular?)");
       }
-    if (first)
-      factor_bytes = std::max<std::size_t>(heap_bytes_in_use() - std::min(before, heap_bytes_in_use()), 1);
   }
 
   void UmfpackSolver::solve(const std::vector<double> &b, std::vector<double> &x)
@@ -112,82 +89,103 @@ namespace warpchol::backends
     return factor_bytes;
   }
 
-  struct EigenSimplicialSolver::Implementation
+  /** The matrix in Eigen's form and one of Eigen's solvers of it. */
+  class EigenFactorization
   {
-    EigenMatrix                                                                 matrix;
-    Eigen::SimplicialLLT<EigenMatrix, Eigen::Lower, Eigen::AMDOrdering<Index>> solver;
-    bool                                                                        analyzed = false;
+  public:
+    virtual ~EigenFactorization() = default;
+    /** Factor @p csc, analyzing its pattern on the first call. */
+    virtual void factorize(const sparse::CSCMatrix &csc) = 0;
+    virtual void solve(const std::vector<double> &b, std::vector<double> &x) const = 0;
+    /** Bytes of the factor as Eigen stores it; 0 where Eigen does not tell (its CHOLMOD wrapper). */
+    virtual std::size_t factor_bytes() const = 0;
   };
 
-  EigenSimplicialSolver::EigenSimplicialSolver()
-    : implementation(std::make_unique<Implementation>())
-  {}
-
-  EigenSimplicialSolver::~EigenSimplicialSolver() = default;
-
-  std::string EigenSimplicialSolver::name() const
+  namespace
   {
-    return to_string(Backend::eigen);
+    using SimplicialLLT = Eigen::SimplicialLLT<EigenMatrix, Eigen::Lower, Eigen::AMDOrdering<Index>>;
+
+    template <typename Solver>
+    class EigenFactorizationOf : public EigenFactorization
+    {
+    public:
+      explicit EigenFactorizationOf(std::string name)
+        : name(std::move(name))
+      {}
+
+      void factorize(const sparse::CSCMatrix &csc) override
+      {
+        copy_to_eigen(csc, matrix);
+        if (!analyzed)
+          {
+            solver.analyzePattern(matrix);
+            analyzed = true;
+          }
+        solver.factorize(matrix);
+        if (solver.info() != Eigen::Success)
+          throw MatrixError(name + " failed: the system matrix is not positive definite");
+      }
+
+      void solve(const std::vector<double> &b, std::vector<double> &x) const override
+      {
+        const Eigen::Map<const Eigen::VectorXd> rhs(b.data(), static_cast<Eigen::Index>(b.size()));
+        x.resize(b.size());
+        Eigen::Map<Eigen::VectorXd>(x.data(), static_cast<Eigen::Index>(x.size())) = solver.solve(rhs);
+      }
+
+      std::size_t factor_bytes() const override
+      {
+        // L's values and row indices, its column starts and the permutation.
+        if constexpr (std::is_same_v<Solver, SimplicialLLT>)
+          return static_cast<std::size_t>(solver.matrixL().nestedExpression().nonZeros()) *
+                   (sizeof(double) + sizeof(Index)) +
+                 static_cast<std::size_t>(3 * matrix.rows() + 1) * sizeof(Index);
+        return 0;
+      }
+
+    private:
+      std::string name;
+      EigenMatrix matrix;
+      Solver      solver;
+      bool        analyzed = false;
+    };
+  } // namespace
+
+  EigenSolver::EigenSolver(const Backend backend)
+    : backend(backend)
+  {
+    if (backend == Backend::eigen)
+      factorization = std::make_unique<EigenFactorizationOf<SimplicialLLT>>("Eigen's SimplicialLLT");
+    else if (backend == Backend::eigen_cholmod)
+      factorization = std::make_unique<EigenFactorizationOf<Eigen::CholmodSupernodalLLT<EigenMatrix, Eigen::Lower>>>(
+        "Eigen's CholmodSupernodalLLT");
+    else
+      throw InputError("EigenSolver: " + to_string(backend) + " is not one of Eigen's");
   }
 
-  void EigenSimplicialSolver::factorize(const dealii::SparseMatrix<double> &, const sparse::CSCMatrix &csc)
+  EigenSolver::~EigenSolver() = default;
+
+  std::string EigenSolver::name() const
   {
-    copy_to_eigen(csc, implementation->matrix);
-    eigen_factorize(implementation->solver, implementation->matrix, implementation->analyzed,
-                    "Eigen's SimplicialLLT");
+    return to_string(backend);
   }
 
-  void EigenSimplicialSolver::solve(const std::vector<double> &b, std::vector<double> &x)
+  void EigenSolver::factorize(const dealii::SparseMatrix<double> &, const sparse::CSCMatrix &csc)
   {
-    eigen_solve(implementation->solver, b, x);
+    if (heap_growth > 0)
+      factorization->factorize(csc);
+    else
+      heap_growth = std::max<std::size_t>(heap_growth_of([&] { factorization->factorize(csc); }), 1);
   }
 
-  std::size_t EigenSimplicialSolver::memory_bytes() const
+  void EigenSolver::solve(const std::vector<double> &b, std::vector<double> &x)
   {
-    // L's values and row indices, its column starts and the permutation.
-    const auto &l = implementation->solver.matrixL();
-    const Index n = implementation->matrix.rows();
-    return static_cast<std::size_t>(l.nestedExpression().nonZeros()) * (sizeof(double) + sizeof(Index)) +
-           static_cast<std::size_t>(3 * n + 1) * sizeof(Index);
+    factorization->solve(b, x);
   }
 
-  struct EigenCholmodSolver::Implementation
+  std::size_t EigenSolver::memory_bytes() const
   {
-    EigenMatrix                                               matrix;
-    Eigen::CholmodSupernodalLLT<EigenMatrix, Eigen::Lower>    solver;
-    bool                                                      analyzed     = false;
-    std::size_t                                               factor_bytes = 0;
-  };
-
-  EigenCholmodSolver::EigenCholmodSolver()
-    : implementation(std::make_unique<Implementation>())
-  {}
-
-  EigenCholmodSolver::~EigenCholmodSolver() = default;
-
-  std::string EigenCholmodSolver::name() const
-  {
-    return to_string(Backend::eigen_cholmod);
-  }
-
-  void EigenCholmodSolver::factorize(const dealii::SparseMatrix<double> &, const sparse::CSCMatrix &csc)
-  {
-    copy_to_eigen(csc, implementation->matrix);
-    const bool        first  = !implementation->analyzed;
-    const std::size_t before = heap_bytes_in_use();
-    eigen_factorize(implementation->solver, implementation->matrix, implementation->analyzed,
-                    "Eigen's CholmodSupernodalLLT");
-    if (first)
-      implementation->factor_bytes = heap_bytes_in_use() - std::min(before, heap_bytes_in_use());
-  }
-
-  void EigenCholmodSolver::solve(const std::vector<double> &b, std::vector<double> &x)
-  {
-    eigen_solve(implementation->solver, b, x);
-  }
-
-  std::size_t EigenCholmodSolver::memory_bytes() const
-  {
-    return implementation->factor_bytes;
+    const std::size_t counted = factorization->factor_bytes();
+    return counted > 0 ? counted : heap_growth;
   }
 } // namespace warpchol::backends

@@ -85,9 +85,8 @@ namespace warpchol::backends
         case Backend::umfpack:
           return std::make_unique<UmfpackSolver>();
         case Backend::eigen:
-          return std::make_unique<EigenSimplicialSolver>();
         case Backend::eigen_cholmod:
-          return std::make_unique<EigenCholmodSolver>();
+          return std::make_unique<EigenSolver>(settings.backend);
         case Backend::trilinos_amg_cg:
           require_mpi();
           return std::make_unique<TrilinosAmgCgSolver>(settings, rigid_body_modes);
@@ -120,5 +119,13 @@ namespace warpchol::backends
     // factor's arrays are mostly the latter.
     const struct mallinfo2 info = mallinfo2();
     return info.uordblks + info.hblkhd;
+  }
+
+  std::size_t heap_growth_of(const std::function<void()> &action)
+  {
+    const std::size_t before = heap_bytes_in_use();
+    action();
+    const std::size_t after = heap_bytes_in_use();
+    return after > before ? after - before : 0;
   }
 } // namespace warpchol::backends

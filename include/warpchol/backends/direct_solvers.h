@@ -50,39 +50,34 @@ namespace warpchol::backends
     std::size_t                 factor_bytes = 0;
   };
 
+  /** Eigen's factorization behind an EigenSolver (its type hidden in the source). */
+  class EigenFactorization;
+
   /**
-   * Eigen's SimplicialLLT with its AMD ordering: the pattern analyzed once, the numeric
-   * factorization in full every step (up-looking, column by column).
+   * Eigen's sparse Cholesky as a user calls it: the pattern analyzed once, the numeric
+   * factorization in full every step. Backend::eigen is SimplicialLLT with its AMD ordering
+   * (column by column); Backend::eigen_cholmod is CholmodSupernodalLLT, Eigen's wrapper of
+   * CHOLMOD's supernodal factorization.
    */
-  class EigenSimplicialSolver : public LinearSolver
+  class EigenSolver : public LinearSolver
   {
   public:
-    EigenSimplicialSolver();
-    ~EigenSimplicialSolver() override;
+    /** @p backend: Backend::eigen or Backend::eigen_cholmod. */
+    explicit EigenSolver(Backend backend);
+    ~EigenSolver() override;
     std::string name() const override;
     void        factorize(const dealii::SparseMatrix<double> &matrix, const sparse::CSCMatrix &csc) override;
     void        solve(const std::vector<double> &b, std::vector<double> &x) override;
+    /**
+     * SimplicialLLT: L's entries and index arrays; the CHOLMOD wrapper hides its factor:
+     * the heap's growth over the first factorization.
+     */
     std::size_t memory_bytes() const override;
 
   private:
-    struct Implementation;
-    std::unique_ptr<Implementation> implementation;
-  };
-
-  /** Eigen's CholmodSupernodalLLT, its wrapper of CHOLMOD's supernodal factorization. */
-  class EigenCholmodSolver : public LinearSolver
-  {
-  public:
-    EigenCholmodSolver();
-    ~EigenCholmodSolver() override;
-    std::string name() const override;
-    void        factorize(const dealii::SparseMatrix<double> &matrix, const sparse::CSCMatrix &csc) override;
-    void        solve(const std::vector<double> &b, std::vector<double> &x) override;
-    /** Heap growth over the first factorization (the wrapper hides CHOLMOD's factor). */
-    std::size_t memory_bytes() const override;
-
-  private:
-    struct Implementation;
-    std::unique_ptr<Implementation> implementation;
+    Backend                             backend;
+    std::unique_ptr<EigenFactorization> factorization;
+    /** The heap's growth over the first factorization. */
+    std::size_t                         heap_growth = 0;
   };
 } // namespace warpchol::backends

@@ -6,6 +6,7 @@
 #include <deal.II/lac/sparse_matrix.h>
 
 #include <cstddef>
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -133,4 +134,7 @@ namespace warpchol::backends
    * set-up measures what it allocated, for libraries that do not report it themselves.
    */
   std::size_t heap_bytes_in_use();
+
+  /** The heap's growth while @p action runs (0 if it shrank). */
+  std::size_t heap_growth_of(const std::function<void()> &action);
 } // namespace warpchol::backends
