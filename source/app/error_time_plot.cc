@@ -78,9 +78,14 @@ namespace warpchol::app
     for (const auto &point : points)
       if (std::find(groups.begin(), groups.end(), point.group) == groups.end())
         groups.push_back(point.group);
-    double largest_seconds = reference_seconds_per_step;
+    double largest_seconds = reference_seconds_per_step, smallest_seconds = reference_seconds_per_step;
     for (const auto &point : points)
-      largest_seconds = std::max(largest_seconds, point.seconds_per_step);
+      {
+        largest_seconds  = std::max(largest_seconds, point.seconds_per_step);
+        smallest_seconds = std::min(smallest_seconds, point.seconds_per_step);
+      }
+    // Peers that take 100x longer would squeeze every other point against the axis.
+    const bool log_seconds = smallest_seconds > 0 && largest_seconds > 30 * smallest_seconds;
 
     const auto number = [](const double value) { return format_number(value, 6); };
     std::ostringstream out;
@@ -146,7 +151,9 @@ namespace warpchol::app
         << "set key below horizontal\n"
         << "set bmargin 6\n"
         << "set xlabel \"seconds per step\"\n"
-        << "set xrange [0:" << number(1.08 * largest_seconds) << "]\n"
+        << (log_seconds ? "set logscale x\nset xrange [" + number(0.7 * smallest_seconds) + ":" +
+                            number(1.4 * largest_seconds) + "]\n" :
+                          "set xrange [0:" + number(1.08 * largest_seconds) + "]\n")
         << (any_diverged ? "set yrange [*:" + number(2 * diverged_error) + "]\n" : std::string())
         << "set arrow 1 from " << number(reference_seconds_per_step) << ", graph 0 to "
         << number(reference_seconds_per_step) << ", graph 1 nohead dashtype 2 linewidth 2 linecolor rgb \"black\"\n"
@@ -163,11 +170,19 @@ namespace warpchol::app
         // Each group's labels on its own side of the points, so that neighbours overlap less.
         const char *label_places[] = {"left offset 0.8, 0.7", "left offset 0.8, -0.7",
                                       "right offset -0.8, 0.7", "right offset -0.8, -0.7"};
+        // A colour and a point shape per group, the pairs distinct for 12 groups (gnuplot's
+        // own colours repeat after 8).
+        const char *colours[] = {"#9400d3", "#009e73", "#56b4e9", "#e69f00", "#f0e442", "#0072b2",
+                                 "#e51e10", "#000000", "#a0522d", "#ff69b4", "#808000", "#20b2aa"};
+        const int   shapes[]  = {5, 7, 9, 11, 13, 15, 4, 6, 8, 10, 12, 14};
         for (unsigned int g = 0; g < groups.size(); ++g)
-          out << ", \\\n     $group" << g << " using 1:" << column << " with points pointtype "
-              << 5 + 2 * (g % 4) << " pointsize 1.6 linecolor " << g + 1 << " title " << quoted(groups[g])
-              << ", \\\n     $group" << g << " using 1:" << column << ":" << (rms ? "5" : "4")
-              << " with labels " << label_places[g % 4] << " textcolor lt " << g + 1 << " notitle";
+          {
+            const std::string colour = quoted(colours[g % 12]);
+            out << ", \\\n     $group" << g << " using 1:" << column << " with points pointtype "
+                << shapes[g % 12] << " pointsize 1.6 linecolor rgb " << colour << " title " << quoted(groups[g])
+                << ", \\\n     $group" << g << " using 1:" << column << ":" << (rms ? "5" : "4")
+                << " with labels " << label_places[g % 4] << " textcolor rgb " << colour << " notitle";
+          }
         out << "\n";
       }
     out << "unset multiplot\n";
