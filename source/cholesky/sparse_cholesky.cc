@@ -102,6 +102,9 @@ namespace warpchol::cholesky
                              (supernodal_structure.row_index.size() + supernodal_structure.row_start.size() +
                               supernodal_structure.value_start.size() + supernodal_structure.first_column.size()) *
                                sizeof(Index);
+        // The preconditioner's single-precision copy of the values, where it is kept.
+        if (solver_settings.single_precision_preconditioner)
+          stats.factor_bytes += supernodal_structure.n_stored_values() * sizeof(float);
       }
     else
       {

@@ -137,7 +137,7 @@ namespace warpchol::cholesky
       double flops_recomputed    = 0;
       Index  n_factorizations    = 0;
       Index  n_refactorizations  = 0;
-      /** Bytes held by the numeric factor (values and the structure that indexes them). */
+      /** Bytes held by the numeric factor (values, the structure that indexes them, a single-precision copy). */
       std::size_t factor_bytes   = 0;
       /** Supernodes in the top (Settings::top_flops_fraction) and their flops (share: top_flops / method_flops). */
       Index  n_top_supernodes    = 0;
