@@ -181,15 +181,14 @@ namespace warpchol::backends
         return;
       }
 
-    const std::size_t heap_before = heap_bytes_in_use();
-    self.set_up_matrix(matrix, csc);
-    self.copy_values(csc);
-    self.set_up_preconditioner();
-    self.rhs.reinit(self.n);
-    self.solution.reinit(self.n);
-    const std::size_t heap_after = heap_bytes_in_use();
-    self.memory_bytes            = heap_after > heap_before ? heap_after - heap_before : 0;
-    self.set_up                  = true;
+    self.memory_bytes = heap_growth_of([&] {
+      self.set_up_matrix(matrix, csc);
+      self.copy_values(csc);
+      self.set_up_preconditioner();
+      self.rhs.reinit(self.n);
+      self.solution.reinit(self.n);
+    });
+    self.set_up = true;
   }
 
   void TrilinosAmgCgSolver::solve(const std::vector<double> &b, std::vector<double> &x)
