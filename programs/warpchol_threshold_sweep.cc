@@ -103,6 +103,16 @@ namespace
     return thresholds;
   }
 
+  /** A list of numbers in (0, 1) given to @p option: target errors, tolerances. */
+  std::vector<double> parse_fractions(const std::string &option, const std::string &list)
+  {
+    std::vector<double> values = parse_thresholds(option, list);
+    for (const double value : values)
+      if (!(value > 0 && value < 1))
+        throw InputError(option + ": " + format_number(value) + " is not in (0, 1)");
+    return values;
+  }
+
   Options parse_command_line(const int argc, char **argv)
   {
     Options          options;
@@ -115,12 +125,7 @@ namespace
         else if (argument == "--strategy-thresholds")
           options.strategy_thresholds = parse_thresholds(argument, command_line.value_of(argument));
         else if (argument == "--target-errors")
-          {
-            options.target_errors = parse_thresholds(argument, command_line.value_of(argument));
-            for (const double target : options.target_errors)
-              if (!(target > 0 && target < 1))
-                throw InputError("--target-errors: " + format_number(target) + " is not in (0, 1)");
-          }
+          options.target_errors = parse_fractions(argument, command_line.value_of(argument));
         else if (argument == "--strategies")
           {
             options.strategies.clear();
@@ -149,12 +154,7 @@ namespace
                                 options.peers.end());
           }
         else if (argument == "--peer-tolerances")
-          {
-            options.peer_tolerances = parse_thresholds(argument, command_line.value_of(argument));
-            for (const double tolerance : options.peer_tolerances)
-              if (!(tolerance > 0 && tolerance < 1))
-                throw InputError("--peer-tolerances: " + format_number(tolerance) + " is not in (0, 1)");
-          }
+          options.peer_tolerances = parse_fractions(argument, command_line.value_of(argument));
         else if (argument == "--threads")
           {
             const std::string text = command_line.value_of(argument);

@@ -374,7 +374,8 @@ namespace warpchol::app
     const auto  n          = [](const double value, const int digits = 3) {
       return format_number(value, digits);
     };
-    const double n_elements = body.n_elements();
+    const double n_elements          = body.n_elements();
+    const double iterations_per_step = static_cast<double>(t.cg_iterations) / std::max(1u, t.steps);
 
     out << "  model: " << model.name();
     const auto *wcc = dynamic_cast<const fem::WarpCancelingModel *>(&model);
@@ -390,7 +391,7 @@ namespace warpchol::app
         out << "; solver: " << peer->name();
         if (peer->is_iterative())
           out << ", to " << n(backend.tolerance, 2) << ", iterations per step mean "
-              << n(static_cast<double>(t.cg_iterations) / std::max(1u, t.steps));
+              << n(iterations_per_step);
       }
     else
       {
@@ -429,7 +430,7 @@ namespace warpchol::app
             if (strategy.iterates())
               out << ", CG on the " << fem::to_string(strategy.iterate_on) << " matrix to "
                   << n(strategy.cg_tolerance, 2) << ", iterations per step mean "
-                  << n(static_cast<double>(t.cg_iterations) / std::max(1u, t.steps));
+                  << n(iterations_per_step);
             out << "; factor refreshes:";
             if (t.refreshes.empty())
               out << " 0";

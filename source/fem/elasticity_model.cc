@@ -201,17 +201,14 @@ namespace warpchol::fem
     to_solve_frame(right_hand_side, rotated.data());
     // The initial guess of CG: the velocities given on entry, in the solve frame.
     std::vector<double> solution(body.n_unknowns(), 0.);
-    if (strategy.iterates() && velocities.size() == body.n_vertices())
+    if (solves_iteratively() && velocities.size() == body.n_vertices())
       to_solve_frame(velocities, solution.data());
     last_cg_iterations = 0;
     last_cg_seconds    = 0;
     if (peer_solver)
       {
-        // An iterating peer starts from the guess as CG does; its iterations and
-        // preconditioner all count as its solve.
+        // An iterating peer's iterations and preconditioner all count as its solve.
         StageTimer timer(statistics.stages, stage::solve);
-        if (peer_solver->is_iterative() && velocities.size() == body.n_vertices())
-          to_solve_frame(velocities, solution.data());
         peer_solver->solve(rotated, solution);
         last_cg_iterations = peer_solver->last_iterations();
         statistics.cg_iterations += last_cg_iterations;
