@@ -133,6 +133,31 @@ namespace warpchol::app
     });
   }
 
+  void VtuSeries::save(BinaryWriter &writer) const
+  {
+    writer.section("VTU series");
+    writer.write(static_cast<std::uint64_t>(times_and_names.size()));
+    for (const auto &[time, name] : times_and_names)
+      {
+        writer.write(time);
+        writer.write(name);
+      }
+  }
+
+  void VtuSeries::load(BinaryReader &reader)
+  {
+    reader.expect_section("VTU series");
+    const auto n = reader.get<std::uint64_t>();
+    times_and_names.clear();
+    for (std::uint64_t i = 0; i < n; ++i)
+      {
+        const auto  time = reader.get<double>();
+        std::string name;
+        reader.read(name);
+        times_and_names.emplace_back(time, name);
+      }
+  }
+
   std::size_t VtuSeries::n_files() const
   {
     return times_and_names.size();
@@ -213,6 +238,19 @@ namespace warpchol::app
       }
     catch (...)
       {}
+  }
+
+  void StepLog::save(BinaryWriter &writer) const
+  {
+    writer.section("log");
+    writer.write(rows);
+  }
+
+  void StepLog::load(BinaryReader &reader)
+  {
+    reader.expect_section("log");
+    reader.read(rows);
+    written_rows = 0;
   }
 
   const std::string &StepLog::filename() const

@@ -695,6 +695,12 @@ namespace warpchol::app
                         "the trajectory error max_i |x_i - x_i(corotational)| and the RMS error "
                         "sqrt(mean_i |x_i - x_i(corotational)|^2), both over "
                         "max_i |x_i(corotational) - X_i|, in the log and the summary");
+      prm.declare_entry("Checkpoint interval", "0", Patterns::Integer(0),
+                        "Write the whole state of the run (positions, velocities, the model's "
+                        "matrix, stored rotations and factor, the tool, the log so far) to "
+                        "SCENE/checkpoint.bin every this many steps, replacing the last one "
+                        "atomically; 'warpchol FILE.prm --resume' goes on from it and gives the "
+                        "same trajectory, to the bit, as a run never stopped. 0: none");
       prm.leave_subsection();
     }
 
@@ -708,6 +714,7 @@ namespace warpchol::app
       print_timings = prm.get_bool("Print timings");
       progress      = prm.get("Progress");
       compare_with_corotational = prm.get_bool("Compare with corotational");
+      checkpoint_interval       = prm.get_integer("Checkpoint interval");
       prm.leave_subsection();
     }
   } // namespace parameters
@@ -810,11 +817,44 @@ namespace warpchol::app
     return exact;
   }
 
+  namespace
+  {
+    /** Every entry of @p prm as "Subsection/Entry = value", from its short PRM form. */
+    std::vector<std::string> entry_list(const ParameterHandler &prm)
+    {
+      std::ostringstream text;
+      prm.print_parameters(text, ParameterHandler::ShortPRM);
+      std::istringstream       lines(text.str());
+      std::vector<std::string> path, entries;
+      for (std::string line; std::getline(lines, line);)
+        {
+          line = trim(line);
+          if (line.rfind("subsection ", 0) == 0)
+            path.push_back(trim(line.substr(11)));
+          else if (line == "end" && !path.empty())
+            path.pop_back();
+          else if (line.rfind("set ", 0) == 0)
+            {
+              std::string prefix;
+              for (const auto &name : path)
+                prefix += name + "/";
+              // "set Entry    = value": the alignment is not part of it.
+              const std::string assignment = line.substr(4);
+              const auto        equals     = assignment.find('=');
+              entries.push_back(prefix + trim(assignment.substr(0, equals)) + " = " +
+                                (equals == std::string::npos ? "" : trim(assignment.substr(equals + 1))));
+            }
+        }
+      return entries;
+    }
+  } // namespace
+
   AllParameters::AllParameters()
   {
     ParameterHandler prm;
     declare_parameters(prm);
     parse_parameters(prm);
+    entries = entry_list(prm);
   }
 
   AllParameters::AllParameters(const std::string &filename)
@@ -833,6 +873,7 @@ namespace warpchol::app
         throw InputError(parameter_handler_message(error));
       }
     parse_parameters(prm);
+    entries = entry_list(prm);
   }
 
   void AllParameters::print_defaults(std::ostream &out)

@@ -13,6 +13,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <iomanip>
 #include <iostream>
 #include <sstream>
@@ -28,6 +30,105 @@ namespace warpchol::app
       if (body_parameters.model.type == "warp_canceling")
         label += ", threshold " + format_number(body_parameters.model.update_threshold);
       return label + ")";
+    }
+
+    /** The first section of a checkpoint: its kind and the version of its layout. */
+    constexpr const char *checkpoint_format = "warpchol checkpoint 1";
+
+    /** "Model/Type" of the entry "Model/Type = corotational". */
+    std::string entry_name(const std::string &entry)
+    {
+      return entry.substr(0, entry.find(" = "));
+    }
+
+    /**
+     * Whether entry @p name may differ between the run that wrote a checkpoint and the
+     * one that resumes from it: none of them changes a result.
+     */
+    bool may_differ_on_resume(const std::string &name)
+    {
+      for (const char *entry : {"Time stepping/Number of steps", "Output/Checkpoint interval",
+                                "Output/Progress", "Output/Print timings"})
+        if (name == entry)
+          return true;
+      return false;
+    }
+
+    /**
+     * Apply @p io to every field of @p totals that a checkpoint keeps (all but the run's
+     * seconds, kept apart): one list for writing and reading.
+     */
+    template <typename Totals, typename IO>
+    void for_each_checkpointed_total(Totals &totals, const IO &io)
+    {
+      io(totals.steps);
+      io(totals.elements_updated);
+      io(totals.last_elements_updated);
+      io(totals.max_elements_updated);
+      io(totals.steps_with_updates);
+      io(totals.trailing_steps_without_update);
+      io(totals.refactorizations);
+      io(totals.columns_recomputed_pct);
+      io(totals.flops_recomputed_pct);
+      io(totals.cg_iterations);
+      io(totals.threshold_sum);
+      io(totals.min_threshold);
+      io(totals.max_threshold);
+      io(totals.velocity_error_sum);
+      io(totals.max_velocity_error);
+      io(totals.step_seconds);
+      io(totals.updated_distance_to_tool);
+      io(totals.error_vs_corotational);
+    }
+
+    void save_totals(BinaryWriter &writer, const RunTotals &totals)
+    {
+      writer.section("totals");
+      for_each_checkpointed_total(totals, [&](const auto &value) { writer.write(value); });
+      std::vector<std::string>  names;
+      std::vector<unsigned int> counts;
+      for (const auto &[refresh, count] : totals.refreshes)
+        {
+          names.push_back(refresh);
+          counts.push_back(count);
+        }
+      writer.write(names);
+      writer.write(counts);
+      std::vector<double> seconds;
+      names.clear();
+      counts.clear();
+      for (const auto &stage : totals.stages.stages())
+        {
+          names.push_back(stage.name);
+          seconds.push_back(stage.seconds);
+          counts.push_back(stage.runs);
+        }
+      writer.write(names);
+      writer.write(seconds);
+      writer.write(counts);
+    }
+
+    void load_totals(BinaryReader &reader, RunTotals &totals)
+    {
+      reader.expect_section("totals");
+      totals = RunTotals();
+      for_each_checkpointed_total(totals, [&](auto &value) { reader.read(value); });
+      std::vector<std::string>  names;
+      std::vector<unsigned int> counts;
+      std::vector<double>       seconds;
+      reader.read(names);
+      reader.read(counts);
+      if (names.size() != counts.size())
+        reader.fail("the refresh counts do not match their names");
+      for (std::size_t i = 0; i < names.size(); ++i)
+        totals.refreshes[names[i]] = counts[i];
+      reader.read(names);
+      reader.read(seconds);
+      reader.read(counts);
+      if (names.size() != seconds.size() || names.size() != counts.size())
+        reader.fail("the stage times do not match their names");
+      for (std::size_t i = 0; i < names.size(); ++i)
+        totals.stages.add(names[i], seconds[i], counts[i]);
     }
   } // namespace
 
@@ -204,12 +305,123 @@ namespace warpchol::app
       check_energy(simulated, step);
   }
 
+  std::string Simulation::checkpoint_file() const
+  {
+    return directory + "/checkpoint.bin";
+  }
+
+  void Simulation::resume()
+  {
+    resuming = true;
+  }
+
+  void Simulation::write_checkpoint(const unsigned int step, const double run_seconds)
+  {
+    // The VTU files the checkpoint lists must be whole before it says they are.
+    if (vtu_series)
+      vtu_series->finish();
+    write_file_atomically(checkpoint_file(), [&](std::ostream &out) {
+      BinaryWriter writer(out);
+      writer.section(checkpoint_format);
+      writer.write(parameters.entries);
+      writer.write(step);
+      writer.write(seconds_before_resume + run_seconds);
+      writer.write(static_cast<std::uint64_t>(bodies.size()));
+      for (const auto &simulated : bodies)
+        {
+          writer.section("body");
+          simulated.scene->integrator().save_state(writer);
+          writer.write(simulated.reference != nullptr);
+          if (simulated.reference)
+            simulated.reference->integrator().save_state(writer);
+          simulated.energy_balance->save(writer);
+          save_totals(writer, simulated.totals);
+          writer.write(simulated.stopped);
+          writer.write(simulated.log != nullptr);
+          if (simulated.log)
+            simulated.log->save(writer);
+        }
+      writer.write(vtu_series != nullptr);
+      if (vtu_series)
+        vtu_series->save(writer);
+      writer.section("end");
+    });
+  }
+
+  void Simulation::read_checkpoint()
+  {
+    const std::string file = checkpoint_file();
+    std::error_code   error;
+    if (std::filesystem::is_directory(file, error))
+      throw InputError(file + ": is a directory, not a checkpoint");
+    std::ifstream in(file, std::ios::binary);
+    if (!in)
+      throw InputError(file + ": no checkpoint to resume from (Output/Checkpoint interval = N "
+                              "writes one every N steps)");
+    const auto size = std::filesystem::file_size(file, error);
+    if (error)
+      throw InputError(file + ": cannot read the checkpoint's size: " + error.message());
+    BinaryReader reader(in, file, size);
+    reader.expect_section(checkpoint_format);
+
+    // The parameters must be those that wrote it, but for what changes no result.
+    std::vector<std::string> written_with;
+    reader.read(written_with);
+    std::map<std::string, std::string> written;
+    for (const auto &entry : written_with)
+      written[entry_name(entry)] = entry;
+    for (const auto &entry : parameters.entries)
+      {
+        const std::string name = entry_name(entry);
+        if (may_differ_on_resume(name))
+          continue;
+        const auto found = written.find(name);
+        if (found == written.end())
+          throw InputError(file + ": was written without the entry " + name +
+                           " (another version of warpchol): cannot resume from it");
+        if (found->second != entry)
+          throw InputError(file + ": was written with " + found->second + ", the parameter file has " +
+                           entry + ": resume with the parameters that wrote it");
+      }
+
+    const auto step = reader.get<unsigned int>();
+    if (step > parameters.time_stepping.n_steps)
+      throw InputError(file + ": the checkpoint is at step " + std::to_string(step) +
+                       ", past Time stepping/Number of steps = " +
+                       std::to_string(parameters.time_stepping.n_steps));
+    reader.read(seconds_before_resume);
+    if (reader.get<std::uint64_t>() != bodies.size())
+      reader.fail("holds another number of bodies");
+    for (auto &simulated : bodies)
+      {
+        reader.expect_section("body");
+        simulated.scene->integrator().load_state(reader);
+        if (reader.get<bool>() != (simulated.reference != nullptr))
+          reader.fail("the corotational reference run differs");
+        if (simulated.reference)
+          simulated.reference->integrator().load_state(reader);
+        simulated.energy_balance->load(reader);
+        load_totals(reader, simulated.totals);
+        reader.read(simulated.stopped);
+        if (reader.get<bool>() != (simulated.log != nullptr))
+          reader.fail("the log differs");
+        if (simulated.log)
+          simulated.log->load(reader);
+      }
+    if (reader.get<bool>() != (vtu_series != nullptr))
+      reader.fail("the VTU series differs");
+    if (vtu_series)
+      vtu_series->load(reader);
+    reader.expect_section("end");
+    first_step = step + 1;
+  }
+
   void Simulation::run(std::ostream &out)
   {
     // End to end: the initial VTU file and the log's creation count as part of the run.
     const Stopwatch run_stopwatch;
     const auto &settings = parameters.output;
-    if (settings.write_log || settings.vtu_interval > 0)
+    if (settings.write_log || settings.vtu_interval > 0 || settings.checkpoint_interval > 0 || resuming)
       create_directory(directory);
     for (unsigned int i = 0; i < bodies.size(); ++i)
       if (settings.write_log)
@@ -217,16 +429,17 @@ namespace warpchol::app
           directory + (bodies.size() == 1 ? "/log.csv" : "/log_body" + std::to_string(i + 1) + ".csv"),
           bodies[i].reference != nullptr);
     if (settings.vtu_interval > 0)
-      {
-        vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name());
-        write_vtu(0);
-      }
+      vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name());
+    if (resuming)
+      read_checkpoint();
+    else if (vtu_series)
+      write_vtu(0);
 
     const bool show_progress =
       settings.progress == "on" || (settings.progress == "auto" && isatty(fileno(stderr)));
     Stopwatch since_progress;
     const unsigned int n_steps = parameters.time_stepping.n_steps;
-    for (unsigned int step = 1; step <= n_steps; ++step)
+    for (unsigned int step = first_step; step <= n_steps; ++step)
       {
         bool all_at_rest = step > 1;
         for (auto &simulated : bodies)
@@ -276,6 +489,13 @@ namespace warpchol::app
           }
         if (vtu_series && step % settings.vtu_interval == 0)
           write_vtu(step);
+        if (settings.checkpoint_interval > 0 && step % settings.checkpoint_interval == 0)
+          {
+            const Stopwatch stopwatch;
+            write_checkpoint(step, run_stopwatch.seconds());
+            for (auto &simulated : bodies)
+              simulated.totals.stages.add(stage::checkpoint, stopwatch.seconds() / bodies.size());
+          }
         if (show_progress && (since_progress.seconds() > 0.5 || step == n_steps))
           {
             const auto &first = bodies[0];
@@ -286,7 +506,8 @@ namespace warpchol::app
                         << format_number(100.0 * first.totals.last_elements_updated /
                                            first.scene->body().n_elements(), 3)
                         << " %";
-            std::cerr << "  " << format_number(run_stopwatch.seconds() / step, 3) << " s/step   " << std::flush;
+            std::cerr << "  " << format_number(run_stopwatch.seconds() / (step + 1 - first_step), 3)
+                      << " s/step   " << std::flush;
             since_progress.restart();
           }
         if (parameters.time_stepping.rest_kinetic_energy > 0 && all_at_rest)
@@ -307,7 +528,7 @@ namespace warpchol::app
           StageTimer timer(simulated.totals.stages, stage::log);
           simulated.log->flush();
         }
-    const double run_seconds = run_stopwatch.seconds();
+    const double run_seconds = seconds_before_resume + run_stopwatch.seconds();
     for (auto &simulated : bodies)
       simulated.totals.run_seconds = run_seconds;
     print_summary(out);
@@ -531,16 +752,19 @@ namespace warpchol::app
     return directory;
   }
 
-  void run_parameter_file(const std::string &parameter_file, std::ostream &out)
+  void run_parameter_file(const std::string &parameter_file, std::ostream &out, const bool resume)
   {
     const AllParameters parameters(parameter_file);
     Simulation          simulation(parameters);
+    if (resume)
+      simulation.resume();
     simulation.run(out);
   }
 
   namespace
   {
     const char *usage = "usage: warpchol PARAMS.prm          run the scene of a parameter file\n"
+                        "       warpchol PARAMS.prm --resume go on from its last checkpoint\n"
                         "       warpchol --print-parameters [FILE]\n"
                         "                                    write the documented defaults\n"
                         "                                    (to FILE, or standard output)";
@@ -568,10 +792,11 @@ namespace warpchol::app
               AllParameters::print_defaults(out);
             return 0;
           }
-        if (arguments.size() != 1 || arguments[0].empty() || arguments[0][0] == '-')
+        const bool resume = arguments.size() == 2 && arguments[1] == "--resume";
+        if ((arguments.size() != 1 && !resume) || arguments[0].empty() || arguments[0][0] == '-')
           throw InputError(arguments.empty() ? "no parameter file given" :
                                                "unexpected arguments (see warpchol --help)");
-        run_parameter_file(arguments[0], out);
+        run_parameter_file(arguments[0], out, resume);
         return 0;
       }
     catch (const InputError &error)

@@ -638,6 +638,23 @@ namespace warpchol::cholesky
     implementation->single_values.assign(single_precision_copy ? symbolic.n_stored_values() : 0, 0.f);
   }
 
+  void SupernodalFactor::save(BinaryWriter &writer) const
+  {
+    writer.write(implementation->values);
+    writer.write(implementation->single_values);
+  }
+
+  void SupernodalFactor::load(BinaryReader &reader, const SupernodalSymbolic &symbolic)
+  {
+    reader.read(implementation->values);
+    reader.read(implementation->single_values);
+    const auto n = static_cast<std::size_t>(symbolic.n_stored_values());
+    if (implementation->values.size() != n ||
+        implementation->single_values.size() != (implementation->keep_single ? n : 0))
+      reader.fail("the supernodal factor holds " + std::to_string(implementation->values.size()) +
+                  " values, this analysis " + std::to_string(n));
+  }
+
   double SupernodalFactor::factorize(const SupernodalSymbolic &symbolic,
                                      const sparse::CSCMatrix  &lower,
                                      const std::vector<Index> &supernodes,

@@ -177,4 +177,22 @@ namespace warpchol::cholesky
   {
     return permuted_lower.n_nonzeros();
   }
+
+  void PermutedMatrix::save(BinaryWriter &writer) const
+  {
+    writer.write(loaded);
+    writer.write(permuted_lower.values);
+  }
+
+  void PermutedMatrix::load(BinaryReader &reader)
+  {
+    const auto          was_loaded = reader.get<bool>();
+    std::vector<double> values;
+    reader.read(values);
+    if (values.size() != permuted_lower.values.size())
+      reader.fail("the permuted matrix holds " + std::to_string(values.size()) +
+                  " values, this analysis " + std::to_string(permuted_lower.values.size()));
+    loaded                = was_loaded;
+    permuted_lower.values = std::move(values);
+  }
 } // namespace warpchol::cholesky

@@ -310,6 +310,53 @@ namespace warpchol::cholesky
     return factor_valid && pending_columns.empty() && stale_columns.empty();
   }
 
+  void SparseCholesky::save_numeric(BinaryWriter &writer) const
+  {
+    writer.write(stats.n);
+    writer.write(stats.nnz_l);
+    writer.write(factor_valid);
+    permuted_matrix.save(writer);
+    writer.write(l_values);
+    if (solver_settings.method == FactorizationMethod::supernodal)
+      supernodal_factor.save(writer);
+    writer.write(pending_columns);
+    writer.write(stale_columns);
+    writer.write(last_recomputed_columns);
+    writer.write(stats.n_factorizations);
+    writer.write(stats.n_refactorizations);
+  }
+
+  void SparseCholesky::load_numeric(BinaryReader &reader)
+  {
+    if (!analyzed)
+      throw Error("load_numeric() called before analyze()");
+    const auto n     = reader.get<Index>();
+    const auto nnz_l = reader.get<Index>();
+    if (n != stats.n || nnz_l != stats.nnz_l)
+      reader.fail("the factor was written for n = " + std::to_string(n) + ", nnz(L) = " +
+                  std::to_string(nnz_l) + ", this analysis has n = " + std::to_string(stats.n) +
+                  ", nnz(L) = " + std::to_string(stats.nnz_l));
+    factor_valid = reader.get<bool>();
+    permuted_matrix.load(reader);
+    const std::size_t expected_l_values = l_values.size();
+    reader.read(l_values);
+    if (l_values.size() != expected_l_values)
+      reader.fail("the factor holds " + std::to_string(l_values.size()) + " values, this analysis " +
+                  std::to_string(expected_l_values));
+    if (solver_settings.method == FactorizationMethod::supernodal)
+      supernodal_factor.load(reader, supernodal_structure);
+    reader.read(pending_columns);
+    reader.read(stale_columns);
+    reader.read(last_recomputed_columns);
+    for (const auto *columns : {&pending_columns, &stale_columns, &last_recomputed_columns})
+      for (const Index column : *columns)
+        if (column < 0 || column >= stats.n)
+          reader.fail("a column " + std::to_string(column) + " is out of range");
+    reader.read(stats.n_factorizations);
+    reader.read(stats.n_refactorizations);
+    update_backlog_statistics();
+  }
+
   void SparseCholesky::update_backlog_statistics()
   {
     stats.pending_columns = static_cast<Index>(pending_columns.size());

@@ -132,6 +132,70 @@ namespace warpchol::fem
     return peer_solver ? peer_solver->memory_bytes() : cholesky_solver.statistics().factor_bytes;
   }
 
+  void ElasticityModel::save_state(BinaryWriter &writer) const
+  {
+    writer.section("model " + name());
+    writer.write(matrix_carries_over());
+    if (matrix_carries_over())
+      {
+        system.save(writer);
+        // A peer's factor is that of A, factored again on loading; warpchol's may be partly
+        // refreshed, the factor of no matrix: its values are written.
+        if (!peer_solver)
+          cholesky_solver.save_numeric(writer);
+      }
+    writer.write(record.updated);
+    writer.write(record.steps_since_update);
+    writer.write(record.error_estimate);
+    writer.write(last_cg_iterations);
+    writer.write(last_cg_seconds);
+    writer.write(last_velocity_error);
+    writer.write(last_refresh);
+    save_model_state(writer);
+  }
+
+  void ElasticityModel::load_state(BinaryReader &reader)
+  {
+    reader.expect_section("model " + name());
+    if (reader.get<bool>() != matrix_carries_over())
+      reader.fail("was written by a model whose matrix carries over differently");
+    if (matrix_carries_over())
+      {
+        system.load(reader);
+        if (peer_solver)
+          checked([&]() { peer_solver->factorize(system.matrix(), system.csc()); });
+        else
+          cholesky_solver.load_numeric(reader);
+      }
+    reader.read(record.updated);
+    reader.read(record.steps_since_update);
+    reader.read(record.error_estimate);
+    const std::size_t n_elements = body.n_elements();
+    if (record.updated.size() != n_elements || record.steps_since_update.size() != n_elements ||
+        (!record.error_estimate.empty() && record.error_estimate.size() != n_elements))
+      reader.fail("the update record does not have one entry per element (" +
+                  std::to_string(n_elements) + ")");
+    reader.read(last_cg_iterations);
+    reader.read(last_cg_seconds);
+    reader.read(last_velocity_error);
+    reader.read(last_refresh);
+    if (last_refresh != cholesky::Refresh::all && last_refresh != cholesky::Refresh::below_top &&
+        last_refresh != cholesky::Refresh::none)
+      reader.fail("the last refresh is not one of all, below_top, none (corrupt)");
+    load_model_state(reader);
+  }
+
+  bool ElasticityModel::matrix_carries_over() const
+  {
+    return false;
+  }
+
+  void ElasticityModel::save_model_state(BinaryWriter &) const
+  {}
+
+  void ElasticityModel::load_model_state(BinaryReader &)
+  {}
+
   void ElasticityModel::factorize(StepStatistics &statistics)
   {
     StageTimer timer(statistics.stages, stage::factorization);

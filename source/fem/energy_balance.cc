@@ -62,4 +62,17 @@ namespace warpchol::fem
   {
     return finite;
   }
+  void EnergyBalance::save(BinaryWriter &writer) const
+  {
+    writer.section("energy balance");
+    for (const double value : {noise_floor, held, put_in, largest_ratio, largest_held})
+      writer.write(value);
+  }
+
+  void EnergyBalance::load(BinaryReader &reader)
+  {
+    reader.expect_section("energy balance");
+    for (double *value : {&noise_floor, &held, &put_in, &largest_ratio, &largest_held})
+      reader.read(*value);
+  }
 } // namespace warpchol::fem

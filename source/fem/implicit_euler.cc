@@ -304,4 +304,36 @@ namespace warpchol::fem
   {
     return tool_work_on_body_sum;
   }
+  void ImplicitEuler::save_state(BinaryWriter &writer) const
+  {
+    writer.section("time integrator");
+    writer.write(current_time);
+    writer.write(steps_done);
+    writer.write(x);
+    writer.write(v);
+    writer.write(previous_v);
+    writer.write(start_energy);
+    writer.write(tool_work);
+    writer.write(tool_work_on_body_sum);
+    model.save_state(writer);
+  }
+
+  void ImplicitEuler::load_state(BinaryReader &reader)
+  {
+    reader.expect_section("time integrator");
+    reader.read(current_time);
+    reader.read(steps_done);
+    reader.read(x);
+    reader.read(v);
+    reader.read(previous_v);
+    if (x.size() != body.n_vertices() || v.size() != body.n_vertices() ||
+        (!previous_v.empty() && previous_v.size() != body.n_vertices()))
+      reader.fail("holds " + std::to_string(x.size()) + " positions, the body has " +
+                  std::to_string(body.n_vertices()) + " vertices");
+    reader.read(start_energy);
+    reader.read(tool_work);
+    reader.read(tool_work_on_body_sum);
+    cached_elastic_step = static_cast<unsigned int>(-1);
+    model.load_state(reader);
+  }
 } // namespace warpchol::fem

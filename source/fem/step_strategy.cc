@@ -103,6 +103,20 @@ namespace warpchol::fem
     return flop_rate > 0 && seconds_per_iteration > 0;
   }
 
+  void RefreshCostModel::save(BinaryWriter &writer) const
+  {
+    for (const double value : {flop_rate, seconds_per_iteration, iterations_after_all,
+                               iterations_after_top, last_iterations})
+      writer.write(value);
+  }
+
+  void RefreshCostModel::load(BinaryReader &reader)
+  {
+    for (double *value : {&flop_rate, &seconds_per_iteration, &iterations_after_all,
+                          &iterations_after_top, &last_iterations})
+      reader.read(*value);
+  }
+
   double RefreshCostModel::predicted_seconds(const cholesky::Refresh refresh, const double flops) const
   {
     double iterations = last_iterations + 1;

@@ -146,6 +146,34 @@ namespace warpchol::fem
       dealii::SparseMatrix<double>::const_iterator(&system_matrix, k)->value();
   }
 
+  void SystemMatrix::save(BinaryWriter &writer) const
+  {
+    std::vector<double> values;
+    values.reserve(system_matrix.n_nonzero_elements());
+    for (const auto &entry : system_matrix)
+      values.push_back(entry.value());
+    writer.write(values);
+    writer.write(contributions);
+  }
+
+  void SystemMatrix::load(BinaryReader &reader)
+  {
+    std::vector<double> values;
+    reader.read(values);
+    if (values.size() != system_matrix.n_nonzero_elements())
+      reader.fail("the system matrix holds " + std::to_string(values.size()) + " entries, this body's " +
+                  std::to_string(system_matrix.n_nonzero_elements()));
+    reader.read(contributions);
+    if (contributions.size() != body.n_elements())
+      reader.fail("holds the contributions of " + std::to_string(contributions.size()) +
+                  " elements, the body has " + std::to_string(body.n_elements()));
+    // The iterators visit the entries in their storage order, that of save().
+    std::size_t k = 0;
+    for (auto &entry : system_matrix)
+      entry.value() = values[k++];
+    sparse::copy_values(system_matrix, system_csc);
+  }
+
   void SystemMatrix::assemble(const ElementMatrixFunction &element_matrix)
   {
     system_matrix = 0;

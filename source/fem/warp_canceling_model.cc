@@ -172,6 +172,31 @@ namespace warpchol::fem
     return update;
   }
 
+  bool WarpCancelingModel::matrix_carries_over() const
+  {
+    return threshold > 0 && !std::isinf(threshold);
+  }
+
+  void WarpCancelingModel::save_model_state(BinaryWriter &writer) const
+  {
+    writer.write(stored_frames);
+    writer.write(adapted_threshold);
+    writer.write(steps_since_top_refresh);
+    cost_model.save(writer);
+  }
+
+  void WarpCancelingModel::load_model_state(BinaryReader &reader)
+  {
+    const std::size_t n_frames = stored_frames.size();
+    reader.read(stored_frames);
+    if (stored_frames.size() != n_frames)
+      reader.fail("holds the frames of " + std::to_string(stored_frames.size()) +
+                  " elements, the model keeps " + std::to_string(n_frames));
+    reader.read(adapted_threshold);
+    reader.read(steps_since_top_refresh);
+    cost_model.load(reader);
+  }
+
   ElementMatrix WarpCancelingModel::current_contribution(const unsigned int e)
   {
     const auto            &vertices = body.element_vertices(e);

@@ -2,6 +2,7 @@
 
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/elasticity_model.h>
+#include <warpchol/base/binary_io.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/fem/small_dense.h>
 
@@ -65,6 +66,11 @@ namespace warpchol::app
     std::size_t        n_files() const;
     const std::string &pvd_file() const;
 
+    /** Write the files of the series to a checkpoint; after finish(). */
+    void save(BinaryWriter &writer) const;
+    /** Go on from the series save() wrote: its files are on disk, the next ones follow. */
+    void load(BinaryReader &reader);
+
   private:
     /** Write one file and the PVD record (in the background). */
     void write_now(unsigned int step, double time, const std::vector<BodySnapshot> &bodies);
@@ -123,6 +129,11 @@ namespace warpchol::app
 
     /** The header row (the column names). */
     std::string header() const;
+
+    /** Write the rows so far to a checkpoint. */
+    void save(BinaryWriter &writer) const;
+    /** Go on from the rows save() wrote (the file is rewritten with them at the next flush). */
+    void load(BinaryReader &reader);
 
   private:
     std::string              file;

@@ -239,6 +239,11 @@ namespace warpchol::app
       std::string  progress = "auto";
       /** Run the exact corotational model alongside and log the trajectory error. */
       bool         compare_with_corotational = false;
+      /**
+       * Write the state of the run to SCENE/checkpoint.bin every this many steps (0:
+       * never), from which "warpchol FILE --resume" goes on.
+       */
+      unsigned int checkpoint_interval = 0;
 
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
@@ -294,6 +299,12 @@ namespace warpchol::app
     std::string mesh_file_path() const;
 
     ParameterFileLocator file;
+
+    /**
+     * Every entry as "Subsection/Entry = value" (nested subsections joined by '/'), in the
+     * ParameterHandler's order, defaults included: what a checkpoint was written with.
+     */
+    std::vector<std::string> entries;
 
   private:
     void parse_parameters(dealii::ParameterHandler &prm);

@@ -37,6 +37,8 @@ namespace warpchol::app
      * before (the files are written in the background).
      */
     constexpr const char *vtu_output = "VTU output";
+    /** Writing the state to the checkpoint file (Output/Checkpoint interval). */
+    constexpr const char *checkpoint = "checkpoint";
   } // namespace stage
 
   /** Totals over the steps of a run, for the summary. */
@@ -118,6 +120,19 @@ namespace warpchol::app
      */
     void run(std::ostream &out);
 
+    /**
+     * Go on from the checkpoint SCENE/checkpoint.bin that an earlier run of the same
+     * parameters wrote (Output/Checkpoint interval): the next run() continues with the
+     * step after it, its log and VTU series, and ends as the run that wrote it would
+     * have, to the bit. Only Time stepping/Number of steps and the Output entries that do
+     * not change the results (Checkpoint interval, Progress, Print timings) may differ.
+     * Throws InputError naming the file and what does not match. Before run().
+     */
+    void resume();
+
+    /** SCENE/checkpoint.bin: where checkpoints go and resume() reads. */
+    std::string checkpoint_file() const;
+
     /** The bodies (Bodies/Number of bodies, 1 by default). */
     unsigned int n_bodies() const;
     /** The scene of body @p index (the only one by default). */
@@ -149,14 +164,30 @@ namespace warpchol::app
      */
     void check_energy(const SimulatedBody &body, unsigned int step);
 
+    /**
+     * Write the state after step @p step to checkpoint_file(), atomically; @p run_seconds:
+     * the run's seconds so far.
+     */
+    void write_checkpoint(unsigned int step, double run_seconds);
+    /** Read checkpoint_file() into the bodies (resume()); the logs and series after run() made them. */
+    void read_checkpoint();
+
     AllParameters                 parameters;
     std::vector<SimulatedBody>    bodies;
     std::string                   directory;
     std::unique_ptr<VtuSeries>    vtu_series;
+    /** resume(): go on from the checkpoint, after its step. */
+    bool                          resuming = false;
+    unsigned int                  first_step = 1;
+    /** The seconds the run had taken up to the checkpoint it resumed from. */
+    double                        seconds_before_resume = 0;
   };
 
-  /** Read @p parameter_file, run it and print the summary on @p out. Throws warpchol::Error. */
-  void run_parameter_file(const std::string &parameter_file, std::ostream &out);
+  /**
+   * Read @p parameter_file, run it (from its checkpoint if @p resume) and print the
+   * summary on @p out. Throws warpchol::Error.
+   */
+  void run_parameter_file(const std::string &parameter_file, std::ostream &out, bool resume = false);
 
   /**
    * The warpchol program: "warpchol PARAMS.prm", "warpchol --print-parameters [FILE]",

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/binary_io.h>
 #include <warpchol/base/types.h>
 #include <warpchol/cholesky/supernodal_symbolic.h>
 #include <warpchol/sparse/csc_matrix.h>
@@ -73,6 +74,14 @@ namespace warpchol::cholesky
     sparse::CSCMatrix to_csc(const SupernodalSymbolic &symbolic) const;
 
     const std::vector<double> &values() const;
+
+    /** Write the values (and the single-precision copy) to a checkpoint. */
+    void save(BinaryWriter &writer) const;
+    /**
+     * Read what save() wrote, for the structure @p symbolic; throws InputError if the
+     * sizes do not match it.
+     */
+    void load(BinaryReader &reader, const SupernodalSymbolic &symbolic);
 
   private:
     struct Implementation;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/binary_io.h>
 #include <warpchol/base/types.h>
 #include <warpchol/sparse/csc_matrix.h>
 
@@ -42,6 +43,11 @@ namespace warpchol::cholesky
 
     /** Stored entries of the lower triangle of A (= nnz(C)). */
     Index n_nonzeros() const;
+
+    /** Write the values of C (the last load) to a checkpoint. */
+    void save(BinaryWriter &writer) const;
+    /** Read what save() wrote; throws InputError if it does not fit the pattern of setup(). */
+    void load(BinaryReader &reader);
 
   private:
     sparse::CSCMatrix  permuted_lower;

@@ -248,6 +248,19 @@ namespace warpchol::cholesky
 
     const Settings &settings() const;
 
+    /**
+     * Write the numeric state to a checkpoint: the loaded values of A, the factor as it is
+     * (exact or partly refreshed), what is pending and stale. The analysis is not written:
+     * analyze() of the same matrix redoes it exactly.
+     */
+    void save_numeric(BinaryWriter &writer) const;
+    /**
+     * Read what save_numeric() wrote, after analyze() of the matrix it was written for:
+     * the solver then goes on as the one that wrote it would have, to the bit. Throws
+     * InputError if the sizes differ from this analysis.
+     */
+    void load_numeric(BinaryReader &reader);
+
   private:
     /** solve(), with the single-precision copy of the factor if @p single_precision. */
     void solve_in(const double *b, double *x, Index n_rhs, bool single_precision) const;

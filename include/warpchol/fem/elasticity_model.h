@@ -198,7 +198,30 @@ namespace warpchol::fem
     /** Seconds spent in the set-up: assembly, ordering, symbolic and first factorization. */
     double setup_seconds() const;
 
+    /**
+     * Write what the model carries from step to step to a checkpoint: A, its element
+     * contributions and the factor as it is (if matrix_carries_over()), the update record
+     * and what the last solve measured; a derived model adds its own (save_model_state()).
+     */
+    void save_state(BinaryWriter &writer) const;
+    /**
+     * Read what save_state() wrote, into a model set up for the same body and parameters:
+     * its next steps are then those of the model that wrote it, to the bit. A peer's
+     * solver factors the restored A again (the same factor: it factors A in full).
+     */
+    void load_state(BinaryReader &reader);
+
   protected:
+    /**
+     * Whether A and its factor at the end of a step depend on the steps before, not only
+     * on the parameters (set-up) or on the next step's positions (which rebuild them in
+     * full): only then does a checkpoint hold them. False by default.
+     */
+    virtual bool matrix_carries_over() const;
+    /** What a derived model carries from step to step besides the base's: none by default. */
+    virtual void save_model_state(BinaryWriter &writer) const;
+    virtual void load_model_state(BinaryReader &reader);
+
     /**
      * Assemble A at rest (every rotation the identity) and factor it, timing it as the
      * model's set-up: what every model starts from.

@@ -61,6 +61,10 @@ namespace warpchol::fem
     double max_held_energy() const;
     bool   all_finite() const;
 
+    /** Write the accounts to a checkpoint. */
+    void save(BinaryWriter &writer) const;
+    void load(BinaryReader &reader);
+
   private:
     double noise_floor   = 0;
     double held          = 0;

@@ -157,6 +157,18 @@ namespace warpchol::fem
     double tool_work_on_body() const;
     /** @} */
 
+    /**
+     * Write the state of the run to a checkpoint: time, step, positions, velocities (and
+     * those of the step before, CG's extrapolated guess), the energy accounts; then the
+     * model's (ElasticityModel::save_state()).
+     */
+    void save_state(BinaryWriter &writer) const;
+    /**
+     * Read what save_state() wrote into an integrator built for the same scene: the next
+     * steps are then those of the run that wrote it, to the bit.
+     */
+    void load_state(BinaryReader &reader);
+
   private:
     /**
      * Throw InputError unless the initial @p what ("velocities", "positions") of @p size

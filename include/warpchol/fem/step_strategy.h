@@ -100,6 +100,10 @@ namespace warpchol::fem
     /** Whether enough was measured to predict: before that, refresh all. */
     bool calibrated() const;
 
+    /** Write what was measured so far to a checkpoint. */
+    void save(BinaryWriter &writer) const;
+    void load(BinaryReader &reader);
+
   private:
     double flop_rate            = 0;
     double seconds_per_iteration = 0;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/binary_io.h>
 #include <warpchol/base/types.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/small_dense.h>
@@ -95,6 +96,14 @@ namespace warpchol::fem
     /** A in CSC form with full storage, same values as matrix(). */
     const sparse::CSCMatrix &csc() const;
     Index                    size() const;
+
+    /**
+     * Write A's values and every element's contribution to a checkpoint: re-assembling A
+     * would not give its values to the bit, since re-assembly adds differences.
+     */
+    void save(BinaryWriter &writer) const;
+    /** Read what save() wrote for this body; throws InputError if the sizes differ. */
+    void load(BinaryReader &reader);
 
   private:
     /** Entry @p k (SparsityPattern numbering) of the deal.II matrix += @p value. */

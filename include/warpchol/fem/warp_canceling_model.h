@@ -81,6 +81,13 @@ namespace warpchol::fem
 
     const StepStrategy &step_strategy() const;
 
+  protected:
+    /** At a threshold strictly between 0 and inf: A is re-assembled in part, its factor refreshed in part. */
+    bool matrix_carries_over() const override;
+    /** The stored frames, the adapted threshold and what the strategy measured. */
+    void save_model_state(BinaryWriter &writer) const override;
+    void load_model_state(BinaryReader &reader) override;
+
   private:
     /** The elements whose error estimate exceeds the threshold, in increasing order. */
     std::vector<unsigned int> elements_to_update(const std::vector<Vector3> &velocities);

@@ -1,0 +1,117 @@
+#pragma once
+
+#include <cstdint>
+#include <istream>
+#include <ostream>
+#include <string>
+#include <type_traits>
+#include <vector>
+
+/**
+ * @file
+ * The binary form of a checkpoint: plain values and arrays of them, in the machine's own
+ * byte order, with named sections that a reader checks, so that a file of another kind, of
+ * another version or cut short is refused in one line instead of read as garbage.
+ */
+namespace warpchol
+{
+  /**
+   * Whether @p T can be written as its bytes: no pointer inside, one block of storage
+   * (Eigen's fixed-size matrices are standard layout, though not trivially copyable).
+   */
+  template <typename T>
+  constexpr bool is_plain_data_v =
+    std::is_standard_layout_v<T> && !std::is_pointer_v<T> && std::is_copy_assignable_v<T>;
+
+  /** Writes values, arrays and section names to a binary stream. */
+  class BinaryWriter
+  {
+  public:
+    explicit BinaryWriter(std::ostream &out);
+
+    /** Mark the start of section @p name: a reader expects it there (expect_section()). */
+    void section(const std::string &name);
+
+    template <typename T>
+    void write(const T &value)
+    {
+      static_assert(is_plain_data_v<T>, "only plain data is written as bytes");
+      write_bytes(&value, sizeof(T));
+    }
+
+    template <typename T>
+    void write(const std::vector<T> &values)
+    {
+      static_assert(is_plain_data_v<T>, "only plain data is written as bytes");
+      write(static_cast<std::uint64_t>(values.size()));
+      write_bytes(values.data(), values.size() * sizeof(T));
+    }
+
+    void write(const std::string &text);
+    void write(const std::vector<std::string> &texts);
+    void write(const std::vector<bool> &flags);
+
+  private:
+    void          write_bytes(const void *data, std::size_t bytes);
+    std::ostream &out;
+  };
+
+  /**
+   * Reads what a BinaryWriter wrote. Every size is checked against the bytes left in the
+   * file before anything is allocated; a file cut short, of another kind or with another
+   * layout throws InputError naming the file and the section being read.
+   */
+  class BinaryReader
+  {
+  public:
+    /** @p filename names the file in messages; @p size is its length in bytes. */
+    BinaryReader(std::istream &in, const std::string &filename, std::uint64_t size);
+
+    /** Throws InputError unless section @p name starts here. */
+    void expect_section(const std::string &name);
+
+    template <typename T>
+    void read(T &value)
+    {
+      static_assert(is_plain_data_v<T>, "only plain data is read as bytes");
+      read_bytes(&value, sizeof(T));
+    }
+
+    template <typename T>
+    void read(std::vector<T> &values)
+    {
+      static_assert(is_plain_data_v<T>, "only plain data is read as bytes");
+      const std::uint64_t n = read_count(sizeof(T));
+      values.resize(n);
+      read_bytes(values.data(), n * sizeof(T));
+    }
+
+    void read(std::string &text);
+    void read(std::vector<std::string> &texts);
+    void read(std::vector<bool> &flags);
+
+    /** The value read, for a plain type. */
+    template <typename T>
+    T get()
+    {
+      T value{};
+      read(value);
+      return value;
+    }
+
+    /** Throw InputError "FILE: checkpoint section S: @p message". */
+    [[noreturn]] void fail(const std::string &message) const;
+
+    const std::string &filename() const;
+
+  private:
+    void read_bytes(void *data, std::size_t bytes);
+    /** A count of items of @p item_bytes each, checked against what is left of the file. */
+    std::uint64_t read_count(std::size_t item_bytes);
+
+    std::istream &in;
+    std::string   file;
+    std::uint64_t bytes_left;
+    std::string   current_section;
+  };
+} // namespace warpchol
