@@ -431,7 +431,11 @@ namespace warpchol::app
     if (settings.vtu_interval > 0)
       vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name());
     if (resuming)
-      read_checkpoint();
+      {
+        read_checkpoint();
+        std::cerr << "warpchol: resuming from " << checkpoint_file() << " at step " << first_step << " of "
+                  << parameters.time_stepping.n_steps << std::endl;
+      }
     else if (vtu_series)
       write_vtu(0);
 
