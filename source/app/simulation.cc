@@ -430,17 +430,18 @@ namespace warpchol::app
           bodies[i].reference != nullptr);
     if (settings.vtu_interval > 0)
       vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name());
+    const bool show_progress =
+      settings.progress == "on" || (settings.progress == "auto" && isatty(fileno(stderr)));
     if (resuming)
       {
         read_checkpoint();
-        std::cerr << "warpchol: resuming from " << checkpoint_file() << " at step " << first_step << " of "
-                  << parameters.time_stepping.n_steps << std::endl;
+        if (show_progress)
+          std::cerr << "resuming from " << checkpoint_file() << " at step " << first_step << " of "
+                    << parameters.time_stepping.n_steps << std::endl;
       }
     else if (vtu_series)
       write_vtu(0);
 
-    const bool show_progress =
-      settings.progress == "on" || (settings.progress == "auto" && isatty(fileno(stderr)));
     Stopwatch since_progress;
     const unsigned int n_steps = parameters.time_stepping.n_steps;
     for (unsigned int step = first_step; step <= n_steps; ++step)
