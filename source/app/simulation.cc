@@ -35,6 +35,9 @@ namespace warpchol::app
     : parameters(parameters)
   {
     directory = parameters.output.directory + "/" + parameters.scene_name();
+    // Before any computation: a run of hours must not end unable to write its results.
+    if (parameters.output.write_log || parameters.output.vtu_interval > 0)
+      create_directory(directory);
     const unsigned int n_bodies = parameters.bodies.count;
     bodies.resize(n_bodies);
     for (unsigned int i = 0; i < n_bodies; ++i)
@@ -209,8 +212,6 @@ namespace warpchol::app
     // End to end: the initial VTU file and the log's creation count as part of the run.
     const Stopwatch run_stopwatch;
     const auto &settings = parameters.output;
-    if (settings.write_log || settings.vtu_interval > 0)
-      create_directory(directory);
     for (unsigned int i = 0; i < bodies.size(); ++i)
       if (settings.write_log)
         bodies[i].log = std::make_unique<StepLog>(
@@ -218,7 +219,8 @@ namespace warpchol::app
           bodies[i].reference != nullptr);
     if (settings.vtu_interval > 0)
       {
-        vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name());
+        vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name(),
+                                                 settings.vtu_precision);
         write_vtu(0);
       }
 
@@ -239,14 +241,13 @@ namespace warpchol::app
               }
             catch (const SimulationError &error)
               {
-                if (simulated.log)
-                  simulated.log->flush();
                 if (simulated.label.empty())
                   {
-                    if (vtu_series)
-                      vtu_series->finish();
+                    keep_what_was_written();
                     throw;
                   }
+                if (simulated.log)
+                  simulated.log->flush();
                 // One body of several diverged: it stays where it was (the report's
                 // side-by-side pictures show it), the others go on.
                 simulated.stopped = error.what();
@@ -255,17 +256,15 @@ namespace warpchol::app
               }
             catch (const Error &error)
               {
-                for (auto &body : bodies)
-                  if (body.log)
-                    body.log->flush();
-                if (vtu_series)
-                  vtu_series->finish();
+                keep_what_was_written();
                 if (simulated.label.empty())
                   throw;
                 // The same kind of error, naming the body.
                 const std::string message = simulated.label + ": " + error.what();
                 if (dynamic_cast<const InputError *>(&error))
                   throw InputError(message);
+                if (dynamic_cast<const OutputError *>(&error))
+                  throw OutputError(message);
                 if (dynamic_cast<const MatrixError *>(&error))
                   throw MatrixError(message);
                 throw Error(message);
@@ -313,6 +312,27 @@ namespace warpchol::app
     print_summary(out);
   }
 
+  void Simulation::keep_what_was_written() noexcept
+  {
+    // The error being reported comes first: one that these writes meet (the disk that
+    // filled up) is not reported on top of it.
+    for (auto &body : bodies)
+      if (body.log)
+        try
+          {
+            body.log->flush();
+          }
+        catch (...)
+          {}
+    if (vtu_series)
+      try
+        {
+          vtu_series->finish();
+        }
+      catch (...)
+        {}
+  }
+
   void Simulation::check_energy(const SimulatedBody &simulated, const unsigned int step)
   {
     const auto  &balance    = *simulated.energy_balance;
@@ -321,8 +341,7 @@ namespace warpchol::app
     if (!not_finite && !(limit > 0 && balance.ratio() > limit))
       return;
     // Stop before writing the runaway state; what earlier steps wrote stays complete.
-    if (vtu_series)
-      vtu_series->finish();
+    keep_what_was_written();
     const auto       &integrator = simulated.scene->integrator();
     const std::string where = "step " + std::to_string(step) + ": the energy of " +
                               simulated.scene->model().name();
@@ -579,6 +598,12 @@ namespace warpchol::app
         out << std::flush;
         err << "warpchol: error: " << error.what() << std::endl;
         return 2;
+      }
+    catch (const OutputError &error)
+      {
+        out << std::flush;
+        err << "warpchol: error: " << error.what() << std::endl;
+        return 3;
       }
     catch (const Error &error)
       {
