@@ -20,6 +20,11 @@ namespace warpchol::app
         std::cerr << program_name << ": " << error.what() << std::endl;
         return 2;
       }
+    catch (const OutputError &error)
+      {
+        std::cerr << program_name << ": " << error.what() << std::endl;
+        return 3;
+      }
     catch (const std::exception &error)
       {
         std::cerr << program_name << ": " << error.what() << std::endl;

@@ -6,8 +6,17 @@
 #include <deal.II/lac/vector.h>
 #include <deal.II/numerics/data_out.h>
 
+#include <zlib.h>
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdint>
 #include <cstdio>
+#include <cstring>
+#include <fcntl.h>
 #include <filesystem>
+#include <unistd.h>
 #include <iomanip>
 #include <sstream>
 
@@ -15,16 +24,34 @@ namespace warpchol::app
 {
   void create_directory(const std::string &directory)
   {
+    // The system's reason as part of a sentence: "not a directory".
+    const auto reason = [](const int error_number) {
+      std::string text = std::strerror(error_number);
+      text[0]          = static_cast<char>(std::tolower(static_cast<unsigned char>(text[0])));
+      return text;
+    };
     std::error_code error;
     std::filesystem::create_directories(directory, error);
     if (error || !std::filesystem::is_directory(directory))
-      throw InputError(directory + ": cannot create the output directory" +
-                       (error ? ": " + error.message() : std::string()));
+      throw OutputError(directory + ": cannot create the output directory: " +
+                        (error ? reason(error.value()) : std::string("a file of that name is in the way")));
+    // Creating a file is the only sure test: permissions, a read-only file system, root.
+    const std::string probe = directory + "/.warpchol-write-test." + std::to_string(::getpid());
+    const int         descriptor = ::open(probe.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (descriptor < 0)
+      {
+        const int error_number = errno;
+        throw OutputError(directory + ": cannot write in the output directory: " + reason(error_number));
+      }
+    ::close(descriptor);
+    std::remove(probe.c_str());
   }
 
-  VtuSeries::VtuSeries(const std::string &directory, const std::string &scene)
+  VtuSeries::VtuSeries(const std::string &directory, const std::string &scene,
+                       const std::string &precision)
     : directory(directory)
     , scene(scene)
+    , precision(precision)
     , pvd_name(directory + "/" + scene + ".pvd")
   {}
 
@@ -101,12 +128,142 @@ namespace warpchol::app
     }
   } // namespace
 
+  namespace
+  {
+    /** Base64 of @p size bytes at @p bytes (RFC 4648, padded), VTK's binary encoding. */
+    std::string base64(const unsigned char *bytes, const std::size_t size)
+    {
+      static const char alphabet[] =
+        "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
+      std::string text;
+      text.reserve(4 * ((size + 2) / 3));
+      for (std::size_t i = 0; i < size; i += 3)
+        {
+          const unsigned int n = std::min<std::size_t>(3, size - i);
+          const std::uint32_t group = (bytes[i] << 16) | (n > 1 ? bytes[i + 1] << 8 : 0) |
+                                      (n > 2 ? bytes[i + 2] : 0);
+          text += alphabet[(group >> 18) & 63];
+          text += alphabet[(group >> 12) & 63];
+          text += n > 1 ? alphabet[(group >> 6) & 63] : '=';
+          text += n > 2 ? alphabet[group & 63] : '=';
+        }
+      return text;
+    }
+
+    /**
+     * A DataArray in VTK's compressed binary form (header_type UInt64, one zlib block):
+     * the header (1 block, its size, the size of the last block, its compressed size)
+     * and the compressed block, each in base64.
+     */
+    template <typename Number>
+    void write_data_array(std::ostream &out, const std::string &attributes,
+                          const std::vector<Number> &values)
+    {
+      const auto  *bytes = reinterpret_cast<const Bytef *>(values.data());
+      const uLong  size  = values.size() * sizeof(Number);
+      uLongf       compressed_size = compressBound(size);
+      std::vector<Bytef> compressed(compressed_size);
+      if (compress2(compressed.data(), &compressed_size, bytes, size, Z_BEST_SPEED) != Z_OK)
+        throw Error("zlib failed to compress a VTU array");
+      const std::uint64_t header[4] = {1, size, size, compressed_size};
+      out << "<DataArray " << attributes << " format=\"binary\">\n"
+          << base64(reinterpret_cast<const unsigned char *>(header), sizeof(header))
+          << base64(compressed.data(), compressed_size) << "\n</DataArray>\n";
+    }
+
+    /**
+     * The VTU file of @p bodies in double precision, which deal.II 9.4's DataOut cannot
+     * write (it writes Float32): the mesh's vertices once each (rest positions, each body
+     * shifted by its offset from the first one's), the tetrahedra, and the fields of
+     * build_body_patches() with the same names: per vertex displacement and velocity, per
+     * cell updated, steps_since_update, error_estimate and body.
+     */
+    void write_vtu_float64(std::ostream &out, const std::vector<BodySnapshot> &bodies,
+                           const bool with_error_estimate)
+    {
+      std::vector<double>        points, displacements, velocities;
+      std::vector<double>        updated, steps_since_update, error_estimate, body_index;
+      std::vector<std::int64_t>  connectivity, offsets;
+      std::vector<std::uint8_t>  types;
+      for (unsigned int i = 0; i < bodies.size(); ++i)
+        {
+          const BodySnapshot     &snapshot = bodies[i];
+          const fem::ElasticBody &body     = *snapshot.body;
+          const fem::Vector3      shift    = snapshot.offset - bodies[0].offset;
+          const std::int64_t      first    = points.size() / 3;
+          for (unsigned int v = 0; v < body.n_vertices(); ++v)
+            for (unsigned int c = 0; c < 3; ++c)
+              {
+                points.push_back(body.rest_positions()[v][c] + shift[c]);
+                displacements.push_back(snapshot.displacements[v][c]);
+                velocities.push_back(snapshot.velocities[v][c]);
+              }
+          const auto &record = snapshot.record;
+          for (unsigned int e = 0; e < body.n_elements(); ++e)
+            {
+              for (const unsigned int v : body.element_vertices(e))
+                connectivity.push_back(first + v);
+              offsets.push_back(connectivity.size());
+              types.push_back(10); // VTK_TETRA
+              updated.push_back(record.updated[e]);
+              steps_since_update.push_back(record.steps_since_update[e]);
+              error_estimate.push_back(record.error_estimate.empty() ? 0.0 : record.error_estimate[e]);
+              body_index.push_back(i);
+            }
+        }
+#if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
+      const char *byte_order = "BigEndian";
+#else
+      const char *byte_order = "LittleEndian";
+#endif
+      out << "<?xml version=\"1.0\"?>\n"
+          << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"" << byte_order
+          << "\" header_type=\"UInt64\" compressor=\"vtkZLibDataCompressor\">\n"
+          << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << points.size() / 3
+          << "\" NumberOfCells=\"" << types.size() << "\">\n<Points>\n";
+      write_data_array(out, "type=\"Float64\" NumberOfComponents=\"3\"", points);
+      out << "</Points>\n<Cells>\n";
+      write_data_array(out, "type=\"Int64\" Name=\"connectivity\"", connectivity);
+      write_data_array(out, "type=\"Int64\" Name=\"offsets\"", offsets);
+      write_data_array(out, "type=\"UInt8\" Name=\"types\"", types);
+      out << "</Cells>\n<PointData Vectors=\"displacement\">\n";
+      write_data_array(out, "type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\"", displacements);
+      write_data_array(out, "type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\"", velocities);
+      out << "</PointData>\n<CellData>\n";
+      write_data_array(out, "type=\"Float64\" Name=\"updated\"", updated);
+      write_data_array(out, "type=\"Float64\" Name=\"steps_since_update\"", steps_since_update);
+      if (with_error_estimate)
+        write_data_array(out, "type=\"Float64\" Name=\"error_estimate\"", error_estimate);
+      if (bodies.size() > 1)
+        write_data_array(out, "type=\"Float64\" Name=\"body\"", body_index);
+      out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+    }
+  } // namespace
+
   void VtuSeries::write_now(const unsigned int step, const double time,
                             const std::vector<BodySnapshot> &bodies)
   {
     bool with_error_estimate = false;
     for (const auto &snapshot : bodies)
       with_error_estimate = with_error_estimate || !snapshot.record.error_estimate.empty();
+    std::ostringstream name;
+    name << scene << "-" << std::setw(5) << std::setfill('0') << step << ".vtu";
+    if (precision == "float64")
+      write_file_atomically(directory + "/" + name.str(), [&](std::ostream &out) {
+        write_vtu_float64(out, bodies, with_error_estimate);
+      });
+    else
+      write_deal_ii_vtu(directory + "/" + name.str(), bodies, with_error_estimate);
+
+    times_and_names.emplace_back(time, name.str());
+    write_file_atomically(pvd_name, [&](std::ostream &out) {
+      dealii::DataOutBase::write_pvd_record(out, times_and_names);
+    });
+  }
+
+  void VtuSeries::write_deal_ii_vtu(const std::string &filename, const std::vector<BodySnapshot> &bodies,
+                                    const bool with_error_estimate) const
+  {
     const unsigned int n_bodies = bodies.size();
     dealii::DataOut<3> data_out;
     build_body_patches(data_out, bodies[0], 0, n_bodies, with_error_estimate);
@@ -121,16 +278,7 @@ namespace warpchol::app
     dealii::DataOutBase::VtkFlags flags;
     flags.compression_level = dealii::DataOutBase::VtkFlags::best_speed;
     data_out.set_flags(flags);
-
-    std::ostringstream name;
-    name << scene << "-" << std::setw(5) << std::setfill('0') << step << ".vtu";
-    write_file_atomically(directory + "/" + name.str(),
-                          [&](std::ostream &out) { data_out.write_vtu(out); });
-
-    times_and_names.emplace_back(time, name.str());
-    write_file_atomically(pvd_name, [&](std::ostream &out) {
-      dealii::DataOutBase::write_pvd_record(out, times_and_names);
-    });
+    write_file_atomically(filename, [&](std::ostream &out) { data_out.write_vtu(out); });
   }
 
   void VtuSeries::save(BinaryWriter &writer) const

@@ -1,6 +1,7 @@
 #include <warpchol/app/parameters.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/base/input_file.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/utilities.h>
@@ -8,7 +9,6 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
-#include <regex>
 #include <sstream>
 
 namespace warpchol::app
@@ -38,9 +38,49 @@ namespace warpchol::app
     }
 
     /**
+     * deal.II quotes the file's text in its messages: the line that cannot be parsed or
+     * the unknown entry between < and >, a value after "The entry value ", a subsection's
+     * name at the end. Keep an excerpt() of each, so that the message stays a short line
+     * whatever the file holds.
+     */
+    std::string shorten_quoted_input(const std::string &message)
+    {
+      std::string result;
+      std::size_t position = 0;
+      while (position < message.size())
+        {
+          const auto open = message.find('<', position);
+          if (open == std::string::npos)
+            break;
+          const auto close = message.find('>', open + 1);
+          if (close == std::string::npos)
+            break;
+          result += message.substr(position, open + 1 - position) +
+                    excerpt(message.substr(open + 1, close - open - 1), 60) + ">";
+          position = close + 1;
+        }
+      result += message.substr(position);
+      for (const auto &[before, after] :
+           {std::pair<std::string, std::string>{"The entry value ", " for the entry named "},
+            std::pair<std::string, std::string>{"There is no such subsection to be entered: ", ""}})
+        {
+          const auto begin = result.find(before);
+          if (begin == std::string::npos)
+            continue;
+          const auto start = begin + before.size();
+          const auto end   = after.empty() ? result.size() : result.find(after, start);
+          if (end != std::string::npos)
+            result = result.substr(0, start) + excerpt(result.substr(start, end - start), 60) +
+                     result.substr(end);
+        }
+      // Whatever else deal.II says, on one printable line of a bounded length.
+      return excerpt(result, 600);
+    }
+
+    /**
      * ParameterHandler's exceptions carry a several-line message after deal.II's header;
      * keep the "Additional information" as one line, with "Line <N> of file <F>:" written
-     * as "F:N:".
+     * as "F:N:", and the file's text in it shortened (shorten_quoted_input()).
      */
     std::string parameter_handler_message(const std::exception &error)
     {
@@ -53,11 +93,28 @@ namespace warpchol::app
       if (stack != std::string::npos)
         message.resize(stack);
       message = one_line(message);
-      const std::regex located(R"(^Line <(\d+)> of file <([^>:]*)>?: ?(.*)$)");
-      std::smatch      match;
-      if (std::regex_match(message, match, located))
-        message = match[2].str() + ":" + match[1].str() + ": " + match[3].str();
-      return message;
+      // "Line <N> of file <F>: ...", read by hand: what follows may be long.
+      const std::string line_prefix = "Line <", file_prefix = "> of file <";
+      // deal.II leaves out the '>' after the file's name in some messages.
+      const auto line_end = message.find(file_prefix);
+      const auto file_end = line_end == std::string::npos ?
+                              std::string::npos :
+                              message.find_first_of(">:", line_end + file_prefix.size());
+      if (message.rfind(line_prefix, 0) == 0 && file_end != std::string::npos)
+        {
+          const std::string line = message.substr(line_prefix.size(), line_end - line_prefix.size());
+          const std::string file = message.substr(line_end + file_prefix.size(),
+                                                  file_end - line_end - file_prefix.size());
+          std::string rest = message.substr(file_end);
+          if (!rest.empty() && rest[0] == '>')
+            rest.erase(0, 1);
+          if (!rest.empty() && rest[0] == ':')
+            rest.erase(0, 1);
+          if (!rest.empty() && rest[0] == ' ')
+            rest.erase(0, 1);
+          return file + ":" + line + ": " + shorten_quoted_input(rest);
+        }
+      return shorten_quoted_input(message);
     }
 
     const auto vector_pattern = Patterns::List(Patterns::Double(), 3, 3, ",");
@@ -123,7 +180,8 @@ namespace warpchol::app
                                   const std::string &subsection, const std::string &entry,
                                   const std::string &message) const
   {
-    throw InputError(where(subsection, entry) + " = " + prm.get(entry) + ": " + message);
+    // The value comes from the file: an excerpt of it, printable.
+    throw InputError(where(subsection, entry) + " = " + excerpt(prm.get(entry), 60) + ": " + message);
   }
 
   std::string ParameterFileLocator::directory() const
@@ -651,7 +709,7 @@ namespace warpchol::app
           if (type != "linear" && type != "corotational" && type != "stiffness_warping" &&
               type != "warp_canceling")
             file.fail(prm, "Bodies", "Models",
-                      "'" + type + "' is not a model (linear, corotational, stiffness_warping, "
+                      quote(type) + " is not a model (linear, corotational, stiffness_warping, "
                       "warp_canceling)");
           model_types.push_back(type);
         }
@@ -661,7 +719,7 @@ namespace warpchol::app
           double threshold = 0;
           if (!parse_threshold(text, threshold))
             file.fail(prm, "Bodies", "Update thresholds",
-                      "'" + text + "' is not a threshold (a number >= 0 or inf)");
+                      quote(text) + " is not a threshold (a number >= 0 or inf)");
           update_thresholds.push_back(threshold);
         }
       require_one_per_body("Update thresholds", update_thresholds.size());
@@ -680,6 +738,11 @@ namespace warpchol::app
       prm.declare_entry("VTU interval", "0", Patterns::Integer(0),
                         "Write a VTU file (and the PVD series) every this many steps, and the "
                         "initial state; 0: none");
+      prm.declare_entry("VTU precision", "float32", Patterns::Selection("float32|float64"),
+                        "The numbers of the VTU files: float32 (deal.II's DataOut, about 7 "
+                        "digits, the smaller files) or float64 (17 digits, for comparing "
+                        "trajectories with a reference beyond 1e-7; the files are about twice "
+                        "as large)");
       prm.declare_entry("Write log", "false", Patterns::Bool(),
                         "Write the per-step CSV log SCENE/log.csv");
       prm.declare_entry("Print timings", "true", Patterns::Bool(),
@@ -710,6 +773,7 @@ namespace warpchol::app
       directory     = prm.get("Directory");
       scene         = trim(prm.get("Scene"));
       vtu_interval  = prm.get_integer("VTU interval");
+      vtu_precision = prm.get("VTU precision");
       write_log     = prm.get_bool("Write log");
       print_timings = prm.get_bool("Print timings");
       progress      = prm.get("Progress");
@@ -860,8 +924,17 @@ namespace warpchol::app
   AllParameters::AllParameters(const std::string &filename)
     : file(filename)
   {
-    if (!std::ifstream(filename))
-      throw InputError(filename + ": cannot open the parameter file");
+    check_input_file(filename, "parameter file");
+    {
+      // A parameter file is text: one that looks binary is refused before deal.II echoes
+      // its bytes.
+      std::ifstream input(filename, std::ios::binary);
+      std::string   start(4096, '\0');
+      input.read(start.data(), start.size());
+      start.resize(input.gcount());
+      if (looks_binary(start))
+        throw InputError(filename + ": not a parameter file: it starts with " + quote(start));
+    }
     ParameterHandler prm;
     declare_parameters(prm);
     try

@@ -34,7 +34,7 @@ namespace warpchol::app
         return std::make_unique<fem::WarpCancelingModel>(body, coefficients, solver_settings,
                                                          model.update_threshold, model.strategy,
                                                          model.target_error);
-      throw InputError("unknown model type '" + model.type + "'");
+      throw InputError("unknown model type " + quote(model.type));
     }
   } // namespace
 

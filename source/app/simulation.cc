@@ -2,6 +2,7 @@
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/base/input_file.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/ordering.h>
 #include <warpchol/fem/energy_balance.h>
@@ -136,6 +137,10 @@ namespace warpchol::app
     : parameters(parameters)
   {
     directory = parameters.output.directory + "/" + parameters.scene_name();
+    // Before any computation: a run of hours must not end unable to write its results.
+    if (parameters.output.write_log || parameters.output.vtu_interval > 0 ||
+        parameters.output.checkpoint_interval > 0)
+      create_directory(directory);
     const unsigned int n_bodies = parameters.bodies.count;
     bodies.resize(n_bodies);
     for (unsigned int i = 0; i < n_bodies; ++i)
@@ -352,13 +357,11 @@ namespace warpchol::app
   {
     const std::string file = checkpoint_file();
     std::error_code   error;
-    if (std::filesystem::is_directory(file, error))
-      throw InputError(file + ": is a directory, not a checkpoint");
-    std::ifstream in(file, std::ios::binary);
-    if (!in)
+    if (!std::filesystem::exists(file, error))
       throw InputError(file + ": no checkpoint to resume from (Output/Checkpoint interval = N "
                               "writes one every N steps)");
-    const auto size = std::filesystem::file_size(file, error);
+    std::ifstream in   = open_input_file(file, "checkpoint");
+    const auto    size = std::filesystem::file_size(file, error);
     if (error)
       throw InputError(file + ": cannot read the checkpoint's size: " + error.message());
     BinaryReader reader(in, file, size);
@@ -421,15 +424,13 @@ namespace warpchol::app
     // End to end: the initial VTU file and the log's creation count as part of the run.
     const Stopwatch run_stopwatch;
     const auto &settings = parameters.output;
-    if (settings.write_log || settings.vtu_interval > 0 || settings.checkpoint_interval > 0 || resuming)
-      create_directory(directory);
     for (unsigned int i = 0; i < bodies.size(); ++i)
       if (settings.write_log)
         bodies[i].log = std::make_unique<StepLog>(
           directory + (bodies.size() == 1 ? "/log.csv" : "/log_body" + std::to_string(i + 1) + ".csv"),
           bodies[i].reference != nullptr);
     if (settings.vtu_interval > 0)
-      vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name());
+      vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name(), settings.vtu_precision);
     const bool show_progress =
       settings.progress == "on" || (settings.progress == "auto" && isatty(fileno(stderr)));
     if (resuming)
@@ -457,14 +458,13 @@ namespace warpchol::app
               }
             catch (const SimulationError &error)
               {
-                if (simulated.log)
-                  simulated.log->flush();
                 if (simulated.label.empty())
                   {
-                    if (vtu_series)
-                      vtu_series->finish();
+                    keep_what_was_written();
                     throw;
                   }
+                if (simulated.log)
+                  simulated.log->flush();
                 // One body of several diverged: it stays where it was (the report's
                 // side-by-side pictures show it), the others go on.
                 simulated.stopped = error.what();
@@ -473,17 +473,15 @@ namespace warpchol::app
               }
             catch (const Error &error)
               {
-                for (auto &body : bodies)
-                  if (body.log)
-                    body.log->flush();
-                if (vtu_series)
-                  vtu_series->finish();
+                keep_what_was_written();
                 if (simulated.label.empty())
                   throw;
                 // The same kind of error, naming the body.
                 const std::string message = simulated.label + ": " + error.what();
                 if (dynamic_cast<const InputError *>(&error))
                   throw InputError(message);
+                if (dynamic_cast<const OutputError *>(&error))
+                  throw OutputError(message);
                 if (dynamic_cast<const MatrixError *>(&error))
                   throw MatrixError(message);
                 throw Error(message);
@@ -539,6 +537,27 @@ namespace warpchol::app
     print_summary(out);
   }
 
+  void Simulation::keep_what_was_written() noexcept
+  {
+    // The error being reported comes first: one that these writes meet (the disk that
+    // filled up) is not reported on top of it.
+    for (auto &body : bodies)
+      if (body.log)
+        try
+          {
+            body.log->flush();
+          }
+        catch (...)
+          {}
+    if (vtu_series)
+      try
+        {
+          vtu_series->finish();
+        }
+      catch (...)
+        {}
+  }
+
   void Simulation::check_energy(const SimulatedBody &simulated, const unsigned int step)
   {
     const auto  &balance    = *simulated.energy_balance;
@@ -547,8 +566,7 @@ namespace warpchol::app
     if (!not_finite && !(limit > 0 && balance.ratio() > limit))
       return;
     // Stop before writing the runaway state; what earlier steps wrote stays complete.
-    if (vtu_series)
-      vtu_series->finish();
+    keep_what_was_written();
     const auto       &integrator = simulated.scene->integrator();
     const std::string where = "step " + std::to_string(step) + ": the energy of " +
                               simulated.scene->model().name();
@@ -809,6 +827,12 @@ namespace warpchol::app
         out << std::flush;
         err << "warpchol: error: " << error.what() << std::endl;
         return 2;
+      }
+    catch (const OutputError &error)
+      {
+        out << std::flush;
+        err << "warpchol: error: " << error.what() << std::endl;
+        return 3;
       }
     catch (const Error &error)
       {

@@ -1,3 +1,4 @@
+#include <warpchol/base/format.h>
 #include <warpchol/backends/direct_solvers.h>
 #include <warpchol/backends/linear_solver.h>
 #include <warpchol/backends/trilinos_amg_cg.h>
@@ -52,7 +53,7 @@ namespace warpchol::backends
     for (const Backend backend : all_backends())
       if (to_string(backend) == name)
         return backend;
-    throw InputError("unknown backend '" + name + "' (valid: " + backend_names() + ")");
+    throw InputError("unknown backend " + quote(name) + " (valid: " + backend_names() + ")");
   }
 
   bool replaces_factor(const Backend backend)

@@ -12,6 +12,10 @@ namespace warpchol
     : Error(one_line_message)
   {}
 
+  OutputError::OutputError(const std::string &one_line_message)
+    : Error(one_line_message)
+  {}
+
   MatrixError::MatrixError(const std::string &one_line_message)
     : Error(one_line_message)
   {}

@@ -1,3 +1,4 @@
+#include <warpchol/base/format.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/cholesky/ordering.h>
 #include <warpchol/sparse/conversions.h>
@@ -31,7 +32,7 @@ namespace warpchol::cholesky
       return OrderingMethod::amd;
     if (name == "metis")
       return OrderingMethod::metis;
-    throw InputError("unknown ordering '" + name + "' (expected natural, amd or metis)");
+    throw InputError("unknown ordering " + quote(name) + " (expected natural, amd or metis)");
   }
 
   namespace

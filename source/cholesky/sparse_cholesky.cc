@@ -1,3 +1,4 @@
+#include <warpchol/base/format.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/blas.h>
@@ -33,7 +34,7 @@ namespace warpchol::cholesky
       return FactorizationMethod::up_looking;
     if (name == "supernodal")
       return FactorizationMethod::supernodal;
-    throw InputError("unknown factorization method '" + name + "' (expected left, up or supernodal)");
+    throw InputError("unknown factorization method " + quote(name) + " (expected left, up or supernodal)");
   }
 
   double SparseCholesky::Statistics::fill() const

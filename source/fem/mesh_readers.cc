@@ -1,5 +1,6 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/base/input_file.h>
 #include <warpchol/fem/mesh_readers.h>
 
 #include <deal.II/base/exceptions.h>
@@ -23,11 +24,8 @@ namespace warpchol::fem
     public:
       explicit LineReader(const std::string &filename)
         : filename(filename)
-        , input(filename)
-      {
-        if (!input)
-          throw InputError(filename + ": cannot open the mesh file");
-      }
+        , input(open_input_file(filename, "mesh file"))
+      {}
 
       /** The next non-blank line, split into words; throws at the end of the file. */
       const std::vector<std::string> &next(const std::string &expected)
@@ -40,8 +38,9 @@ namespace warpchol::fem
             if (!words.empty())
               return words;
           }
+        // What is expected may come from the file (the end of a section it opened).
         throw InputError(filename + ":" + std::to_string(line_number) +
-                         ": unexpected end of file, expected " + expected);
+                         ": unexpected end of file, expected " + excerpt(expected, 80));
       }
 
       /** The next line must be the single word @p keyword. */
@@ -49,7 +48,7 @@ namespace warpchol::fem
       {
         const auto &line = next(keyword);
         if (line.size() != 1 || line[0] != keyword)
-          fail("expected " + keyword + ", found '" + joined() + "'");
+          fail("expected " + keyword + ", found " + joined());
       }
 
       /** Skip lines up to and including the single word @p keyword. */
@@ -86,7 +85,7 @@ namespace warpchol::fem
             used = 0;
           }
         if (used != word.size())
-          fail(what + " '" + word + "' is not an integer");
+          fail(what + " " + quote(word) + " is not an integer");
         return value;
       }
 
@@ -103,7 +102,7 @@ namespace warpchol::fem
             used = 0;
           }
         if (used != word.size() || !std::isfinite(value))
-          fail(what + " '" + word + "' is not a finite number");
+          fail(what + " " + quote(word) + " is not a finite number");
         return value;
       }
 
@@ -113,16 +112,17 @@ namespace warpchol::fem
         const auto &line  = next(what);
         const long  value = integer(line[0], what);
         if (value < 0)
-          fail(what + " must not be negative, got " + line[0]);
+          fail(what + " must not be negative, got " + std::to_string(value));
         return value;
       }
 
+      /** The words of the current line, quoted for a message (quote()). */
       std::string joined() const
       {
         std::string text;
         for (const auto &word : words)
           text += (text.empty() ? "" : " ") + word;
-        return text.size() > 60 ? text.substr(0, 60) + "..." : text;
+        return quote(text, 60);
       }
 
       const std::string filename;
@@ -222,7 +222,7 @@ namespace warpchol::fem
         {
           const auto &line = reader.next("a node line 'tag x y z'");
           if (line.size() != 4)
-            reader.fail("a node line must read 'tag x y z', found '" + reader.joined() + "'");
+            reader.fail("a node line must read 'tag x y z', found " + reader.joined());
           builder.add_node(reader.integer(line[0], "node tag"), read_point(reader, line, 1));
         }
       reader.expect(end);
@@ -237,10 +237,10 @@ namespace warpchol::fem
           const auto &line = reader.next("an element line");
           if (line.size() < 5)
             reader.fail("an element line must read 'number type physical elementary n_nodes "
-                        "nodes...', found '" + reader.joined() + "'");
+                        "nodes...', found " + reader.joined());
           const long n_nodes = reader.integer(line[4], "node count");
           if (n_nodes < 1 || static_cast<std::size_t>(n_nodes) + 5 != line.size())
-            reader.fail("element " + line[0] + " announces " + line[4] + " nodes but lists " +
+            reader.fail("element " + excerpt(line[0]) + " announces " + std::to_string(n_nodes) + " nodes but lists " +
                         std::to_string(line.size() - 5));
           std::vector<long> nodes;
           for (std::size_t k = 5; k < line.size(); ++k)
@@ -260,10 +260,10 @@ namespace warpchol::fem
           const auto &line = reader.next("an element line");
           if (line.size() < 4)
             reader.fail("an element line must read 'number type n_tags tags... nodes...', "
-                        "found '" + reader.joined() + "'");
+                        "found " + reader.joined());
           const long n_tags = reader.integer(line[2], "tag count");
           if (n_tags < 0 || static_cast<std::size_t>(n_tags) + 3 >= line.size())
-            reader.fail("element " + line[0] + " has no node after its " + line[2] + " tags");
+            reader.fail("element " + excerpt(line[0]) + " has no node after its " + std::to_string(n_tags) + " tags");
           std::vector<long> nodes;
           for (std::size_t k = 3 + n_tags; k < line.size(); ++k)
             nodes.push_back(reader.integer(line[k], "node tag"));
@@ -297,7 +297,7 @@ namespace warpchol::fem
               const auto &line = reader.next("node coordinates");
               if (line.size() != words)
                 reader.fail("expected " + std::to_string(words) + " numbers for node " +
-                            std::to_string(tags[i]) + ", found '" + reader.joined() + "'");
+                            std::to_string(tags[i]) + ", found " + reader.joined());
               builder.add_node(tags[i], read_point(reader, line, 0));
             }
         }
@@ -386,19 +386,19 @@ namespace warpchol::fem
         return builder.finish();
       }
     if (first.size() != 1 || first[0] != "$MeshFormat")
-      reader.fail("not a Gmsh file: expected $NOD (version 1) or $MeshFormat, found '" +
-                  reader.joined() + "'");
+      reader.fail("not a Gmsh file: expected $NOD (version 1) or $MeshFormat, found " +
+                  reader.joined());
 
     const auto &format = reader.next("'version file-type data-size'");
     if (format.size() < 3)
-      reader.fail("expected 'version file-type data-size', found '" + reader.joined() + "'");
+      reader.fail("expected 'version file-type data-size', found " + reader.joined());
     const std::string version = format[0];
     if (format[1] != "0")
       reader.fail("binary Gmsh files are not supported (save as ASCII)");
     const bool version_2 = version.rfind("2.", 0) == 0;
     const bool version_4 = version == "4.1";
     if (!version_2 && !version_4)
-      reader.fail("Gmsh format version " + version + " is not supported (1, 2.x and 4.1 are)");
+      reader.fail("Gmsh format version " + quote(version) + " is not supported (1, 2.x and 4.1 are)");
     reader.expect("$EndMeshFormat");
 
     bool nodes_read = false;
@@ -407,8 +407,7 @@ namespace warpchol::fem
       {
         const auto &line = reader.next(nodes_read ? "$Elements" : "$Nodes");
         if (line.size() != 1 || line[0].empty() || line[0][0] != '$')
-          reader.fail("expected a section ($Nodes, $Elements, ...), found '" + reader.joined() +
-                      "'");
+          reader.fail("expected a section ($Nodes, $Elements, ...), found " + reader.joined());
         const std::string section = line[0];
         if (section == "$Nodes")
           {
@@ -534,14 +533,42 @@ namespace warpchol::fem
     return numbering;
   }
 
+  MeshFormat detect_mesh_format(const std::string &filename)
+  {
+    std::ifstream input(filename, std::ios::binary);
+    char          buffer[256];
+    input.read(buffer, sizeof(buffer));
+    const std::string start(buffer, input.gcount());
+    const auto        first = start.find_first_not_of(" \t\r\n\f\v");
+    if (first == std::string::npos)
+      return MeshFormat::unknown;
+    const auto begins_with = [&](const std::string &prefix) {
+      return start.compare(first, prefix.size(), prefix) == 0;
+    };
+    if (begins_with("$MeshFormat") || begins_with("$NOD"))
+      return MeshFormat::gmsh;
+    if (begins_with("# vtk DataFile"))
+      return MeshFormat::legacy_vtk;
+    if (begins_with("<?xml") || begins_with("<VTKFile"))
+      return MeshFormat::vtk_xml;
+    return MeshFormat::unknown;
+  }
+
   MeshFileNumbering read_mesh(const std::string &filename, dealii::Triangulation<3> &triangulation)
   {
+    check_input_file(filename, "mesh file");
+    const MeshFormat  format    = detect_mesh_format(filename);
     const std::string extension = lower_case_extension(filename);
-    if (extension == ".msh")
+    if (format == MeshFormat::gmsh || (format == MeshFormat::unknown && extension == ".msh"))
       return create_triangulation(read_gmsh(filename), triangulation);
-    if (extension == ".vtk" || extension == ".vtu")
+    if (format != MeshFormat::unknown || extension == ".vtk" || extension == ".vtu")
       return create_triangulation(read_vtk(filename), triangulation);
-    throw InputError(filename + ": unknown mesh format '" + extension +
-                     "' (expected .msh, .vtk or .vtu)");
+    std::ifstream input(filename, std::ios::binary);
+    std::string   first_line;
+    std::getline(input, first_line);
+    throw InputError(filename + ": unknown mesh format: neither its start " + quote(first_line) +
+                     " nor its extension '" + excerpt(extension) +
+                     "' is Gmsh ($MeshFormat, .msh), legacy VTK (# vtk DataFile, .vtk) or VTK "
+                     "XML (<?xml, .vtu)");
   }
 } // namespace warpchol::fem

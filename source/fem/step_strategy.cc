@@ -1,3 +1,4 @@
+#include <warpchol/base/format.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/fem/step_strategy.h>
 
@@ -30,8 +31,8 @@ namespace warpchol::fem
                             StepStrategy::Kind::preconditioned, StepStrategy::Kind::automatic})
       if (name == to_string(kind))
         return kind;
-    throw InputError("unknown step strategy '" + name +
-                     "' (expected partial, delayed_top, preconditioned or auto)");
+    throw InputError("unknown step strategy " + quote(name) +
+                     " (expected partial, delayed_top, preconditioned or auto)");
   }
 
   std::string to_string(const StepStrategy::Target target)
@@ -45,7 +46,7 @@ namespace warpchol::fem
       return StepStrategy::Target::corotational;
     if (name == "warp_canceling")
       return StepStrategy::Target::warp_canceling;
-    throw InputError("unknown iteration target '" + name + "' (expected corotational or warp_canceling)");
+    throw InputError("unknown iteration target " + quote(name) + " (expected corotational or warp_canceling)");
   }
 
   std::string to_string(const cholesky::Refresh refresh)

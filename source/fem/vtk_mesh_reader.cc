@@ -5,6 +5,8 @@
  */
 
 #include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+#include <warpchol/base/input_file.h>
 #include <warpchol/fem/mesh_readers.h>
 
 #include <vtkCellType.h>
@@ -53,7 +55,8 @@ namespace warpchol::fem
             const auto address = line.find("): ");
             if (address != std::string::npos && line.find(" (0x") < address)
               line = line.substr(address + 3);
-            first = line;
+            // VTK's messages may quote the file's bytes ("Unrecognized keyword: ...").
+            first = excerpt(line, 160);
             return;
           }
       }
@@ -110,9 +113,12 @@ namespace warpchol::fem
 
   TetrahedralMesh read_vtk(const std::string &filename)
   {
-    if (!std::ifstream(filename))
-      throw InputError(filename + ": cannot open the mesh file");
-    const bool xml = filename.size() >= 4 && filename.compare(filename.size() - 4, 4, ".vtu") == 0;
+    check_input_file(filename, "mesh file");
+    // By content first: SOFA's Bunny.vtk holds VTK XML.
+    const MeshFormat format = detect_mesh_format(filename);
+    const bool       xml    = format == MeshFormat::vtk_xml ||
+                       (format == MeshFormat::unknown && filename.size() >= 4 &&
+                        filename.compare(filename.size() - 4, 4, ".vtu") == 0);
 
     // VTK 9 also logs its errors on standard error through vtkLogger: the program reports
     // them itself, on one line. VTK serves no other purpose here, so its logging stays off.

@@ -1,5 +1,7 @@
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+#include <warpchol/base/input_file.h>
 #include <warpchol/sparse/matrix_market.h>
 
 #include <algorithm>
@@ -9,6 +11,7 @@
 #include <fstream>
 #include <sstream>
 #include <tuple>
+#include <unistd.h>
 
 namespace warpchol::sparse
 {
@@ -40,13 +43,67 @@ namespace warpchol::sparse
       Index  column;
       double value;
     };
+
+    /** The shortest entry line, "1 1 1" and its newline. */
+    constexpr double min_bytes_per_entry = 6;
+
+    /** The bytes left in @p stream from where it stands; -1 if it cannot seek. */
+    double bytes_left(std::istream &stream)
+    {
+      const auto here = stream.tellg();
+      if (here < 0 || !stream.seekg(0, std::ios::end))
+        {
+          stream.clear();
+          return -1;
+        }
+      const auto end = stream.tellg();
+      stream.seekg(here);
+      return end < 0 ? -1 : static_cast<double>(end - here);
+    }
+
+    /** The physical memory of the machine in bytes; -1 if unknown. */
+    double physical_memory()
+    {
+      const long pages     = ::sysconf(_SC_PHYS_PAGES);
+      const long page_size = ::sysconf(_SC_PAGE_SIZE);
+      return pages > 0 && page_size > 0 ? static_cast<double>(pages) * page_size : -1;
+    }
+
+    std::string gigabytes(const double bytes)
+    {
+      return format_number(bytes / 1e9, 3) + " GB";
+    }
+
+    /**
+     * A header is read before anything is allocated for it: the entries it announces must
+     * fit in what is left of the file, and the matrix in the machine's memory, so that a
+     * broken or hostile header is one line, not std::bad_alloc or a machine swapping.
+     */
+    void check_size_line(std::istream &stream, const std::string &where, const Index n_cols,
+                         const Index n_entries)
+    {
+      const double left = bytes_left(stream);
+      if (left >= 0 && static_cast<double>(n_entries) > std::floor((left + 1) / min_bytes_per_entry))
+        throw InputError(where + "the size line announces " + std::to_string(n_entries) +
+                         " entries, but the " + format_number(left, 15) +
+                         " bytes after it hold at most " +
+                         format_number(std::floor((left + 1) / min_bytes_per_entry), 15) +
+                         " (an entry line takes at least 6 bytes)");
+      // The triplets, then the CSC matrix: column starts, and a row index and value per entry.
+      const double needed = static_cast<double>(n_entries) * (sizeof(Triplet) + sizeof(Index) + sizeof(double)) +
+                            (static_cast<double>(n_cols) + 1) * sizeof(Index);
+      const double memory = physical_memory();
+      if (memory > 0 && needed > memory)
+        throw InputError(where + "the size line announces " + std::to_string(n_cols) +
+                         " columns and " + std::to_string(n_entries) + " entries: reading them needs " +
+                         gigabytes(needed) + ", more than the " + gigabytes(memory) +
+                         " of memory of this machine");
+    }
   } // namespace
 
   CSCMatrix read_matrix_market(const std::string &filename)
   {
-    std::ifstream stream(filename);
-    if (!stream)
-      throw InputError(filename + ": cannot open file");
+    std::ifstream stream = open_input_file(filename, "matrix file");
     return read_matrix_market(stream, filename);
   }
 
@@ -64,24 +121,24 @@ namespace warpchol::sparse
       std::string        tag, object, format, field, symmetry;
       banner >> tag >> object >> format >> field >> symmetry;
       if (tag != "%%MatrixMarket")
-        throw InputError(at(name, line_number) + "expected '%%MatrixMarket' banner, found '" +
-                         line.substr(0, 40) + "'");
+        throw InputError(at(name, line_number) + "expected '%%MatrixMarket' banner, found " +
+                         quote(line));
       object   = lowercase(object);
       format   = lowercase(format);
       field    = lowercase(field);
       symmetry = lowercase(symmetry);
       if (object != "matrix")
-        throw InputError(at(name, line_number) + "object '" + object +
-                         "' is not supported (only 'matrix')");
+        throw InputError(at(name, line_number) + "object " + quote(object) +
+                         " is not supported (only 'matrix')");
       if (format != "coordinate")
-        throw InputError(at(name, line_number) + "format '" + format +
-                         "' is not supported (only 'coordinate')");
+        throw InputError(at(name, line_number) + "format " + quote(format) +
+                         " is not supported (only 'coordinate')");
       if (field != "real" && field != "integer" && field != "double")
-        throw InputError(at(name, line_number) + "field '" + field +
-                         "' is not supported (only 'real' or 'integer')");
+        throw InputError(at(name, line_number) + "field " + quote(field) +
+                         " is not supported (only 'real' or 'integer')");
       if (symmetry != "general" && symmetry != "symmetric")
-        throw InputError(at(name, line_number) + "symmetry '" + symmetry +
-                         "' is not supported (only 'general' or 'symmetric')");
+        throw InputError(at(name, line_number) + "symmetry " + quote(symmetry) +
+                         " is not supported (only 'general' or 'symmetric')");
       stream.clear();
       const bool symmetric = symmetry == "symmetric";
 
@@ -106,6 +163,7 @@ namespace warpchol::sparse
         throw InputError(at(name, line_number) + "a symmetric matrix must be square, got " +
                          std::to_string(n_rows) + "x" + std::to_string(n_cols));
 
+      check_size_line(stream, at(name, line_number), n_cols, n_entries);
       std::vector<Triplet> triplets;
       triplets.reserve(n_entries);
       while (static_cast<Index>(triplets.size()) < n_entries && std::getline(stream, line))
@@ -117,8 +175,8 @@ namespace warpchol::sparse
           Index              i = 0, j = 0;
           std::string        value_text, rest;
           if (!(entry >> i >> j >> value_text) || (entry >> rest))
-            throw InputError(at(name, line_number) + "expected 'ROW COLUMN VALUE', found '" +
-                             line.substr(0, 60) + "'");
+            throw InputError(at(name, line_number) + "expected 'ROW COLUMN VALUE', found " +
+                             quote(line));
           if (i < 1 || i > n_rows || j < 1 || j > n_cols)
             throw InputError(at(name, line_number) + "entry (" + std::to_string(i) + "," +
                              std::to_string(j) + ") outside the " + std::to_string(n_rows) +
@@ -126,10 +184,10 @@ namespace warpchol::sparse
           char        *end   = nullptr;
           const double value = std::strtod(value_text.c_str(), &end);
           if (end == value_text.c_str() || *end != '\0')
-            throw InputError(at(name, line_number) + "value '" + value_text +
-                             "' is not a number");
+            throw InputError(at(name, line_number) + "value " + quote(value_text) +
+                             " is not a number");
           if (!std::isfinite(value))
-            throw InputError(at(name, line_number) + "value '" + value_text + "' is not finite");
+            throw InputError(at(name, line_number) + "value " + quote(value_text) + " is not finite");
           --i;
           --j;
           if (symmetric && i < j)

@@ -15,8 +15,8 @@ namespace warpchol::app
 {
   /**
    * Run the body of program @p program_name and turn its errors into one line on stderr
-   * ("NAME: message") and an exit status: 2 for bad input (InputError), 1 for any other
-   * error, 0 on success.
+   * ("NAME: message") and an exit status: 2 for bad input (InputError), 3 for a result that
+   * cannot be written (OutputError: a full disk), 1 for any other error, 0 on success.
    */
   int run_program(const std::string &program_name, const std::function<void()> &body);
 

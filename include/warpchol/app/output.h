@@ -20,7 +20,10 @@
  */
 namespace warpchol::app
 {
-  /** Create @p directory and its parents; throws InputError naming it on failure. */
+  /**
+   * Create @p directory and its parents and check that a file can be created in it (the
+   * run checks before it computes anything); throws OutputError naming it otherwise.
+   */
   void create_directory(const std::string &directory);
 
   /**
@@ -47,7 +50,14 @@ namespace warpchol::app
   class VtuSeries
   {
   public:
-    VtuSeries(const std::string &directory, const std::string &scene);
+    /**
+     * @p precision: "float32", the files deal.II's DataOut writes (Float32, the vertices
+     * of each cell repeated, the cell fields as point data), or "float64": every number in
+     * double precision, each vertex once, the cell fields as cell data (written here:
+     * deal.II 9.4 writes VTU in single precision only).
+     */
+    VtuSeries(const std::string &directory, const std::string &scene,
+              const std::string &precision = "float32");
 
     /** Waits for the file being written. */
     ~VtuSeries();
@@ -75,9 +85,14 @@ namespace warpchol::app
     /** Write one file and the PVD record (in the background). */
     void write_now(unsigned int step, double time, const std::vector<BodySnapshot> &bodies);
 
+    /** One VTU file through deal.II's DataOut (Float32). */
+    void write_deal_ii_vtu(const std::string &filename, const std::vector<BodySnapshot> &bodies,
+                           bool with_error_estimate) const;
+
     std::future<void>                           pending;
     std::string                                 directory;
     std::string                                 scene;
+    std::string                                 precision;
     std::string                                 pvd_name;
     std::vector<std::pair<double, std::string>> times_and_names;
   };

@@ -233,6 +233,8 @@ namespace warpchol::app
       std::string  scene;
       /** Write a VTU file every this many steps (and the initial state); 0: none. */
       unsigned int vtu_interval = 0;
+      /** "float32" (deal.II's DataOut) or "float64" (every value with its 17 digits). */
+      std::string  vtu_precision = "float32";
       bool         write_log    = true;
       bool         print_timings = true;
       /** "auto" (when standard error is a terminal), "on" or "off". */

@@ -172,6 +172,12 @@ namespace warpchol::app
     /** Read checkpoint_file() into the bodies (resume()); the logs and series after run() made them. */
     void read_checkpoint();
 
+    /**
+     * Before an error is reported: write every log's rows and wait for the VTU file being
+     * written, ignoring the errors these meet (the error reported comes first).
+     */
+    void keep_what_was_written() noexcept;
+
     AllParameters                 parameters;
     std::vector<SimulatedBody>    bodies;
     std::string                   directory;
@@ -192,8 +198,10 @@ namespace warpchol::app
   /**
    * The warpchol program: "warpchol PARAMS.prm", "warpchol --print-parameters [FILE]",
    * "warpchol --help". Prints a one-line error on @p err and returns 2 for bad input
-   * (InputError: parameters, mesh files), 1 for another failure (a factorization that
-   * fails, a diverging simulation), 0 on success: the convention of the other programs.
+   * (InputError: parameters, mesh files), 3 for results that cannot be written
+   * (OutputError: an output directory that cannot be written, a full disk), 1 for another
+   * failure (a factorization that fails, a diverging simulation), 0 on success: the
+   * convention of the other programs.
    */
   int main(int argc, const char *const *argv, std::ostream &out, std::ostream &err);
 } // namespace warpchol::app

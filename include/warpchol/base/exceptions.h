@@ -25,6 +25,17 @@ namespace warpchol
     explicit InputError(const std::string &one_line_message);
   };
 
+  /**
+   * A result that cannot be written: the output directory cannot be created or written,
+   * the disk is full, a file cannot be renamed into place. Names the file or directory and
+   * the system's reason ("no space left on device"); programs exit with status 3.
+   */
+  class OutputError : public Error
+  {
+  public:
+    explicit OutputError(const std::string &one_line_message);
+  };
+
   /** A matrix that the solver cannot factor (not square, not symmetric, NaN, ...). */
   class MatrixError : public Error
   {

@@ -9,7 +9,8 @@
 /**
  * @file
  * Tetrahedral meshes from files: Gmsh ASCII .msh (versions 1, 2.2 and 4.1), legacy VTK
- * .vtk and VTK XML .vtu.
+ * .vtk and VTK XML .vtu. The format is recognised by the file's first bytes, and by its
+ * extension only when they say nothing: SOFA's Bunny.vtk holds VTK XML.
  *
  * Every format is first read into a TetrahedralMesh (Gmsh by a line-aware scanner that
  * keeps the tetrahedra and skips lines, triangles and points; VTK files through the VTK
@@ -42,10 +43,30 @@ namespace warpchol::fem
     std::vector<long> vertex_of_file_vertex;
   };
 
+  /** The mesh formats that read_mesh() knows. */
+  enum class MeshFormat
+  {
+    gmsh,
+    legacy_vtk,
+    vtk_xml,
+    unknown
+  };
+
+  /**
+   * The format of @p filename by its first non-blank bytes: "$MeshFormat" or "$NOD" is
+   * Gmsh, "# vtk DataFile" legacy VTK, "<?xml" or "<VTKFile" VTK XML; unknown otherwise
+   * (or if the file cannot be read).
+   */
+  MeshFormat detect_mesh_format(const std::string &filename);
+
   /** Scan a Gmsh ASCII file (version 1, 2.2 or 4.1). Throws InputError "FILE:LINE: ...". */
   TetrahedralMesh read_gmsh(const std::string &filename);
 
-  /** Read a legacy .vtk or XML .vtu unstructured grid through the VTK library. */
+  /**
+   * Read a legacy VTK or a VTK XML unstructured grid through the VTK library, the one or
+   * the other as detect_mesh_format() says (by the extension, .vtu for XML, if it cannot
+   * tell).
+   */
   TetrahedralMesh read_vtk(const std::string &filename);
 
   /**
@@ -63,8 +84,9 @@ namespace warpchol::fem
   MeshFileNumbering create_triangulation(TetrahedralMesh mesh, dealii::Triangulation<3> &triangulation);
 
   /**
-   * Read the mesh file @p filename, by its extension (.msh, .vtk, .vtu), into
-   * @p triangulation. Throws InputError naming the file (and line) on any problem.
+   * Read the mesh file @p filename, in the format detect_mesh_format() finds or, if it
+   * finds none, that of its extension (.msh, .vtk, .vtu), into @p triangulation. Throws
+   * InputError naming the file (and line) on any problem.
    */
   MeshFileNumbering read_mesh(const std::string &filename, dealii::Triangulation<3> &triangulation);
 } // namespace warpchol::fem
