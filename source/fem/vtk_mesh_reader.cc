@@ -84,6 +84,34 @@ namespace warpchol::fem
       vtkNew<CapturedMessages>         messages;
     };
 
+    /**
+     * Throw InputError for a "CELLS n size" line of a legacy file before version 5 whose
+     * size cannot hold n cells (each takes at least its point count): VTK 9.1 reads the
+     * cells of "CELLS 1 0" through a null pointer (found by fuzz_vtk).
+     */
+    void check_legacy_cells_sizes(const std::string &filename)
+    {
+      std::ifstream input(filename, std::ios::binary);
+      std::string   line;
+      if (!std::getline(input, line) || line.find("Version 5") != std::string::npos)
+        return; // version 5 lists offsets and connectivity: no such bound
+      long line_number = 1;
+      while (std::getline(input, line))
+        {
+          ++line_number;
+          std::istringstream words(line);
+          std::string        keyword;
+          long long          n_cells = 0, size = 0;
+          if (!(words >> keyword >> n_cells >> size) || keyword != "CELLS")
+            continue;
+          if (n_cells > 0 && size < n_cells)
+            throw InputError(filename + ":" + std::to_string(line_number) + ": CELLS " +
+                             std::to_string(n_cells) + " " + std::to_string(size) + ": " +
+                             std::to_string(n_cells) + " cells cannot fit in " +
+                             std::to_string(size) + " integers");
+        }
+    }
+
     /** VTK cell types of dimension < 3, skipped like Gmsh's lines and triangles. */
     bool is_lower_dimensional(const int type)
     {
@@ -128,6 +156,7 @@ namespace warpchol::fem
       }
     else
       {
+        check_legacy_cells_sizes(filename);
         vtkNew<vtkUnstructuredGridReader> reader;
         reader->SetFileName(filename.c_str());
         if (!reader->IsFileUnstructuredGrid())
@@ -158,9 +187,20 @@ namespace warpchol::fem
           throw InputError(location + " has VTK cell type " + std::to_string(type) +
                            ": the only volume cell supported is the linear tetrahedron (10)");
         grid->GetCellPoints(c, points);
+        // VTK takes the cells as the file writes them: their point ids are not checked.
+        if (points->GetNumberOfIds() != 4)
+          throw InputError(location + " is a tetrahedron with " +
+                           std::to_string(points->GetNumberOfIds()) + " points instead of 4");
         std::array<unsigned int, 4> tetrahedron;
         for (unsigned int a = 0; a < 4; ++a)
-          tetrahedron[a] = static_cast<unsigned int>(points->GetId(a));
+          {
+            const vtkIdType id = points->GetId(a);
+            if (id < 0 || id >= grid->GetNumberOfPoints())
+              throw InputError(location + " refers to point " + std::to_string(id) +
+                               ", which is not defined (the file has " +
+                               std::to_string(grid->GetNumberOfPoints()) + " points)");
+            tetrahedron[a] = static_cast<unsigned int>(id);
+          }
         mesh.tetrahedra.push_back(tetrahedron);
         mesh.locations.push_back(location);
       }
