@@ -18,7 +18,10 @@
 #include <vtkUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 namespace warpchol::fem
@@ -85,30 +88,30 @@ namespace warpchol::fem
     };
 
     /**
-     * Throw InputError for a "CELLS n size" line of a legacy file before version 5 whose
-     * size cannot hold n cells (each takes at least its point count): VTK 9.1 reads the
-     * cells of "CELLS 1 0" through a null pointer (found by fuzz_vtk).
+     * Throw InputError for a "CELLS n size" of a legacy file before version 5 whose size
+     * cannot hold n cells (each takes at least its point count): VTK 9.1 reads the cells
+     * of "CELLS 1 0" through a null pointer (found by fuzz_vtk). VTK reads words, not
+     * lines, and takes any word that starts with "cells" (after a number that ends
+     * where it does, as in "5CELLS"): so is every "cells" after the title looked at.
      */
     void check_legacy_cells_sizes(const std::string &filename)
     {
       std::ifstream input(filename, std::ios::binary);
-      std::string   line;
-      if (!std::getline(input, line) || line.find("Version 5") != std::string::npos)
+      std::string   header, title;
+      if (!std::getline(input, header) || header.find("Version 5") != std::string::npos ||
+          !std::getline(input, title))
         return; // version 5 lists offsets and connectivity: no such bound
-      long line_number = 1;
-      while (std::getline(input, line))
+      std::string text((std::istreambuf_iterator<char>(input)), std::istreambuf_iterator<char>());
+      std::transform(text.begin(), text.end(), text.begin(),
+                     [](unsigned char c) { return std::tolower(c); });
+      for (auto at = text.find("cells"); at != std::string::npos; at = text.find("cells", at + 1))
         {
-          ++line_number;
-          std::istringstream words(line);
-          std::string        keyword;
+          std::istringstream numbers(text.substr(at + 5, 64));
           long long          n_cells = 0, size = 0;
-          if (!(words >> keyword >> n_cells >> size) || keyword != "CELLS")
-            continue;
-          if (n_cells > 0 && size < n_cells)
-            throw InputError(filename + ":" + std::to_string(line_number) + ": CELLS " +
-                             std::to_string(n_cells) + " " + std::to_string(size) + ": " +
-                             std::to_string(n_cells) + " cells cannot fit in " +
-                             std::to_string(size) + " integers");
+          if ((numbers >> n_cells >> size) && n_cells > 0 && size < n_cells)
+            throw InputError(filename + ": CELLS " + std::to_string(n_cells) + " " +
+                             std::to_string(size) + ": " + std::to_string(n_cells) +
+                             " cells cannot fit in " + std::to_string(size) + " integers");
         }
     }
 
