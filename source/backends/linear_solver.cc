@@ -7,6 +7,18 @@
 #include <malloc.h>
 #include <mpi.h>
 
+// AddressSanitizer (the sanitizer build) replaces glibc's allocator: ask its own.
+#if defined(__SANITIZE_ADDRESS__)
+#  define WARPCHOL_ADDRESS_SANITIZER
+#elif defined(__has_feature)
+#  if __has_feature(address_sanitizer)
+#    define WARPCHOL_ADDRESS_SANITIZER
+#  endif
+#endif
+#ifdef WARPCHOL_ADDRESS_SANITIZER
+#  include <sanitizer/allocator_interface.h>
+#endif
+
 #include <cstdlib>
 
 namespace warpchol::backends
@@ -116,10 +128,16 @@ namespace warpchol::backends
 
   std::size_t heap_bytes_in_use()
   {
+#ifdef WARPCHOL_ADDRESS_SANITIZER
+    // glibc's statistics stand still under AddressSanitizer, whose allocator serves
+    // every malloc: every memory_bytes() would read 0.
+    return __sanitizer_get_current_allocated_bytes();
+#else
     // Small blocks (uordblks) and the large ones glibc maps on their own (hblkhd): a
     // factor's arrays are mostly the latter.
     const struct mallinfo2 info = mallinfo2();
     return info.uordblks + info.hblkhd;
+#endif
   }
 
   std::size_t heap_growth_of(const std::function<void()> &action)

@@ -11,6 +11,7 @@
 
 #include <Epetra_CrsMatrix.h>
 #include <Epetra_MultiVector.h>
+#include <Epetra_Vector.h>
 #include <Teuchos_ParameterList.hpp>
 
 #include <algorithm>
@@ -21,7 +22,34 @@ namespace warpchol::backends
   namespace
   {
     constexpr unsigned int n_rigid_body_modes = 6;
-  }
+
+    /**
+     * CG's product with A, y = A x, as TrilinosWrappers::SparseMatrix::vmult() computes
+     * it (one Epetra Multiply on views of the vectors), but not a template: clang (the
+     * sanitizer build) mangles that member template's enable_if return type otherwise
+     * than the gcc that built deal.II, so a call to it does not link there.
+     */
+    class EpetraProduct
+    {
+    public:
+      explicit EpetraProduct(const Epetra_CrsMatrix &matrix)
+        : matrix(matrix)
+      {}
+
+      void vmult(dealii::Vector<double> &y, const dealii::Vector<double> &x) const
+      {
+        // Epetra's views take non-const pointers; x is only read. The graph's maps, as
+        // in set_up_matrix().
+        const Epetra_Vector x_view(View, matrix.Graph().DomainMap(), const_cast<double *>(x.begin()));
+        Epetra_Vector       y_view(View, matrix.Graph().RangeMap(), y.begin());
+        if (matrix.Multiply(false, x_view, y_view) != 0)
+          throw MatrixError("Trilinos AMG-CG: Epetra's matrix-vector product failed");
+      }
+
+    private:
+      const Epetra_CrsMatrix &matrix;
+    };
+  } // namespace
 
   struct TrilinosAmgCgSolver::Implementation
   {
@@ -68,6 +96,11 @@ namespace warpchol::backends
                         std::to_string(matrix.n_nonzero_elements()) + " entries)");
 
     const Epetra_CrsMatrix &epetra = matrix.trilinos_matrix();
+    // The graph's maps: Epetra_CrsMatrix::RowMap() and ColMap() cast the graph's
+    // Epetra_BlockMap to the Epetra_Map it is not (UndefinedBehaviorSanitizer: invalid
+    // downcast); GID() is the block map's.
+    const Epetra_BlockMap &row_map    = epetra.Graph().RowMap();
+    const Epetra_BlockMap &column_map = epetra.Graph().ColMap();
     csc_position.clear();
     csc_position.reserve(csc.n_nonzeros());
     for (int row = 0; row < epetra.NumMyRows(); ++row)
@@ -76,12 +109,12 @@ namespace warpchol::backends
         double *values    = nullptr;
         int    *columns   = nullptr;
         epetra.ExtractMyRowView(row, n_entries, values, columns);
-        const Index global_row = epetra.RowMap().GID(row);
+        const Index global_row = row_map.GID(row);
         const auto  begin      = csc.row_index.begin() + csc.column_start[global_row];
         const auto  end        = csc.row_index.begin() + csc.column_start[global_row + 1];
         for (int k = 0; k < n_entries; ++k)
           {
-            const Index column   = epetra.ColMap().GID(columns[k]);
+            const Index column   = column_map.GID(columns[k]);
             const auto  position = std::lower_bound(begin, end, column);
             if (position == end || *position != column)
               throw MatrixError("Trilinos AMG-CG: entry (" + std::to_string(global_row) + ", " +
@@ -225,7 +258,7 @@ namespace warpchol::backends
     dealii::SolverCG<dealii::Vector<double>> cg(control);
     try
       {
-        cg.solve(self.matrix, self.solution, self.rhs, self.preconditioner);
+        cg.solve(EpetraProduct(self.matrix.trilinos_matrix()), self.solution, self.rhs, self.preconditioner);
       }
     catch (const dealii::SolverControl::NoConvergence &)
       {

@@ -286,6 +286,9 @@ namespace warpchol::fem
           if (block_header.size() != 4)
             reader.fail("expected 'entityDim entityTag parametric numNodesInBlock'");
           const long entity_dimension = reader.integer(block_header[0], "entity dimension");
+          // The dimension sets the number of words of each coordinate line below.
+          if (entity_dimension < 0 || entity_dimension > 3)
+            reader.fail("entity dimension " + block_header[0] + " is not 0, 1, 2 or 3");
           const long parametric       = reader.integer(block_header[2], "parametric flag");
           const long n_nodes          = reader.integer(block_header[3], "node count");
           std::vector<long> tags;

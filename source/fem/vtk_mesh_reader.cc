@@ -20,7 +20,10 @@
 #include <vtkUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <algorithm>
+#include <cctype>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 namespace warpchol::fem
@@ -87,6 +90,34 @@ namespace warpchol::fem
       vtkNew<CapturedMessages>         messages;
     };
 
+    /**
+     * Throw InputError for a "CELLS n size" of a legacy file before version 5 whose size
+     * cannot hold n cells (each takes at least its point count): VTK 9.1 reads the cells
+     * of "CELLS 1 0" through a null pointer (found by fuzz_vtk). VTK reads words, not
+     * lines, and takes any word that starts with "cells" (after a number that ends
+     * where it does, as in "5CELLS"): so is every "cells" after the title looked at.
+     */
+    void check_legacy_cells_sizes(const std::string &filename)
+    {
+      std::ifstream input(filename, std::ios::binary);
+      std::string   header, title;
+      if (!std::getline(input, header) || header.find("Version 5") != std::string::npos ||
+          !std::getline(input, title))
+        return; // version 5 lists offsets and connectivity: no such bound
+      std::string text((std::istreambuf_iterator<char>(input)), std::istreambuf_iterator<char>());
+      std::transform(text.begin(), text.end(), text.begin(),
+                     [](unsigned char c) { return std::tolower(c); });
+      for (auto at = text.find("cells"); at != std::string::npos; at = text.find("cells", at + 1))
+        {
+          std::istringstream numbers(text.substr(at + 5, 64));
+          long long          n_cells = 0, size = 0;
+          if ((numbers >> n_cells >> size) && n_cells > 0 && size < n_cells)
+            throw InputError(filename + ": CELLS " + std::to_string(n_cells) + " " +
+                             std::to_string(size) + ": " + std::to_string(n_cells) +
+                             " cells cannot fit in " + std::to_string(size) + " integers");
+        }
+    }
+
     /** VTK cell types of dimension < 3, skipped like Gmsh's lines and triangles. */
     bool is_lower_dimensional(const int type)
     {
@@ -134,6 +165,7 @@ namespace warpchol::fem
       }
     else
       {
+        check_legacy_cells_sizes(filename);
         vtkNew<vtkUnstructuredGridReader> reader;
         reader->SetFileName(filename.c_str());
         if (!reader->IsFileUnstructuredGrid())
@@ -164,9 +196,20 @@ namespace warpchol::fem
           throw InputError(location + " has VTK cell type " + std::to_string(type) +
                            ": the only volume cell supported is the linear tetrahedron (10)");
         grid->GetCellPoints(c, points);
+        // VTK takes the cells as the file writes them: their point ids are not checked.
+        if (points->GetNumberOfIds() != 4)
+          throw InputError(location + " is a tetrahedron with " +
+                           std::to_string(points->GetNumberOfIds()) + " points instead of 4");
         std::array<unsigned int, 4> tetrahedron;
         for (unsigned int a = 0; a < 4; ++a)
-          tetrahedron[a] = static_cast<unsigned int>(points->GetId(a));
+          {
+            const vtkIdType id = points->GetId(a);
+            if (id < 0 || id >= grid->GetNumberOfPoints())
+              throw InputError(location + " refers to point " + std::to_string(id) +
+                               ", which is not defined (the file has " +
+                               std::to_string(grid->GetNumberOfPoints()) + " points)");
+            tetrahedron[a] = static_cast<unsigned int>(id);
+          }
         mesh.tetrahedra.push_back(tetrahedron);
         mesh.locations.push_back(location);
       }
