@@ -87,6 +87,20 @@ int main()
   tests::write_file("long_subsection.prm", "subsection " + std::string(2000, 'S') + "\nend\n");
   run("a subsection of 2000 characters", "long_subsection.prm");
 
+  std::cout << "-- includes" << std::endl;
+  tests::write_file("self.prm", "# comment\ninclude self.prm\n");
+  run("a file that includes itself", "self.prm");
+  tests::write_file("cycle_a.prm", "include cycle_b.prm\n");
+  tests::write_file("cycle_b.prm", "subsection Material\nend\ninclude ./cycle_a.prm\n");
+  run("a cycle of two files", "cycle_a.prm");
+  tests::write_file("device.prm", "include /dev/zero\n");
+  run("an endless device", "device.prm");
+  tests::write_file("missing_include.prm", "include nowhere.prm\n");
+  run("a missing file", "missing_include.prm");
+  tests::write_file("material.prm", "subsection Material\n  set Density = 3\nend\n");
+  tests::write_file("with_include.prm", "include material.prm\n");
+  tests::check("an include is followed", app::AllParameters("with_include.prm").material.density == 3);
+
   std::cout << "-- meshes and matrices" << std::endl;
   tests::write_file("garbage.msh", garbage(2000, 4));
   expect_error("a binary .msh", [] {

@@ -6,7 +6,12 @@
 #include <deal.II/base/exceptions.h>
 #include <deal.II/base/utilities.h>
 
+#include <sys/stat.h>
+
+#include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -921,6 +926,43 @@ namespace warpchol::app
     entries = entry_list(prm);
   }
 
+  namespace
+  {
+    /**
+     * Throw InputError naming the file and line for an "include FILE" of @p filename (and,
+     * recursively, of what it includes) that deal.II could not follow to an end: a file
+     * that is missing or not a regular file (a device reads forever), or one that is
+     * already being read (@p chain: a cycle, which would recurse until the stack breaks).
+     */
+    void check_includes(const std::string &filename, std::vector<std::string> &chain)
+    {
+      std::ifstream input(filename);
+      int           line_number = 0;
+      for (std::string line; std::getline(input, line);)
+        {
+          ++line_number;
+          line = trim(line.substr(0, line.find('#')));
+          if (line.rfind("include", 0) != 0 || (line.size() > 7 && !std::isspace(line[7])))
+            continue;
+          const std::string included = trim(line.substr(7));
+          const std::string where =
+            filename + ":" + std::to_string(line_number) + ": include " + quote(included);
+          struct stat status;
+          if (::stat(included.c_str(), &status) != 0)
+            throw InputError(where + ": cannot open it");
+          if (!S_ISREG(status.st_mode))
+            throw InputError(where + ": not a regular file");
+          std::error_code   error;
+          const std::string path = std::filesystem::weakly_canonical(included, error).string();
+          if (std::find(chain.begin(), chain.end(), path) != chain.end())
+            throw InputError(where + ": it is already being read (a cycle of includes)");
+          chain.push_back(path);
+          check_includes(included, chain);
+          chain.pop_back();
+        }
+    }
+  } // namespace
+
   AllParameters::AllParameters(const std::string &filename)
     : file(filename)
   {
@@ -934,6 +976,11 @@ namespace warpchol::app
       start.resize(input.gcount());
       if (looks_binary(start))
         throw InputError(filename + ": not a parameter file: it starts with " + quote(start));
+    }
+    {
+      std::error_code          error;
+      std::vector<std::string> chain{std::filesystem::weakly_canonical(filename, error).string()};
+      check_includes(filename, chain);
     }
     ParameterHandler prm;
     declare_parameters(prm);
