@@ -29,17 +29,7 @@ namespace
   /** Run "warpchol ARGUMENTS" and print the label, the error line and the exit status. */
   void run(const std::string &label, const std::vector<std::string> &arguments)
   {
-    std::vector<const char *> argv{"warpchol"};
-    for (const auto &argument : arguments)
-      argv.push_back(argument.c_str());
-    std::ostringstream out, err;
-    const int          status = app::main(argv.size(), argv.data(), out, err);
-    std::string        message = err.str();
-    if (!message.empty() && message.back() == '\n')
-      message.pop_back();
-    std::cout << label << ": " << (message.empty() ? "NO ERROR" : message) << " [exit " << status
-              << (message.find('\n') == std::string::npos ? "" : ", SEVERAL LINES") << "]"
-              << std::endl;
+    std::cout << label << ": " << tests::run_warpchol(arguments) << std::endl;
   }
 
   void run_scene(const std::string &label, const std::string &filename, const std::string &text)

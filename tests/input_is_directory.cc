@@ -19,17 +19,7 @@ namespace
 {
   void run(const std::string &label, const std::vector<std::string> &arguments)
   {
-    std::vector<const char *> argv{"warpchol"};
-    for (const auto &argument : arguments)
-      argv.push_back(argument.c_str());
-    std::ostringstream out, err;
-    const int          status  = app::main(argv.size(), argv.data(), out, err);
-    std::string        message = err.str();
-    if (!message.empty() && message.back() == '\n')
-      message.pop_back();
-    std::cout << label << ": " << (message.empty() ? "NO ERROR" : message) << " [exit " << status
-              << (message.find('\n') == std::string::npos ? "" : ", SEVERAL LINES") << "]"
-              << std::endl;
+    std::cout << label << ": " << tests::run_warpchol(arguments) << std::endl;
   }
 } // namespace
 

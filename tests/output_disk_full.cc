@@ -39,16 +39,7 @@ namespace
   /** Run "warpchol ARGUMENTS": "message [exit S]", the message without its newline. */
   std::string run(const std::vector<std::string> &arguments)
   {
-    std::vector<const char *> argv{"warpchol"};
-    for (const auto &argument : arguments)
-      argv.push_back(argument.c_str());
-    std::ostringstream out, err;
-    const int          status  = app::main(argv.size(), argv.data(), out, err);
-    std::string        message = err.str();
-    if (!message.empty() && message.back() == '\n')
-      message.pop_back();
-    return (message.empty() ? "NO ERROR" : message) + " [exit " + std::to_string(status) +
-           (message.find('\n') == std::string::npos ? "" : ", SEVERAL LINES") + "]";
+    return tests::run_warpchol(arguments);
   }
 
   /** The names of the files in @p directory that hold ".tmp." (temporaries left behind). */

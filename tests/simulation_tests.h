@@ -10,6 +10,7 @@
 
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
+#include <warpchol/app/simulation.h>
 #include <warpchol/fem/implicit_euler.h>
 
 #include <algorithm>
@@ -19,6 +20,24 @@
 
 namespace tests
 {
+  /**
+   * Run "warpchol ARGUMENTS" as the program runs: "MESSAGE [exit S]", its error line
+   * without the newline ("NO ERROR" if none), ", SEVERAL LINES" added if it is not one line.
+   */
+  inline std::string run_warpchol(const std::vector<std::string> &arguments)
+  {
+    std::vector<const char *> argv{"warpchol"};
+    for (const auto &argument : arguments)
+      argv.push_back(argument.c_str());
+    std::ostringstream out, err;
+    const int          status  = warpchol::app::main(argv.size(), argv.data(), out, err);
+    std::string        message = err.str();
+    if (!message.empty() && message.back() == '\n')
+      message.pop_back();
+    return (message.empty() ? "NO ERROR" : message) + " [exit " + std::to_string(status) +
+           (message.find('\n') == std::string::npos ? "" : ", SEVERAL LINES") + "]";
+  }
+
   /** Write @p text to @p filename (in the test's working directory). */
   inline void write_file(const std::string &filename, const std::string &text)
   {
