@@ -317,6 +317,9 @@ namespace warpchol::fem
       [[noreturn]] void fail_truncated(const unsigned long long read, const unsigned long long n,
                                        const std::string &what)
       {
+        // The line of the last word read, not the end of the file after it.
+        while (token_start > 0 && is_space(data[token_start - 1]))
+          --token_start;
         fail(section + ": the file ends after " + std::to_string(read) + " of the " + std::to_string(n) + " " + what);
       }
 

@@ -20,10 +20,6 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
-#include <algorithm>
-#include <cctype>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 
 namespace warpchol::fem
@@ -90,6 +86,28 @@ namespace warpchol::fem
       vtkNew<CapturedMessages>         messages;
     };
 
+    /** VTK cell types of dimension < 3, skipped like Gmsh's lines and triangles. */
+    bool is_lower_dimensional(const int type)
+    {
+      switch (type)
+        {
+          case VTK_VERTEX:
+          case VTK_POLY_VERTEX:
+          case VTK_LINE:
+          case VTK_POLY_LINE:
+          case VTK_TRIANGLE:
+          case VTK_TRIANGLE_STRIP:
+          case VTK_POLYGON:
+          case VTK_PIXEL:
+          case VTK_QUAD:
+          case VTK_QUADRATIC_EDGE:
+          case VTK_QUADRATIC_TRIANGLE:
+          case VTK_QUADRATIC_QUAD:
+            return true;
+          default:
+            return false;
+        }
+    }
   } // namespace
 
   TetrahedralMesh read_vtk(const std::string &filename)
