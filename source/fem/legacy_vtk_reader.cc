@@ -544,30 +544,47 @@ namespace warpchol::fem
           return cells;
         }
 
-      // Before version 5: "CELLS n size", then n lists "k id_1 ... id_k" of size integers.
-      if (n > size)
-        fail("CELLS " + std::to_string(n) + " " + std::to_string(size) + ": " + std::to_string(n) + " cells cannot fit in " + std::to_string(size) + " integers");
-      std::vector<long long> lists = read_integers(size, ValueType{ValueType::signed_integer, 4}, "integers");
-      skip_metadata();
+      // Before version 5: "CELLS n size", then n lists "k id_1 ... id_k". VTK reads an ASCII
+      // file's lists as they come, whatever size says (files with a wrong size exist): so
+      // does this parser; a BINARY file's lists must take size integers exactly.
+      const ValueType int32{ValueType::signed_integer, 4};
+      if (binary && n > size)
+        fail("CELLS " + std::to_string(n) + " " + std::to_string(size) + ": " + std::to_string(n) +
+             " cells cannot fit in " + std::to_string(size) + " integers");
+      check_fits(n, int32, "cells");
       cells.offsets.reserve(n + 1);
-      cells.connectivity.reserve(size - n);
       cells.offsets.push_back(0);
+      std::vector<long long> lists;
+      if (binary)
+        lists = read_integers(size, int32, "integers");
       std::size_t at = 0;
       for (unsigned long long c = 0; c < n; ++c)
         {
-          const long long k = lists[at++];
-          if (k < 0 || static_cast<unsigned long long>(k) > size - at)
-            throw InputError(filename + ": CELLS: cell " + std::to_string(c) + " claims " + std::to_string(k) +
-                             " points, but only " + std::to_string(size - at) + " of the " + std::to_string(size) +
-                             " integers are left");
-          cells.connectivity.insert(cells.connectivity.end(), lists.begin() + at, lists.begin() + at + k);
-          at += k;
+          if (binary)
+            {
+              const long long k = lists[at++];
+              if (k < 0 || static_cast<unsigned long long>(k) > size - at)
+                throw InputError(filename + ": CELLS: cell " + std::to_string(c) + " claims " + std::to_string(k) +
+                                 " points, but only " + std::to_string(size - at) + " of the " +
+                                 std::to_string(size) + " integers are left");
+              cells.connectivity.insert(cells.connectivity.end(), lists.begin() + at, lists.begin() + at + k);
+              at += k;
+            }
+          else
+            {
+              const long long k = read_integers(1, int32, "point counts").front();
+              if (k < 0)
+                fail("CELLS: cell " + std::to_string(c) + " claims " + std::to_string(k) + " points");
+              const auto ids = read_integers(static_cast<unsigned long long>(k), int32, "point ids");
+              cells.connectivity.insert(cells.connectivity.end(), ids.begin(), ids.end());
+            }
           cells.offsets.push_back(static_cast<long long>(cells.connectivity.size()));
         }
-      if (at != size)
+      if (binary && at != size)
         throw InputError(filename + ": CELLS " + std::to_string(n) + " " + std::to_string(size) + ": the " +
                          std::to_string(n) + " cell lists take " + std::to_string(at) + " integers, not " +
                          std::to_string(size));
+      skip_metadata();
       return cells;
     }
 
