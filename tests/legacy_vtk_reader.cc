@@ -176,4 +176,6 @@ int main()
   write_and_describe("fuzz_vtk's finding (VTK's segmentation fault in ReadMeshSimple)", "fuzz_finding.vtk",
                      tests::read_file(std::string(SOURCE_DIR) +
                                       "/../fuzz/regressions/vtk/vtk_segv_read_mesh_simple_field_in_points.vtk"));
+  write_and_describe("fuzz_vtk (our parser): BINARY cell lists that end before the cells", "fuzz_binary_cells.vtk",
+                     tests::read_file(std::string(SOURCE_DIR) + "/../fuzz/regressions/vtk/binary_cells_end_before_n.vtk"));
 }

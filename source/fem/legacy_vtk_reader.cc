@@ -562,6 +562,9 @@ namespace warpchol::fem
         {
           if (binary)
             {
+              if (at == lists.size())
+                throw InputError(filename + ": CELLS: its " + std::to_string(size) + " integers end after " +
+                                 std::to_string(c) + " of the " + std::to_string(n) + " cells");
               const long long k = lists[at++];
               if (k < 0 || static_cast<unsigned long long>(k) > size - at)
                 throw InputError(filename + ": CELLS: cell " + std::to_string(c) + " claims " + std::to_string(k) +
