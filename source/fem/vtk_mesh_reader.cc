@@ -1,7 +1,8 @@
 /**
  * @file
- * read_vtk(): legacy .vtk and XML .vtu unstructured grids through the VTK library, kept
- * in a translation unit of its own so that VTK's headers stay out of everything else.
+ * read_vtk(): XML .vtu unstructured grids through the VTK library, kept in a translation
+ * unit of its own so that VTK's headers stay out of everything else; legacy .vtk files go
+ * to read_legacy_vtk() (legacy_vtk_reader.cc), our own parser.
  */
 
 #include <warpchol/base/exceptions.h>
@@ -17,13 +18,8 @@
 #include <vtkPoints.h>
 #include <vtkSmartPointer.h>
 #include <vtkUnstructuredGrid.h>
-#include <vtkUnstructuredGridReader.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
-#include <algorithm>
-#include <cctype>
-#include <fstream>
-#include <iterator>
 #include <sstream>
 
 namespace warpchol::fem
@@ -90,34 +86,6 @@ namespace warpchol::fem
       vtkNew<CapturedMessages>         messages;
     };
 
-    /**
-     * Throw InputError for a "CELLS n size" of a legacy file before version 5 whose size
-     * cannot hold n cells (each takes at least its point count): VTK 9.1 reads the cells
-     * of "CELLS 1 0" through a null pointer (found by fuzz_vtk). VTK reads words, not
-     * lines, and takes any word that starts with "cells" (after a number that ends
-     * where it does, as in "5CELLS"): so is every "cells" after the title looked at.
-     */
-    void check_legacy_cells_sizes(const std::string &filename)
-    {
-      std::ifstream input(filename, std::ios::binary);
-      std::string   header, title;
-      if (!std::getline(input, header) || header.find("Version 5") != std::string::npos ||
-          !std::getline(input, title))
-        return; // version 5 lists offsets and connectivity: no such bound
-      std::string text((std::istreambuf_iterator<char>(input)), std::istreambuf_iterator<char>());
-      std::transform(text.begin(), text.end(), text.begin(),
-                     [](unsigned char c) { return std::tolower(c); });
-      for (auto at = text.find("cells"); at != std::string::npos; at = text.find("cells", at + 1))
-        {
-          std::istringstream numbers(text.substr(at + 5, 64));
-          long long          n_cells = 0, size = 0;
-          if ((numbers >> n_cells >> size) && n_cells > 0 && size < n_cells)
-            throw InputError(filename + ": CELLS " + std::to_string(n_cells) + " " +
-                             std::to_string(size) + ": " + std::to_string(n_cells) +
-                             " cells cannot fit in " + std::to_string(size) + " integers");
-        }
-    }
-
     /** VTK cell types of dimension < 3, skipped like Gmsh's lines and triangles. */
     bool is_lower_dimensional(const int type)
     {
@@ -150,30 +118,18 @@ namespace warpchol::fem
     const bool       xml    = format == MeshFormat::vtk_xml ||
                        (format == MeshFormat::unknown && filename.size() >= 4 &&
                         filename.compare(filename.size() - 4, 4, ".vtu") == 0);
+    // Legacy files: our own parser (VTK's legacy reader crashed on malformed files).
+    if (!xml)
+      return read_legacy_vtk(filename);
 
     // VTK 9 also logs its errors on standard error through vtkLogger: the program reports
     // them itself, on one line. VTK serves no other purpose here, so its logging stays off.
     vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
-    MessageCapture                       messages;
-    vtkSmartPointer<vtkUnstructuredGrid> grid;
-    if (xml)
-      {
-        vtkNew<vtkXMLUnstructuredGridReader> reader;
-        reader->SetFileName(filename.c_str());
-        reader->Update();
-        grid = reader->GetOutput();
-      }
-    else
-      {
-        check_legacy_cells_sizes(filename);
-        vtkNew<vtkUnstructuredGridReader> reader;
-        reader->SetFileName(filename.c_str());
-        if (!reader->IsFileUnstructuredGrid())
-          throw InputError(filename + ": not a legacy VTK file holding an UNSTRUCTURED_GRID" +
-                           (messages.first().empty() ? std::string() : ": " + messages.first()));
-        reader->Update();
-        grid = reader->GetOutput();
-      }
+    MessageCapture                     messages;
+    vtkNew<vtkXMLUnstructuredGridReader> reader;
+    reader->SetFileName(filename.c_str());
+    reader->Update();
+    vtkSmartPointer<vtkUnstructuredGrid> grid = reader->GetOutput();
     if (!messages.first().empty())
       throw InputError(filename + ": VTK cannot read it: " + messages.first());
     if (grid == nullptr || grid->GetNumberOfPoints() == 0)

@@ -13,10 +13,11 @@
  * extension only when they say nothing: SOFA's Bunny.vtk holds VTK XML.
  *
  * Every format is first read into a TetrahedralMesh (Gmsh by a line-aware scanner that
- * keeps the tetrahedra and skips lines, triangles and points; VTK files through the VTK
- * library, as ParaView reads them), checked (each element's orientation and volume, with
- * the file and line or cell that is wrong), stripped of the vertices no tetrahedron uses,
- * and then handed to deal.II's GridIn as a Gmsh stream of tetrahedra only.
+ * keeps the tetrahedra and skips lines, triangles and points; legacy VTK files by our own
+ * parser; VTK XML files through the VTK library, as ParaView reads them), checked (each
+ * element's orientation and volume, with the file and line or cell that is wrong),
+ * stripped of the vertices no tetrahedron uses, and then handed to deal.II's GridIn as a
+ * Gmsh stream of tetrahedra only.
  */
 namespace warpchol::fem
 {
@@ -63,11 +64,21 @@ namespace warpchol::fem
   TetrahedralMesh read_gmsh(const std::string &filename);
 
   /**
-   * Read a legacy VTK or a VTK XML unstructured grid through the VTK library, the one or
-   * the other as detect_mesh_format() says (by the extension, .vtu for XML, if it cannot
-   * tell).
+   * Read a legacy VTK (read_legacy_vtk()) or a VTK XML unstructured grid (through the VTK
+   * library), the one or the other as detect_mesh_format() says (by the extension, .vtu
+   * for XML, if it cannot tell).
    */
   TetrahedralMesh read_vtk(const std::string &filename);
+
+  /**
+   * Parse a legacy VTK unstructured grid (.vtk: ASCII or BINARY, the cell lists of
+   * versions before 5 or the OFFSETS/CONNECTIVITY arrays of version 5.1; FIELD data and
+   * METADATA skipped, POINT_DATA and CELL_DATA ignored) with our own parser, which checks
+   * every count against the bytes left in the file before allocating and every point id.
+   * Keeps the tetrahedra (VTK cell type 10), skips cells of dimension < 3, refuses other
+   * volume cells. Throws InputError "FILE:LINE: ..." (ASCII) or naming the section (BINARY).
+   */
+  TetrahedralMesh read_legacy_vtk(const std::string &filename);
 
   /**
    * Check the elements of @p mesh: every tetrahedron must have a volume, and all must have
