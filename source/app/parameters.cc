@@ -786,6 +786,34 @@ namespace warpchol::app
       checkpoint_interval       = prm.get_integer("Checkpoint interval");
       prm.leave_subsection();
     }
+
+    void Distributed::declare_parameters(ParameterHandler &prm)
+    {
+      prm.enter_subsection("Distributed");
+      prm.declare_entry("Linear solver", "amg_cg", Patterns::Selection("amg_cg|mumps"),
+                        "How a distributed run (mpirun -np N warpchol FILE.prm, or "
+                        "--distributed) solves each step: amg_cg, Trilinos CG preconditioned by "
+                        "ML's algebraic multigrid with the rigid-body modes, set up once on the "
+                        "rest matrix and reused; mumps, the distributed direct solver MUMPS "
+                        "through PETSc, factoring again whenever the matrix changed. Serial runs "
+                        "ignore this subsection");
+      prm.declare_entry("Tolerance", "1e-8", Patterns::Double(0),
+                        "amg_cg stops at |b - A x| <= tolerance |b|");
+      prm.declare_entry("Max iterations", "1000", Patterns::Integer(1),
+                        "amg_cg fails the step after this many iterations");
+      prm.leave_subsection();
+    }
+
+    void Distributed::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    {
+      prm.enter_subsection("Distributed");
+      linear_solver  = prm.get("Linear solver");
+      tolerance      = prm.get_double("Tolerance");
+      max_iterations = prm.get_integer("Max iterations");
+      if (!(tolerance > 0 && tolerance < 1))
+        file.fail(prm, "Distributed", "Tolerance", "must lie in (0, 1), got " + format_number(tolerance));
+      prm.leave_subsection();
+    }
   } // namespace parameters
 
   // ---------------------------------------------------------------------------------------
@@ -803,6 +831,7 @@ namespace warpchol::app
     parameters::Tool::declare_parameters(prm);
     parameters::Bodies::declare_parameters(prm);
     parameters::Output::declare_parameters(prm);
+    parameters::Distributed::declare_parameters(prm);
   }
 
   void AllParameters::parse_parameters(ParameterHandler &prm)
@@ -819,6 +848,7 @@ namespace warpchol::app
     tool.parse_parameters(prm, file);
     bodies.parse_parameters(prm, file);
     output.parse_parameters(prm, file);
+    distributed.parse_parameters(prm, file);
     // What one entry allows only with another: said at the entry that asks for it.
     for (unsigned int i = 0; model.target_error > 0 && i < bodies.update_thresholds.size(); ++i)
       {

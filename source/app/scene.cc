@@ -67,119 +67,26 @@ namespace warpchol::app
     return created;
   }
 
-  namespace
-  {
-    /** Volume of the tetrahedra of @p triangulation, from their vertices. */
-    double tetrahedral_volume(const dealii::Triangulation<3> &triangulation)
-    {
-      double volume = 0;
-      for (const auto &cell : triangulation.active_cell_iterators())
-        {
-          const dealii::Tensor<1, 3> a = cell->vertex(1) - cell->vertex(0);
-          const dealii::Tensor<1, 3> b = cell->vertex(2) - cell->vertex(0);
-          const dealii::Tensor<1, 3> c = cell->vertex(3) - cell->vertex(0);
-          volume += std::abs(dealii::scalar_product(a, dealii::cross_product_3d(b, c))) / 6;
-        }
-      return volume;
-    }
-  } // namespace
-
-  void Scene::build_mesh()
-  {
-    const auto &mesh = all.mesh;
-    if (mesh.source == "torus")
-      {
-        fem::create_torus(triangulation, mesh.torus);
-        mesh_text = "generated torus (R " + format_number(mesh.torus.major_radius) + ", r " +
-                    format_number(mesh.torus.minor_radius) + ", " +
-                    std::to_string(mesh.torus.toroidal_cells) + " toroidal cells, " +
-                    std::to_string(mesh.torus.refinements) + " refinements)";
-      }
-    else if (mesh.source == "box")
-      {
-        fem::create_box(triangulation, mesh.box);
-        mesh_text = "generated box";
-        if (mesh.box.grading > 1)
-          mesh_text += ", graded " + format_number(mesh.box.grading);
-        if (mesh.box.sliver_flattening < 1)
-          mesh_text += ", slivers flattened to " + format_number(mesh.box.sliver_flattening);
-      }
-    else
-      {
-        numbering = fem::read_mesh(all.mesh_file_path(), triangulation);
-        if (mesh.scale != 1)
-          dealii::GridTools::scale(mesh.scale, triangulation);
-        mesh_text = mesh.file_name;
-      }
-    if (numbering.vertex_of_file_vertex.empty())
-      for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
-        numbering.vertex_of_file_vertex.push_back(v);
-  }
-
   std::vector<unsigned int> Scene::select_vertices(const RegionParameters &region,
                                                    const std::string      &subsection) const
   {
-    std::vector<unsigned int> selected;
-    if (region.kind == "none")
-      return selected;
-    const auto where = [&](const std::string &entry) { return all.file.where(subsection, entry); };
-    if (region.kind == "ids")
-      {
-        const long n_file_vertices = numbering.vertex_of_file_vertex.size();
-        for (const long id : region.vertex_ids)
-          {
-            if (id < 0 || id >= n_file_vertices)
-              throw InputError(where("Vertex ids") + ": vertex " + std::to_string(id) +
-                               " does not exist (the mesh has " +
-                               std::to_string(n_file_vertices) + " vertices, ids from 0)");
-            const long vertex = numbering.vertex_of_file_vertex[id];
-            if (vertex < 0)
-              throw InputError(where("Vertex ids") + ": vertex " + std::to_string(id) +
-                               " belongs to no tetrahedron");
-            selected.push_back(vertex);
-          }
-        std::sort(selected.begin(), selected.end());
-        selected.erase(std::unique(selected.begin(), selected.end()), selected.end());
-        return selected;
-      }
-    const auto &rest = triangulation.get_vertices();
-    for (unsigned int v = 0; v < rest.size(); ++v)
-      {
-        const fem::Vector3 x(rest[v][0], rest[v][1], rest[v][2]);
-        const bool         inside =
-          region.kind == "box" ?
-                    (x.array() >= region.box_lower_corner.array()).all() &&
-              (x.array() <= region.box_upper_corner.array()).all() :
-                    (x - region.sphere_center).norm() <= region.sphere_radius;
-        if (inside)
-          selected.push_back(v);
-      }
-    if (selected.empty())
-      throw InputError(where("Region") + " = " + region.kind + ": the region holds no vertex of the mesh");
-    return selected;
+    return mesh.select_vertices(region, subsection);
   }
 
   Scene::Scene(const AllParameters &parameters)
     : all(parameters)
+    , mesh(all)
   {
     // The element loops (rotations, error estimates) run on deal.II's threads: as many as
     // the solver is given. Set first: deal.II's finite element set-up does not give the
     // same last bits before and after a change of the thread limit, and two scenes with
     // the same parameters must give the same results.
     dealii::MultithreadInfo::set_thread_limit(all.solver.settings.n_threads);
-    build_mesh();
 
     fixed = select_vertices(all.fixed_vertices.region, "Fixed vertices");
-    std::vector<bool> is_fixed(triangulation.n_vertices(), false);
-    for (const unsigned int v : fixed)
-      is_fixed[v] = true;
-
-    fem::Material material{all.material.youngs_modulus, all.material.poisson_ratio,
-                           all.material.density};
-    if (all.material.total_mass > 0)
-      material.density = all.material.total_mass / tetrahedral_volume(triangulation);
-    elastic_body = std::make_unique<fem::ElasticBody>(triangulation, material,
-                                                      all.material.mass_matrix, is_fixed);
+    const dealii::Triangulation<3> &triangulation = mesh.triangulation();
+    elastic_body = std::make_unique<fem::ElasticBody>(triangulation, mesh.material(), all.material.mass_matrix,
+                                                      mesh.marks(fixed));
 
     scene_loads.gravity = all.gravity.acceleration;
     const auto force_vertices = select_vertices(all.region_force.region, "Region force");
@@ -261,6 +168,6 @@ namespace warpchol::app
 
   const std::string &Scene::mesh_description() const
   {
-    return mesh_text;
+    return mesh.description();
   }
 } // namespace warpchol::app

@@ -5,6 +5,7 @@
 #include <warpchol/base/input_file.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/ordering.h>
+#include <warpchol/distributed/distributed_simulation.h>
 #include <warpchol/fem/energy_balance.h>
 #include <warpchol/fem/warp_canceling_model.h>
 
@@ -788,57 +789,38 @@ namespace warpchol::app
   {
     const char *usage = "usage: warpchol PARAMS.prm          run the scene of a parameter file\n"
                         "       warpchol PARAMS.prm --resume go on from its last checkpoint\n"
+                        "       mpirun -np N warpchol PARAMS.prm\n"
+                        "       warpchol PARAMS.prm --distributed\n"
+                        "                                    run it distributed (MPI, Trilinos,\n"
+                        "                                    PETSc), on N ranks or on one\n"
                         "       warpchol --print-parameters [FILE]\n"
                         "                                    write the documented defaults\n"
                         "                                    (to FILE, or standard output)";
   }
 
-  int main(const int argc, const char *const *argv, std::ostream &out, std::ostream &err)
+  int report_errors(std::ostream &err, const std::function<void()> &action, const bool print)
   {
+    const auto report = [&](const std::string &message, const int status) {
+      if (print)
+        err << "warpchol: error: " << message << std::endl;
+      return status;
+    };
     try
       {
-        const std::vector<std::string> arguments(argv + 1, argv + argc);
-        if (arguments.size() == 1 && (arguments[0] == "--help" || arguments[0] == "-h"))
-          {
-            out << usage << std::endl;
-            return 0;
-          }
-        if (!arguments.empty() && arguments[0] == "--print-parameters")
-          {
-            if (arguments.size() > 2)
-              throw InputError("--print-parameters takes at most one file name");
-            if (arguments.size() == 2)
-              write_file_atomically(arguments[1], [](std::ostream &file) {
-                AllParameters::print_defaults(file);
-              });
-            else
-              AllParameters::print_defaults(out);
-            return 0;
-          }
-        const bool resume = arguments.size() == 2 && arguments[1] == "--resume";
-        if ((arguments.size() != 1 && !resume) || arguments[0].empty() || arguments[0][0] == '-')
-          throw InputError(arguments.empty() ? "no parameter file given" :
-                                               "unexpected arguments (see warpchol --help)");
-        run_parameter_file(arguments[0], out, resume);
+        action();
         return 0;
       }
     catch (const InputError &error)
       {
-        out << std::flush;
-        err << "warpchol: error: " << error.what() << std::endl;
-        return 2;
+        return report(error.what(), 2);
       }
     catch (const OutputError &error)
       {
-        out << std::flush;
-        err << "warpchol: error: " << error.what() << std::endl;
-        return 3;
+        return report(error.what(), 3);
       }
     catch (const Error &error)
       {
-        out << std::flush;
-        err << "warpchol: error: " << error.what() << std::endl;
-        return 1;
+        return report(error.what(), 1);
       }
     catch (const std::exception &error)
       {
@@ -847,9 +829,46 @@ namespace warpchol::app
         for (auto &c : message)
           if (c == '\n')
             c = ' ';
-        out << std::flush;
-        err << "warpchol: error: " << message << std::endl;
-        return 1;
+        return report(message, 1);
       }
+  }
+
+  int main(const int argc, const char *const *argv, std::ostream &out, std::ostream &err)
+  {
+    const std::vector<std::string> arguments(argv + 1, argv + argc);
+    const bool names_a_file = !arguments.empty() && !arguments[0].empty() && arguments[0][0] != '-';
+    if (names_a_file && ((arguments.size() == 2 && arguments[1] == "--distributed") ||
+                         (arguments.size() == 1 && distributed::launched_on_several_ranks())))
+      return distributed::run_distributed(argc, argv, arguments[0], out, err);
+    return report_errors(err, [&] {
+      if (arguments.size() == 1 && (arguments[0] == "--help" || arguments[0] == "-h"))
+        {
+          out << usage << std::endl;
+          return;
+        }
+      if (!arguments.empty() && arguments[0] == "--print-parameters")
+        {
+          if (arguments.size() > 2)
+            throw InputError("--print-parameters takes at most one file name");
+          if (arguments.size() == 2)
+            write_file_atomically(arguments[1], [](std::ostream &file) { AllParameters::print_defaults(file); });
+          else
+            AllParameters::print_defaults(out);
+          return;
+        }
+      const bool resume = arguments.size() == 2 && arguments[1] == "--resume";
+      if ((arguments.size() != 1 && !resume) || arguments[0].empty() || arguments[0][0] == '-')
+        throw InputError(arguments.empty() ? "no parameter file given" : "unexpected arguments (see warpchol --help)");
+      // What was printed stays before the error line.
+      try
+        {
+          run_parameter_file(arguments[0], out, resume);
+        }
+      catch (...)
+        {
+          out << std::flush;
+          throw;
+        }
+    });
   }
 } // namespace warpchol::app

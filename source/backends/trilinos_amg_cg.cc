@@ -51,6 +51,38 @@ namespace warpchol::backends
     };
   } // namespace
 
+  void initialize_elasticity_amg(dealii::TrilinosWrappers::PreconditionAMG    &preconditioner,
+                                 const dealii::TrilinosWrappers::SparseMatrix &matrix,
+                                 std::vector<double>                          &null_space)
+  {
+    if (null_space.size() != n_rigid_body_modes * static_cast<std::size_t>(matrix.local_size()))
+      throw MatrixError("Trilinos AMG-CG: " + std::to_string(null_space.size()) + " null space entries for " +
+                        std::to_string(matrix.local_size()) + " rows and 6 rigid-body modes");
+    // deal.II's elliptic defaults: smoothed aggregation, a Chebyshev smoother of degree 2,
+    // KLU on the coarsest level. Chebyshev rather than symmetric Gauss-Seidel: on the torus
+    // SGS saves a few iterations (5 instead of 8 to 1e-6) but costs more per iteration, and
+    // with the hierarchy of the rest matrix it stalls once the elements are rotated by a
+    // radian or more, where Chebyshev still converges.
+    dealii::TrilinosWrappers::PreconditionAMG::AdditionalData data;
+    data.elliptic              = true;
+    data.higher_order_elements = false;
+    data.smoother_sweeps       = 2;
+    data.aggregation_threshold = 1e-4;
+    data.smoother_type         = "Chebyshev";
+
+    Teuchos::ParameterList              parameters;
+    std::unique_ptr<Epetra_MultiVector> unused_constant_modes;
+    data.set_parameters(parameters, unused_constant_modes, matrix);
+    // AdditionalData::constant_modes takes only the translations (as bools), so the six
+    // modes go straight to ML (the rank's rows, mode after mode). Aggregates are made of
+    // whole vertices (3 consecutive rows), on which the rotations are representable.
+    parameters.set("PDE equations", 3);
+    parameters.set("null space: type", "pre-computed");
+    parameters.set("null space: dimension", static_cast<int>(n_rigid_body_modes));
+    parameters.set("null space: vectors", null_space.data());
+    preconditioner.initialize(matrix, parameters);
+  }
+
   struct TrilinosAmgCgSolver::Implementation
   {
     Settings settings;
@@ -144,29 +176,7 @@ namespace warpchol::backends
 
   void TrilinosAmgCgSolver::Implementation::set_up_preconditioner()
   {
-    // deal.II's elliptic defaults: smoothed aggregation, a Chebyshev smoother of degree 2,
-    // KLU on the coarsest level. Chebyshev rather than symmetric Gauss-Seidel: on the torus
-    // SGS saves a few iterations (5 instead of 8 to 1e-6) but costs more per iteration, and
-    // with the hierarchy of the rest matrix it stalls once the elements are rotated by a
-    // radian or more, where Chebyshev still converges.
-    dealii::TrilinosWrappers::PreconditionAMG::AdditionalData data;
-    data.elliptic              = true;
-    data.higher_order_elements = false;
-    data.smoother_sweeps       = 2;
-    data.aggregation_threshold = 1e-4;
-    data.smoother_type         = "Chebyshev";
-
-    Teuchos::ParameterList              parameters;
-    std::unique_ptr<Epetra_MultiVector> unused_constant_modes;
-    data.set_parameters(parameters, unused_constant_modes, matrix);
-    // AdditionalData::constant_modes takes only the translations (as bools), so the six
-    // modes go straight to ML. Aggregates are made of whole vertices (3 unknowns, numbered
-    // 3 k + c), on which the rotations are representable.
-    parameters.set("PDE equations", 3);
-    parameters.set("null space: type", "pre-computed");
-    parameters.set("null space: dimension", static_cast<int>(n_rigid_body_modes));
-    parameters.set("null space: vectors", null_space.data());
-    preconditioner.initialize(matrix, parameters);
+    initialize_elasticity_amg(preconditioner, matrix, null_space);
   }
 
   TrilinosAmgCgSolver::TrilinosAmgCgSolver(const Settings &settings, const std::vector<std::vector<double>> &rigid_body_modes)

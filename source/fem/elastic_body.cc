@@ -559,13 +559,19 @@ namespace warpchol::fem
   double ElasticBody::elastic_energy(const std::vector<Vector3> &positions,
                                      const std::vector<Matrix3> *element_rotations) const
   {
+    double sum = 0;
+    for (const double energy : element_energies(positions, element_rotations))
+      sum += energy;
+    return sum;
+  }
+
+  std::vector<double> ElasticBody::element_energies(const std::vector<Vector3> &positions,
+                                                    const std::vector<Matrix3> *element_rotations) const
+  {
     std::vector<Matrix3> element_forces;
     std::vector<double>  energies;
     forces_at_given_rotations(positions, element_rotations, element_forces, energies);
-    double sum = 0;
-    for (const double energy : energies)
-      sum += energy;
-    return sum;
+    return energies;
   }
 
   void ElasticBody::add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,

@@ -20,6 +20,11 @@
 #include <vtkUnstructuredGrid.h>
 #include <vtkXMLUnstructuredGridReader.h>
 
+#include <algorithm>
+#include <fstream>
+#include <iterator>
+#include <optional>
+#include <regex>
 #include <sstream>
 
 namespace warpchol::fem
@@ -86,6 +91,111 @@ namespace warpchol::fem
       vtkNew<CapturedMessages>         messages;
     };
 
+    /**
+     * The sizes an XML header announces, checked before VTK reads it: VTK allocates what
+     * NumberOfPoints, NumberOfCells, NumberOfComponents and NumberOfTuples say, so that a
+     * broken header ("NumberOfComponents="32147483647"") would make it reserve hundreds of
+     * GB, or spin for minutes, for a file of a few hundred bytes. Each number must be an
+     * integer, and the values an array announces must fit in the file: a value takes at
+     * least one byte of raw data, and zlib, the one compressor that inflates more than
+     * that, at most 1032:1. The file is read as a stream of tags, up to the appended data.
+     */
+    class HeaderSizeCheck
+    {
+    public:
+      explicit HeaderSizeCheck(const std::string &filename)
+        : filename(filename)
+      {
+        std::ifstream file = open_input_file(filename, "mesh file");
+        file.seekg(0, std::ios::end);
+        file_bytes = static_cast<double>(std::max<std::streamoff>(file.tellg(), 0));
+        max_values = max_expansion * file_bytes;
+        file.seekg(0);
+
+        std::istreambuf_iterator<char> c(file), end;
+        long                           line = 1;
+        while (c != end)
+          {
+            if (*c == '\n')
+              ++line;
+            if (*c++ != '<')
+              continue;
+            const long  tag_line = line;
+            std::string tag;
+            for (; c != end && *c != '>' && tag.size() < max_tag_length; ++c)
+              {
+                if (*c == '\n')
+                  ++line;
+                tag += *c;
+              }
+            if (tag.rfind("AppendedData", 0) == 0)
+              break;
+            if (tag.rfind("Piece", 0) == 0)
+              check_piece(tag, tag_line);
+            else if (tag.rfind("DataArray", 0) == 0)
+              check_array(tag, tag_line);
+          }
+      }
+
+    private:
+      /** zlib's largest ratio of inflated to deflated bytes. */
+      static constexpr double      max_expansion  = 1032;
+      static constexpr std::size_t max_tag_length = 1 << 16;
+
+      /** The value of @p name in the tag's text, if it is there, as an integer. */
+      std::optional<double> number(const std::string &tag, const std::string &name, const long line) const
+      {
+        const std::regex attribute("\\s" + name + "\\s*=\\s*(\"([^\"]*)\"|'([^']*)')");
+        std::smatch      match;
+        if (!std::regex_search(tag, match, attribute))
+          return std::nullopt;
+        const std::string value = match[2].matched ? match[2].str() : match[3].str();
+        const auto        first = value.find_first_not_of(" \t\r\n");
+        const auto        last  = value.find_last_not_of(" \t\r\n");
+        const std::string digits =
+          first == std::string::npos ? std::string() : value.substr(first, last - first + 1);
+        if (digits.empty() || digits.size() > 18 ||
+            digits.find_first_not_of("0123456789") != std::string::npos)
+          throw InputError(at(line) + name + "=" + quote(value) + " is not a non-negative integer of at most 18 digits");
+        return std::stod(digits);
+      }
+
+      void check_fits(const double values, const std::string &what, const long line) const
+      {
+        if (values > max_values)
+          throw InputError(at(line) + "the header announces " + format_number(values, 15) + " " + what +
+                           ", but a file of " + format_number(file_bytes, 15) + " bytes holds at most " +
+                           format_number(max_values, 15) + " values (one byte each, inflated 1032:1)");
+      }
+
+      void check_piece(const std::string &tag, const long line)
+      {
+        piece_points = number(tag, "NumberOfPoints", line).value_or(0);
+        piece_cells  = number(tag, "NumberOfCells", line).value_or(0);
+        check_fits(3 * piece_points, "point coordinates", line);
+        check_fits(piece_cells, "cells", line);
+      }
+
+      void check_array(const std::string &tag, const long line) const
+      {
+        const double components = number(tag, "NumberOfComponents", line).value_or(1);
+        const double tuples =
+          number(tag, "NumberOfTuples", line).value_or(std::max(piece_points, piece_cells));
+        check_fits(components * tuples, "values in a DataArray", line);
+      }
+
+      std::string at(const long line) const
+      {
+        return filename + ":" + std::to_string(line) + ": ";
+      }
+
+      const std::string filename;
+      double            max_values   = 0;
+      double            file_bytes   = 0;
+      double            piece_points = 0;
+      double            piece_cells  = 0;
+    };
+
     /** VTK cell types of dimension < 3, skipped like Gmsh's lines and triangles. */
     bool is_lower_dimensional(const int type)
     {
@@ -124,6 +234,7 @@ namespace warpchol::fem
 
     // VTK 9 also logs its errors on standard error through vtkLogger: the program reports
     // them itself, on one line. VTK serves no other purpose here, so its logging stays off.
+    const HeaderSizeCheck header_sizes(filename);
     vtkLogger::SetStderrVerbosity(vtkLogger::VERBOSITY_OFF);
     MessageCapture                     messages;
     vtkNew<vtkXMLUnstructuredGridReader> reader;

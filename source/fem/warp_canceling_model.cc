@@ -9,6 +9,60 @@
 
 namespace warpchol::fem
 {
+  ElementErrorEstimate estimate_element_error(const ElasticBody &body, const SystemCoefficients &coefficients,
+                                              const unsigned int e, const std::vector<Vector3> &velocities,
+                                              const std::vector<Vector3> &nodal_velocities,
+                                              const std::vector<Matrix3> &nodal_rotations,
+                                              const Matrix3 &element_rotation,
+                                              const std::array<Matrix3, 4> &frames, const double force_norm)
+  {
+    const bool     lumped   = body.mass_matrix_type() == MassMatrix::lumped;
+    const auto    &vertices = body.element_vertices(e);
+    const Matrix3 &rotation = element_rotation;
+    const auto    &mass     = body.element_mass(e);
+    // Exact, in the world frame: c_K R_e K_e R_e^T v_e (+ c_M M_e v_e).
+    const Matrix3 exact_stiffness =
+      coefficients.stiffness *
+      (rotation * body.stiffness_forces(e, rotation.transpose() * body.field_gradient(e, velocities)));
+    // Stored, in the nodal frames: c_K T_a K_e T_b^T z_b; the gradient of
+    // y_b = T_b^T z_b is [y1-y0, y2-y0, y3-y0] Dm^-1.
+    std::array<Vector3, 4> y;
+    for (unsigned int b = 0; b < 4; ++b)
+      y[b] = frames[b].transpose() * nodal_velocities[vertices[b]];
+    const Matrix3 stored_stiffness =
+      coefficients.stiffness * body.stiffness_forces(e, body.field_gradient(e, y));
+
+    double error_squared = 0, exact_squared = 0;
+    for (unsigned int a = 0; a < 4; ++a)
+      {
+        const Vector3 world_stiffness =
+          a == 0 ? Vector3(-exact_stiffness.rowwise().sum()) : Vector3(exact_stiffness.col(a - 1));
+        const Vector3 local_stiffness =
+          a == 0 ? Vector3(-stored_stiffness.rowwise().sum()) : Vector3(stored_stiffness.col(a - 1));
+        const Matrix3 &nodal = nodal_rotations[vertices[a]];
+        if (lumped)
+          {
+            // A lumped mass is the same in every frame: its parts cancel exactly in
+            // the difference, and the norm of the exact part needs no rotation.
+            exact_squared +=
+              (world_stiffness + (coefficients.mass * mass(a, a)) * velocities[vertices[a]]).squaredNorm();
+            error_squared += (nodal.transpose() * world_stiffness - frames[a] * local_stiffness).squaredNorm();
+            continue;
+          }
+        Vector3 world_mass  = Vector3::Zero();
+        Vector3 stored_mass = Vector3::Zero();
+        for (unsigned int b = 0; b < 4; ++b)
+          {
+            world_mass += (coefficients.mass * mass(a, b)) * velocities[vertices[b]];
+            stored_mass += (coefficients.mass * mass(a, b)) * y[b];
+          }
+        const Vector3 exact = nodal.transpose() * (world_stiffness + world_mass);
+        exact_squared += exact.squaredNorm();
+        error_squared += (exact - frames[a] * (local_stiffness + stored_mass)).squaredNorm();
+      }
+    return {std::sqrt(error_squared), std::sqrt(exact_squared) + coefficients.time_step * force_norm};
+  }
+
   WarpCancelingModel::WarpCancelingModel(const ElasticBody &body,
                                          const SystemCoefficients &coefficients,
                                          const cholesky::SparseCholesky::Settings &solver_settings,
@@ -84,7 +138,6 @@ namespace warpchol::fem
     const unsigned int  n_elements        = body.n_elements();
     const auto         &element_rotations = elastic_state.element_rotations;
     const auto         &nodal_rotations   = elastic_state.nodal_rotations;
-    const bool          lumped            = body.mass_matrix_type() == MassMatrix::lumped;
     std::vector<double> error(n_elements);
     std::vector<double> impulse(n_elements);
     // z_v = R_v^T v_v, the velocities in the nodal frames, once per vertex.
@@ -106,52 +159,12 @@ namespace warpchol::fem
       [&](const unsigned int begin, const unsigned int end) {
         for (unsigned int e = begin; e < end; ++e)
           {
-            const auto    &vertices = body.element_vertices(e);
-            const Matrix3 &rotation = element_rotations[e];
-            const auto    &frames   = stored_frames[e];
-            const auto    &mass     = body.element_mass(e);
-            // Exact, in the world frame: c_K R_e K_e R_e^T v_e (+ c_M M_e v_e).
-            const Matrix3 exact_stiffness =
-              coefficients.stiffness *
-              (rotation * body.stiffness_forces(e, rotation.transpose() * body.field_gradient(e, velocities)));
-            // Stored, in the nodal frames: c_K T_a K_e T_b^T z_b; the gradient of
-            // y_b = T_b^T z_b is [y1-y0, y2-y0, y3-y0] Dm^-1.
-            std::array<Vector3, 4> y;
-            for (unsigned int b = 0; b < 4; ++b)
-              y[b] = frames[b].transpose() * nodal_velocities[vertices[b]];
-            const Matrix3 stored_stiffness =
-              coefficients.stiffness * body.stiffness_forces(e, body.field_gradient(e, y));
-
-            double error_squared = 0, exact_squared = 0;
-            for (unsigned int a = 0; a < 4; ++a)
-              {
-                const Vector3 world_stiffness =
-                  a == 0 ? Vector3(-exact_stiffness.rowwise().sum()) : Vector3(exact_stiffness.col(a - 1));
-                const Vector3 local_stiffness =
-                  a == 0 ? Vector3(-stored_stiffness.rowwise().sum()) : Vector3(stored_stiffness.col(a - 1));
-                const Matrix3 &nodal = nodal_rotations[vertices[a]];
-                if (lumped)
-                  {
-                    // A lumped mass is the same in every frame: its parts cancel exactly in
-                    // the difference, and the norm of the exact part needs no rotation.
-                    exact_squared +=
-                      (world_stiffness + (coefficients.mass * mass(a, a)) * velocities[vertices[a]]).squaredNorm();
-                    error_squared += (nodal.transpose() * world_stiffness - frames[a] * local_stiffness).squaredNorm();
-                    continue;
-                  }
-                Vector3 world_mass  = Vector3::Zero();
-                Vector3 stored_mass = Vector3::Zero();
-                for (unsigned int b = 0; b < 4; ++b)
-                  {
-                    world_mass += (coefficients.mass * mass(a, b)) * velocities[vertices[b]];
-                    stored_mass += (coefficients.mass * mass(a, b)) * y[b];
-                  }
-                const Vector3 exact = nodal.transpose() * (world_stiffness + world_mass);
-                exact_squared += exact.squaredNorm();
-                error_squared += (exact - frames[a] * (local_stiffness + stored_mass)).squaredNorm();
-              }
-            error[e]   = std::sqrt(error_squared);
-            impulse[e] = std::sqrt(exact_squared) + coefficients.time_step * elastic_state.element_force_norms[e];
+            const ElementErrorEstimate estimate =
+              estimate_element_error(body, coefficients, e, velocities, nodal_velocities, nodal_rotations,
+                                     element_rotations[e], stored_frames[e],
+                                     elastic_state.element_force_norms[e]);
+            error[e]   = estimate.error;
+            impulse[e] = estimate.impulse;
           }
       },
       512);

@@ -50,6 +50,10 @@ namespace warpchol::sparse
     /** The bytes left in @p stream from where it stands; -1 if it cannot seek. */
     double bytes_left(std::istream &stream)
     {
+      // The size line was the file's last, without a newline: getline stopped at the end,
+      // and tellg() would fail on the end-of-file state.
+      if (stream.eof())
+        return 0;
       const auto here = stream.tellg();
       if (here < 0 || !stream.seekg(0, std::ios::end))
         {

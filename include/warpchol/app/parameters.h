@@ -250,6 +250,22 @@ namespace warpchol::app
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
     };
+
+    /**
+     * Subsection "Distributed": how a run under MPI (mpirun -np N, or --distributed) solves
+     * the step's system, on the engines made for it (distributed/).
+     */
+    struct Distributed
+    {
+      /** "amg_cg" (Trilinos CG with ML AMG) or "mumps" (PETSc's MUMPS, direct). */
+      std::string  linear_solver = "amg_cg";
+      /** CG stops at |b - A x| <= tolerance |b|. */
+      double       tolerance = 1e-8;
+      unsigned int max_iterations = 1000;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
   } // namespace parameters
 
   /** Every subsection of a scene's parameter file. */
@@ -267,6 +283,7 @@ namespace warpchol::app
     parameters::Tool          tool;
     parameters::Bodies        bodies;
     parameters::Output        output;
+    parameters::Distributed   distributed;
 
     /** The defaults. */
     AllParameters();

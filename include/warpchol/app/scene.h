@@ -1,6 +1,7 @@
 #pragma once
 
 #include <warpchol/app/parameters.h>
+#include <warpchol/app/scene_mesh.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/elasticity_model.h>
 #include <warpchol/fem/implicit_euler.h>
@@ -57,12 +58,8 @@ namespace warpchol::app
                                               const std::string      &subsection) const;
 
   private:
-    void build_mesh();
-
     const AllParameters                    all;
-    dealii::Triangulation<3>               triangulation;
-    fem::MeshFileNumbering                 numbering;
-    std::string                            mesh_text;
+    SceneMesh                              mesh;
     std::vector<unsigned int>              fixed;
     fem::Loads                             scene_loads;
     std::unique_ptr<fem::ElasticBody>      elastic_body;

@@ -6,6 +6,7 @@
 #include <warpchol/app/trajectory_error.h>
 #include <warpchol/fem/energy_balance.h>
 
+#include <functional>
 #include <limits>
 #include <map>
 #include <memory>
@@ -196,8 +197,16 @@ namespace warpchol::app
   void run_parameter_file(const std::string &parameter_file, std::ostream &out, bool resume = false);
 
   /**
+   * Run @p action and turn what it throws into warpchol's exit status: 2 for InputError, 3
+   * for OutputError, 1 for any other exception, 0 if it throws nothing; the error's
+   * message goes on one line "warpchol: error: MESSAGE" to @p err, if @p print.
+   */
+  int report_errors(std::ostream &err, const std::function<void()> &action, bool print = true);
+
+  /**
    * The warpchol program: "warpchol PARAMS.prm", "warpchol --print-parameters [FILE]",
-   * "warpchol --help". Prints a one-line error on @p err and returns 2 for bad input
+   * "warpchol --help"; under an MPI launcher with several processes, or with
+   * "--distributed", the distributed run (distributed::run_distributed()). Prints a one-line error on @p err and returns 2 for bad input
    * (InputError: parameters, mesh files), 3 for results that cannot be written
    * (OutputError: an output directory that cannot be written, a full disk), 1 for another
    * failure (a factorization that fails, a diverging simulation), 0 on success: the

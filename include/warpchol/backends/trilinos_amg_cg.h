@@ -2,6 +2,9 @@
 
 #include <warpchol/backends/linear_solver.h>
 
+#include <deal.II/lac/trilinos_precondition.h>
+#include <deal.II/lac/trilinos_sparse_matrix.h>
+
 #include <cstddef>
 #include <memory>
 #include <string>
@@ -14,6 +17,18 @@
  */
 namespace warpchol::backends
 {
+  /**
+   * Set @p preconditioner up as ML's smoothed-aggregation AMG for elasticity on @p matrix
+   * (serial or distributed): deal.II's elliptic defaults with a Chebyshev smoother of
+   * degree 2, and @p null_space, the six rigid-body modes over the rank's rows (mode after
+   * mode), as near null space; ML reads that array while the hierarchy lives. The rows of
+   * a vertex must be consecutive. What both Trilinos AMG-CG solvers (this backend, and
+   * distributed runs) build.
+   */
+  void initialize_elasticity_amg(dealii::TrilinosWrappers::PreconditionAMG    &preconditioner,
+                                 const dealii::TrilinosWrappers::SparseMatrix &matrix,
+                                 std::vector<double>                          &null_space);
+
   /**
    * Conjugate gradients (deal.II's SolverCG) on a Trilinos copy of A, preconditioned by
    * ML's smoothed-aggregation algebraic multigrid (TrilinosWrappers::PreconditionAMG) with

@@ -180,6 +180,10 @@ namespace warpchol::fem
     double elastic_energy(const std::vector<Vector3> &positions,
                           const std::vector<Matrix3> *element_rotations) const;
 
+    /** Per element, 1/2 u_e^T K_e u_e, u_e = R_e^T x_e - X_e (R_e = I if null). */
+    std::vector<double> element_energies(const std::vector<Vector3> &positions,
+                                         const std::vector<Matrix3> *element_rotations) const;
+
     /**
      * out += K^ v with K^ = sum over elements of R_e K_e R_e^T (K_e alone when
      * @p element_rotations is null): the corotated stiffness applied without forming it,

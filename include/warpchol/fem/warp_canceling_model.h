@@ -11,6 +11,29 @@
  */
 namespace warpchol::fem
 {
+  /** What WCC's estimate finds for one element (see WarpCancelingModel). */
+  struct ElementErrorEstimate
+  {
+    /** err_e = || (A_e[R, R_e] - A_e[stored]) z ||, an impulse (N s). */
+    double error = 0;
+    /** The element's share of the impulse scale: || A_e[R, R_e] z || + dt || f_e ||. */
+    double impulse = 0;
+  };
+
+  /**
+   * WCC's estimate for element @p e of @p body, matrix-free: @p velocities per vertex (world
+   * frame), @p nodal_velocities = R_v^T v_v with @p nodal_rotations R_v, the element's
+   * current rotation @p element_rotation, the frames T_a = S_a^T Q_e its stored contribution
+   * was made with, and @p force_norm the norm of its 12 nodal elastic forces. The serial
+   * model and each rank of a distributed run (distributed/) call it per element.
+   */
+  ElementErrorEstimate estimate_element_error(const ElasticBody &body, const SystemCoefficients &coefficients,
+                                              unsigned int e, const std::vector<Vector3> &velocities,
+                                              const std::vector<Vector3> &nodal_velocities,
+                                              const std::vector<Matrix3> &nodal_rotations,
+                                              const Matrix3 &element_rotation,
+                                              const std::array<Matrix3, 4> &frames, double force_norm);
+
   /**
    * Warp-canceling corotation (WCC). Every element e keeps the nodal rotations S_a of its
    * vertices and its own rotation Q_e from the step it was last *updated* (in the
