@@ -25,9 +25,9 @@ namespace warpchol::backends
 
     /**
      * CG's product with A, y = A x, as TrilinosWrappers::SparseMatrix::vmult() computes
-     * it (one Epetra Multiply on views of the vectors), but not a template: clang (the
-     * sanitizer build) mangles that member template's enable_if return type otherwise
-     * than the gcc that built deal.II, so a call to it does not link there.
+     * it (one Epetra Multiply), but not a template: clang (the sanitizer build) mangles
+     * that member template's enable_if return type otherwise than the gcc that built
+     * deal.II, so a call to it does not link there.
      */
     class EpetraProduct
     {
@@ -36,19 +36,68 @@ namespace warpchol::backends
         : matrix(matrix)
       {}
 
+      /** Serial vectors, through Epetra views of their storage. */
       void vmult(dealii::Vector<double> &y, const dealii::Vector<double> &x) const
       {
         // Epetra's views take non-const pointers; x is only read. The graph's maps, as
         // in set_up_matrix().
         const Epetra_Vector x_view(View, matrix.Graph().DomainMap(), const_cast<double *>(x.begin()));
         Epetra_Vector       y_view(View, matrix.Graph().RangeMap(), y.begin());
-        if (matrix.Multiply(false, x_view, y_view) != 0)
-          throw MatrixError("Trilinos AMG-CG: Epetra's matrix-vector product failed");
+        multiply(x_view, y_view);
+      }
+
+      /** Distributed vectors: their own Epetra vectors. */
+      void vmult(dealii::TrilinosWrappers::MPI::Vector &y, const dealii::TrilinosWrappers::MPI::Vector &x) const
+      {
+        multiply(x.trilinos_vector(), y.trilinos_vector());
       }
 
     private:
+      void multiply(const Epetra_MultiVector &x, Epetra_MultiVector &y) const
+      {
+        if (matrix.Multiply(false, x, y) != 0)
+          throw MatrixError("Trilinos AMG-CG: Epetra's matrix-vector product failed");
+      }
+
       const Epetra_CrsMatrix &matrix;
     };
+
+    template <class VectorType>
+    void solve_with_cg(const dealii::TrilinosWrappers::SparseMatrix    &matrix,
+                       const dealii::TrilinosWrappers::PreconditionAMG &preconditioner, const double tolerance,
+                       const unsigned int max_iterations, const std::vector<double> &b, std::vector<double> &x,
+                       VectorType &rhs, VectorType &solution, unsigned int &iterations)
+    {
+      iterations = 0;
+      std::copy(b.begin(), b.end(), rhs.begin());
+      const double b_norm = rhs.l2_norm();
+      // x = 0 solves A x = 0 exactly; from a guess, no residual would reach 0 |b|.
+      if (b_norm == 0)
+        {
+          x.assign(b.size(), 0.);
+          return;
+        }
+      if (x.size() == b.size())
+        std::copy(x.begin(), x.end(), solution.begin());
+      else
+        solution = 0;
+
+      // |b - A x| <= tolerance |b| (SolverControl compares the unscaled residual norm).
+      dealii::SolverControl    control(max_iterations, tolerance * b_norm, false, false);
+      dealii::SolverCG<VectorType> cg(control);
+      try
+        {
+          cg.solve(EpetraProduct(matrix.trilinos_matrix()), solution, rhs, preconditioner);
+        }
+      catch (const dealii::SolverControl::NoConvergence &)
+        {
+          iterations = control.last_step();
+          throw MatrixError("Trilinos AMG-CG did not reach the tolerance " + format_number(tolerance) + " in " +
+                            std::to_string(control.last_step()) + " iterations");
+        }
+      iterations = control.last_step();
+      x.assign(solution.begin(), solution.end());
+    }
   } // namespace
 
   void initialize_elasticity_amg(dealii::TrilinosWrappers::PreconditionAMG    &preconditioner,
@@ -81,6 +130,23 @@ namespace warpchol::backends
     parameters.set("null space: dimension", static_cast<int>(n_rigid_body_modes));
     parameters.set("null space: vectors", null_space.data());
     preconditioner.initialize(matrix, parameters);
+  }
+
+  void solve_with_amg_cg(const dealii::TrilinosWrappers::SparseMatrix    &matrix,
+                         const dealii::TrilinosWrappers::PreconditionAMG &preconditioner, const double tolerance,
+                         const unsigned int max_iterations, const std::vector<double> &b, std::vector<double> &x,
+                         dealii::Vector<double> &rhs, dealii::Vector<double> &solution, unsigned int &iterations)
+  {
+    solve_with_cg(matrix, preconditioner, tolerance, max_iterations, b, x, rhs, solution, iterations);
+  }
+
+  void solve_with_amg_cg(const dealii::TrilinosWrappers::SparseMatrix    &matrix,
+                         const dealii::TrilinosWrappers::PreconditionAMG &preconditioner, const double tolerance,
+                         const unsigned int max_iterations, const std::vector<double> &b, std::vector<double> &x,
+                         dealii::TrilinosWrappers::MPI::Vector &rhs, dealii::TrilinosWrappers::MPI::Vector &solution,
+                         unsigned int &iterations)
+  {
+    solve_with_cg(matrix, preconditioner, tolerance, max_iterations, b, x, rhs, solution, iterations);
   }
 
   struct TrilinosAmgCgSolver::Implementation
@@ -249,35 +315,8 @@ namespace warpchol::backends
     if (!self.set_up)
       throw MatrixError("Trilinos AMG-CG: solve() before factorize()");
 
-    std::copy(b.begin(), b.end(), self.rhs.begin());
-    const double b_norm = self.rhs.l2_norm();
-    // x = 0 solves A x = 0 exactly; from a guess, no residual would reach 0 |b|.
-    if (b_norm == 0)
-      {
-        x.assign(self.n, 0.);
-        return;
-      }
-    if (static_cast<Index>(x.size()) == self.n)
-      std::copy(x.begin(), x.end(), self.solution.begin());
-    else
-      self.solution = 0;
-
-    // |b - A x| <= tolerance |b| (SolverControl compares the unscaled residual norm).
-    dealii::SolverControl control(self.settings.max_iterations, self.settings.tolerance * b_norm,
-                                  false, false);
-    dealii::SolverCG<dealii::Vector<double>> cg(control);
-    try
-      {
-        cg.solve(EpetraProduct(self.matrix.trilinos_matrix()), self.solution, self.rhs, self.preconditioner);
-      }
-    catch (const dealii::SolverControl::NoConvergence &)
-      {
-        self.last_iterations = control.last_step();
-        throw MatrixError("Trilinos AMG-CG did not reach the tolerance " + format_number(self.settings.tolerance) +
-                          " in " + std::to_string(control.last_step()) + " iterations");
-      }
-    self.last_iterations = control.last_step();
-    x.assign(self.solution.begin(), self.solution.end());
+    solve_with_amg_cg(self.matrix, self.preconditioner, self.settings.tolerance, self.settings.max_iterations, b, x,
+                      self.rhs, self.solution, self.last_iterations);
   }
 
   bool TrilinosAmgCgSolver::is_iterative() const

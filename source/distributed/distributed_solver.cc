@@ -7,16 +7,11 @@
 #include <deal.II/lac/petsc_solver.h>
 #include <deal.II/lac/petsc_sparse_matrix.h>
 #include <deal.II/lac/petsc_vector.h>
-#include <deal.II/lac/solver_cg.h>
-#include <deal.II/lac/solver_control.h>
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
 #include <deal.II/lac/trilinos_sparsity_pattern.h>
 #include <deal.II/lac/trilinos_vector.h>
 
-#include <Epetra_CrsMatrix.h>
-
-#include <algorithm>
 
 namespace warpchol::distributed
 {
@@ -88,28 +83,6 @@ namespace warpchol::distributed
     };
 
     /**
-     * y = A x with Epetra's product: TrilinosWrappers::SparseMatrix::vmult() is a member
-     * template whose mangled name clang (the sanitizer build) and the gcc that built
-     * deal.II write differently.
-     */
-    class EpetraOperator
-    {
-    public:
-      explicit EpetraOperator(const Epetra_CrsMatrix &matrix)
-        : matrix(matrix)
-      {}
-
-      void vmult(dealii::TrilinosWrappers::MPI::Vector &y, const dealii::TrilinosWrappers::MPI::Vector &x) const
-      {
-        if (matrix.Multiply(false, x.trilinos_vector(), y.trilinos_vector()) != 0)
-          throw MatrixError("Trilinos AMG-CG: Epetra's matrix-vector product failed");
-      }
-
-    private:
-      const Epetra_CrsMatrix &matrix;
-    };
-
-    /**
      * The body's pattern as Trilinos' own, row by row: the reinit() of a Trilinos matrix
      * from a deal.II pattern is a member template whose mangled name clang (the sanitizer
      * build) and the gcc that built deal.II write differently, the one from a Trilinos
@@ -166,31 +139,8 @@ namespace warpchol::distributed
             setup_seconds = watch.seconds();
             set_up = true;
           }
-        std::copy(b.begin(), b.end(), rhs.begin());
-        const double b_norm = rhs.l2_norm();
-        iterations          = 0;
-        if (b_norm == 0)
-          {
-            x.assign(b.size(), 0.0);
-            return;
-          }
-        if (x.size() == b.size())
-          std::copy(x.begin(), x.end(), solution.begin());
-        else
-          solution = 0;
-        dealii::SolverControl control(settings.max_iterations, settings.tolerance * b_norm, false, false);
-        dealii::SolverCG<dealii::TrilinosWrappers::MPI::Vector> cg(control);
-        try
-          {
-            cg.solve(EpetraOperator(matrix.trilinos_matrix()), solution, rhs, preconditioner);
-          }
-        catch (const dealii::SolverControl::NoConvergence &)
-          {
-            throw MatrixError("Trilinos AMG-CG did not reach the tolerance " + format_number(settings.tolerance) +
-                              " in " + std::to_string(control.last_step()) + " iterations");
-          }
-        iterations = control.last_step();
-        x.assign(solution.begin(), solution.end());
+        backends::solve_with_amg_cg(matrix, preconditioner, settings.tolerance, settings.max_iterations, b, x, rhs,
+                                    solution, iterations);
       }
 
       unsigned int last_iterations() const override

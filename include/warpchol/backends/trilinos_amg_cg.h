@@ -4,6 +4,8 @@
 
 #include <deal.II/lac/trilinos_precondition.h>
 #include <deal.II/lac/trilinos_sparse_matrix.h>
+#include <deal.II/lac/trilinos_vector.h>
+#include <deal.II/lac/vector.h>
 
 #include <cstddef>
 #include <memory>
@@ -28,6 +30,26 @@ namespace warpchol::backends
   void initialize_elasticity_amg(dealii::TrilinosWrappers::PreconditionAMG    &preconditioner,
                                  const dealii::TrilinosWrappers::SparseMatrix &matrix,
                                  std::vector<double>                          &null_space);
+
+  /**
+   * x = A^-1 b by deal.II's SolverCG on @p matrix, preconditioned by @p preconditioner,
+   * until |b - A x| <= @p tolerance |b|, from @p x (from zero if its size is not b's);
+   * x = 0 when b = 0. @p rhs and @p solution are work vectors over the matrix' rows (the
+   * rank's rows when distributed, where the norms are global). @p iterations is set to
+   * CG's iterations, also when it throws MatrixError "Trilinos AMG-CG did not reach the
+   * tolerance T in N iterations" after @p max_iterations. What both Trilinos AMG-CG
+   * solvers (this backend, and distributed runs) solve with.
+   */
+  void solve_with_amg_cg(const dealii::TrilinosWrappers::SparseMatrix    &matrix,
+                         const dealii::TrilinosWrappers::PreconditionAMG &preconditioner, double tolerance,
+                         unsigned int max_iterations, const std::vector<double> &b, std::vector<double> &x,
+                         dealii::Vector<double> &rhs, dealii::Vector<double> &solution, unsigned int &iterations);
+  /** The same on distributed vectors. */
+  void solve_with_amg_cg(const dealii::TrilinosWrappers::SparseMatrix    &matrix,
+                         const dealii::TrilinosWrappers::PreconditionAMG &preconditioner, double tolerance,
+                         unsigned int max_iterations, const std::vector<double> &b, std::vector<double> &x,
+                         dealii::TrilinosWrappers::MPI::Vector &rhs, dealii::TrilinosWrappers::MPI::Vector &solution,
+                         unsigned int &iterations);
 
   /**
    * Conjugate gradients (deal.II's SolverCG) on a Trilinos copy of A, preconditioned by
