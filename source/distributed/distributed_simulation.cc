@@ -252,13 +252,18 @@ namespace warpchol::distributed
   void DistributedSimulation::add_element(const unsigned int e, const std::array<Matrix3, 4> &nodal_rotations,
                                           const Matrix3 &element_rotation, const double factor)
   {
-    std::array<dealii::types::global_dof_index, 12> dofs;
-    std::array<bool, 12>                            free;
-    element_dofs(e, dofs, free);
-    solver->add(dofs, free,
+    add_element(e,
                 fem::warped_element_matrix(distributed_body->local_body(), e, coefficients, nodal_rotations,
                                            element_rotation),
                 factor);
+  }
+
+  void DistributedSimulation::add_element(const unsigned int e, const fem::ElementMatrix &matrix, const double factor)
+  {
+    std::array<dealii::types::global_dof_index, 12> dofs;
+    std::array<bool, 12>                            free;
+    element_dofs(e, dofs, free);
+    solver->add(dofs, free, matrix, factor);
   }
 
   std::vector<unsigned int> DistributedSimulation::elements_to_update(StageTimes &stages)
@@ -343,13 +348,10 @@ namespace warpchol::distributed
             for (unsigned int a = 0; a < 4; ++a)
               old_nodal[a] = stored_frames[e][a].transpose();
             add_element(e, old_nodal, Matrix3::Identity(), -1);
-            std::array<Matrix3, 4> nodal;
-            for (unsigned int a = 0; a < 4; ++a)
-              {
-                nodal[a]            = state.nodal_rotations[body.element_vertices(e)[a]];
-                stored_frames[e][a] = nodal[a].transpose() * state.element_rotations[e];
-              }
-            add_element(e, nodal, state.element_rotations[e], 1);
+            add_element(e,
+                        fem::updated_contribution(body, coefficients, e, state.nodal_rotations,
+                                                  state.element_rotations[e], stored_frames[e]),
+                        1);
             last_updated[distributed.active_cell_index(e)] = 1;
           }
         // Collective: every rank, with or without updates of its own.

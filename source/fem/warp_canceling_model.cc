@@ -63,6 +63,21 @@ namespace warpchol::fem
     return {std::sqrt(error_squared), std::sqrt(exact_squared) + coefficients.time_step * force_norm};
   }
 
+  ElementMatrix updated_contribution(const ElasticBody &body, const SystemCoefficients &coefficients,
+                                     const unsigned int e, const std::vector<Matrix3> &nodal_rotations,
+                                     const Matrix3 &element_rotation, std::array<Matrix3, 4> &frames)
+  {
+    const auto            &vertices = body.element_vertices(e);
+    std::array<Matrix3, 4> vertex_rotations;
+    for (unsigned int a = 0; a < 4; ++a)
+      {
+        vertex_rotations[a] = nodal_rotations[vertices[a]];
+        // What the contribution is made with, as warped_element_matrix() forms it.
+        frames[a] = vertex_rotations[a].transpose() * element_rotation;
+      }
+    return warped_element_matrix(body, e, coefficients, vertex_rotations, element_rotation);
+  }
+
   WarpCancelingModel::WarpCancelingModel(const ElasticBody &body,
                                          const SystemCoefficients &coefficients,
                                          const cholesky::SparseCholesky::Settings &solver_settings,
@@ -212,15 +227,8 @@ namespace warpchol::fem
 
   ElementMatrix WarpCancelingModel::current_contribution(const unsigned int e)
   {
-    const auto            &vertices = body.element_vertices(e);
-    std::array<Matrix3, 4> vertex_rotations;
-    for (unsigned int a = 0; a < 4; ++a)
-      {
-        vertex_rotations[a] = elastic_state.nodal_rotations[vertices[a]];
-        // What the contribution is made with, as warped_element_matrix() forms it.
-        stored_frames[e][a] = vertex_rotations[a].transpose() * elastic_state.element_rotations[e];
-      }
-    return warped_element_matrix(body, e, coefficients, vertex_rotations, elastic_state.element_rotations[e]);
+    return updated_contribution(body, coefficients, e, elastic_state.nodal_rotations, elastic_state.element_rotations[e],
+                                stored_frames[e]);
   }
 
   void WarpCancelingModel::prepare_step(const std::vector<Vector3> &positions,

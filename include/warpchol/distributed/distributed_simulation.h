@@ -97,6 +97,8 @@ namespace warpchol::distributed
     /** Add @p factor times the warped contribution of element @p e (S_a, Q) to A. */
     void add_element(unsigned int e, const std::array<fem::Matrix3, 4> &nodal_rotations,
                      const fem::Matrix3 &element_rotation, double factor);
+    /** Add @p factor times the element matrix @p matrix of element @p e to A. */
+    void add_element(unsigned int e, const fem::ElementMatrix &matrix, double factor);
     /** WCC: the owned elements whose error exceeds the threshold. */
     std::vector<unsigned int> elements_to_update(StageTimes &stages);
 

@@ -35,6 +35,16 @@ namespace warpchol::fem
                                               const std::array<Matrix3, 4> &frames, double force_norm);
 
   /**
+   * A_e with the current rotations (S_a = @p nodal_rotations of its vertices, Q_e =
+   * @p element_rotation): what element @p e contributes to A once WCC updates it; @p frames
+   * receives the T_a = S_a^T Q_e it is made with, which the estimate compares against
+   * until the next update. The serial model and each rank of a distributed run call it.
+   */
+  ElementMatrix updated_contribution(const ElasticBody &body, const SystemCoefficients &coefficients, unsigned int e,
+                                     const std::vector<Matrix3> &nodal_rotations, const Matrix3 &element_rotation,
+                                     std::array<Matrix3, 4> &frames);
+
+  /**
    * Warp-canceling corotation (WCC). Every element e keeps the nodal rotations S_a of its
    * vertices and its own rotation Q_e from the step it was last *updated* (in the
    * contribution the SystemMatrix keeps for it), and contributes
