@@ -300,6 +300,20 @@ namespace
       [&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements, state); });
     const std::string fused_nodal = time_per_tet(
       [&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements_and_vertices, state); });
+    // A from R_e K_e R_e^T, as the exact path assembles it in every step, and re-assembled
+    // for a tenth of the elements (spread over the body), as a WCC update does.
+    const auto           &parameters = scene.parameters();
+    fem::SystemCoefficients coefficients = fem::SystemCoefficients::implicit_euler(
+      parameters.time_stepping.time_step, parameters.time_stepping.rayleigh_mass,
+      parameters.time_stepping.rayleigh_stiffness);
+    fem::SystemMatrix system(body, coefficients);
+    const std::string assembly = time_per_tet([&] { system.assemble(fem::ElementFrames::rotated(state.element_rotations)); });
+    std::vector<unsigned int> tenth;
+    for (unsigned int e = 0; e < n_elements; e += 10)
+      tenth.push_back(e);
+    const std::string reassembly = time_per_tet([&] {
+      system.reassemble(tenth, fem::ElementFrames::rotated(state.element_rotations));
+    });
     std::vector<fem::Vector3> product(body.n_vertices());
     std::vector<fem::Matrix3> work;
     const std::string         corotated_product = time_per_tet([&] {
@@ -313,6 +327,8 @@ namespace
               << "  fused pass: F, rotation, force, energy, gather " << fused << "\n"
               << "  the same with the nodal rotations              " << fused_nodal << "\n"
               << "  corotated stiffness product (one CG product)   " << corotated_product << "\n"
+              << "  assembly of A from the rotations (exact path)  " << assembly << "\n"
+              << "  re-assembly of every tenth element (per tet)   " << reassembly << "\n"
               << "  WCC error estimate (fastest of the runs above) "
               << (estimate_seconds_per_step > 0 ? format_number(1e9 * estimate_seconds_per_step / n_elements, 3) :
                                                   std::string("-"))

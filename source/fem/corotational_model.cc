@@ -25,12 +25,8 @@ namespace warpchol::fem
 
     {
       StageTimer timer(statistics.stages, stage::assembly);
-      // The nodal rotations of the general warped form are the identity here.
-      const std::array<Matrix3, 4> identity{
-        {Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity()}};
-      system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
-        matrix = warped_element_matrix(body, e, coefficients, identity, element_rotations[e]);
-      });
+      // R_e K_e R_e^T: every vertex of element e in the frame R_e.
+      system.assemble(ElementFrames::rotated(element_rotations));
     }
     statistics.elements_updated = body.n_elements();
     record_updates(true);

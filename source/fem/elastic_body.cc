@@ -283,6 +283,21 @@ namespace warpchol::fem
     return mass_type;
   }
 
+  const Matrix3 &ElasticBody::rest_shape_gradients(const unsigned int e) const
+  {
+    return inverse_rest_edges[e];
+  }
+
+  double ElasticBody::lame_lambda() const
+  {
+    return lambda;
+  }
+
+  double ElasticBody::lame_mu() const
+  {
+    return mu;
+  }
+
   const ElementMatrix &ElasticBody::rest_stiffness(const unsigned int e) const
   {
     return stiffness[e];

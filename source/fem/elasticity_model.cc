@@ -107,9 +107,7 @@ namespace warpchol::fem
   void ElasticityModel::set_up_rest_system()
   {
     Stopwatch stopwatch;
-    system.assemble([&](const unsigned int e, ElementMatrix &matrix) {
-      matrix = rest_element_matrix(body, e, coefficients);
-    });
+    system.assemble(ElementFrames::rest());
     StepStatistics setup;
     factorize(setup);
     setup_time = stopwatch.seconds();
@@ -206,8 +204,8 @@ namespace warpchol::fem
       }
     checked([&]() {
       if (cholesky_solver.statistics().n == 0)
-        cholesky_solver.analyze(system.csc());
-      cholesky_solver.factorize(system.csc());
+        cholesky_solver.analyze(system.lower());
+      cholesky_solver.factorize(system.lower());
     });
     statistics.refresh = "full";
     last_refresh       = cholesky::Refresh::all;
@@ -224,7 +222,7 @@ namespace warpchol::fem
         factorize_with_peer(statistics);
         return;
       }
-    checked([&]() { cholesky_solver.refactorize(system.csc(), changed_columns, refresh); });
+    checked([&]() { cholesky_solver.refactorize(system.lower(), changed_columns, refresh); });
     statistics.refresh = to_string(refresh);
     last_refresh       = refresh;
     record_refactorization(statistics);
@@ -430,8 +428,8 @@ namespace warpchol::fem
   {
     if (strategy.iterate_on == StepStrategy::Target::warp_canceling)
       {
-        // A itself: deal.II's row-wise (threaded) product with the assembled matrix.
-        system.matrix().vmult(out, y);
+        // A itself: the symmetric product with its lower triangle.
+        system.lower().vmult(y.begin(), out.begin());
         return;
       }
     corotational_times(y, out);

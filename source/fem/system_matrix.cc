@@ -1,10 +1,13 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/fem/system_matrix.h>
-#include <warpchol/sparse/dealii_conversion.h>
 
+#include <deal.II/base/multithread_info.h>
 #include <deal.II/lac/dynamic_sparsity_pattern.h>
 
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
+#include <numeric>
 
 namespace warpchol::fem
 {
@@ -67,6 +70,178 @@ namespace warpchol::fem
     return result;
   }
 
+  ElementFrames ElementFrames::rest()
+  {
+    return {};
+  }
+
+  ElementFrames ElementFrames::rotated(const std::vector<Matrix3> &rotations)
+  {
+    ElementFrames frames;
+    frames.kind              = Kind::rotated;
+    frames.element_rotations = &rotations;
+    return frames;
+  }
+
+  ElementFrames ElementFrames::warped(const std::vector<std::array<Matrix3, 4>> &frames)
+  {
+    ElementFrames result;
+    result.kind          = Kind::warped;
+    result.vertex_frames = &frames;
+    return result;
+  }
+
+  namespace
+  {
+    /** Elements whose blocks are formed side by side (one AVX-512 register of doubles). */
+    constexpr unsigned int lanes = 8;
+    /** The blocks (a, b), a >= b, numbered k = a (a + 1) / 2 + b. */
+    constexpr unsigned int n_blocks = 10;
+    constexpr unsigned int block_row[n_blocks]    = {0, 1, 1, 2, 2, 2, 3, 3, 3, 3};
+    constexpr unsigned int block_column[n_blocks] = {0, 0, 1, 0, 1, 2, 0, 1, 2, 3};
+
+    /** The 10 blocks of up to 8 elements: entry (i, j) of block k of lane l at value[k][i + 3 j][l]. */
+    struct LaneBlocks
+    {
+      alignas(64) double value[n_blocks][9][lanes];
+    };
+
+    /**
+     * The blocks of the contributions of @p elements[0 .. count) in @p frames, lane by lane
+     * (lanes past count repeat the last element): with g_a the shape function gradients
+     * (g_0 = -g_1 - g_2 - g_3), V the volume, lambda and mu the material's,
+     *   B_ab = c_K V (lambda u_aa u_bb^T + mu u_ab u_ba^T + mu (g_a.g_b) T_a T_b^T) + c_M m_ab T_a T_b^T
+     * with u_ab = T_a g_b. Where every T_a is the same rotation R, T_a T_b^T = I and
+     * u_ab = R g_b: the rotated and rest cases skip the products of frames.
+     */
+    void form_blocks(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
+                     const unsigned int *elements, const unsigned int count, LaneBlocks &out)
+    {
+      alignas(64) double g[4][3][lanes];
+      alignas(64) double lambda_volume[lanes], mu_volume[lanes];
+      alignas(64) double mass[n_blocks][lanes];
+      const double       lambda = coefficients.stiffness * body.lame_lambda();
+      const double       mu     = coefficients.stiffness * body.lame_mu();
+      for (unsigned int l = 0; l < lanes; ++l)
+        {
+          const unsigned int e         = elements[std::min(l, count - 1)];
+          const Matrix3     &gradients = body.rest_shape_gradients(e);
+          for (unsigned int i = 0; i < 3; ++i)
+            {
+              g[1][i][l] = gradients(0, i);
+              g[2][i][l] = gradients(1, i);
+              g[3][i][l] = gradients(2, i);
+              g[0][i][l] = -(gradients(0, i) + gradients(1, i) + gradients(2, i));
+            }
+          const double volume = body.element_volume(e);
+          lambda_volume[l]    = lambda * volume;
+          mu_volume[l]        = mu * volume;
+          const auto &m       = body.element_mass(e);
+          for (unsigned int k = 0; k < n_blocks; ++k)
+            mass[k][l] = coefficients.mass * m(block_row[k], block_column[k]);
+        }
+      // The diagonal of each block: mu V (g_a . g_b) + the mass.
+      alignas(64) double diagonal[n_blocks][lanes];
+      for (unsigned int k = 0; k < n_blocks; ++k)
+        for (unsigned int l = 0; l < lanes; ++l)
+          diagonal[k][l] = mu_volume[l] * (g[block_row[k]][0][l] * g[block_column[k]][0][l] +
+                                           g[block_row[k]][1][l] * g[block_column[k]][1][l] +
+                                           g[block_row[k]][2][l] * g[block_column[k]][2][l]) +
+                           mass[k][l];
+
+      if (frames.kind != ElementFrames::Kind::warped)
+        {
+          // h_a = R g_a (R = I at rest).
+          alignas(64) double r[9][lanes];
+          for (unsigned int l = 0; l < lanes; ++l)
+            {
+              const Matrix3 rotation = frames.kind == ElementFrames::Kind::rotated ?
+                                         (*frames.element_rotations)[elements[std::min(l, count - 1)]] :
+                                         Matrix3::Identity();
+              for (unsigned int i = 0; i < 9; ++i)
+                r[i][l] = rotation.data()[i];
+            }
+          alignas(64) double h[4][3][lanes];
+          for (unsigned int a = 1; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              for (unsigned int l = 0; l < lanes; ++l)
+                h[a][i][l] = r[i][l] * g[a][0][l] + r[i + 3][l] * g[a][1][l] + r[i + 6][l] * g[a][2][l];
+          for (unsigned int i = 0; i < 3; ++i)
+            for (unsigned int l = 0; l < lanes; ++l)
+              h[0][i][l] = -(h[1][i][l] + h[2][i][l] + h[3][i][l]);
+          for (unsigned int k = 0; k < n_blocks; ++k)
+            {
+              const unsigned int a = block_row[k], b = block_column[k];
+              for (unsigned int j = 0; j < 3; ++j)
+                for (unsigned int i = 0; i < 3; ++i)
+                  for (unsigned int l = 0; l < lanes; ++l)
+                    out.value[k][i + 3 * j][l] = lambda_volume[l] * h[a][i][l] * h[b][j][l] +
+                                                 mu_volume[l] * h[b][i][l] * h[a][j][l] +
+                                                 (i == j ? diagonal[k][l] : 0.);
+            }
+          return;
+        }
+
+      alignas(64) double t[4][9][lanes];
+      for (unsigned int l = 0; l < lanes; ++l)
+        {
+          const auto &element_frames = (*frames.vertex_frames)[elements[std::min(l, count - 1)]];
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 9; ++i)
+              t[a][i][l] = element_frames[a].data()[i];
+        }
+      // u[a][b] = T_a g_b.
+      alignas(64) double u[4][4][3][lanes];
+      for (unsigned int a = 0; a < 4; ++a)
+        {
+          for (unsigned int b = 1; b < 4; ++b)
+            for (unsigned int i = 0; i < 3; ++i)
+              for (unsigned int l = 0; l < lanes; ++l)
+                u[a][b][i][l] =
+                  t[a][i][l] * g[b][0][l] + t[a][i + 3][l] * g[b][1][l] + t[a][i + 6][l] * g[b][2][l];
+          for (unsigned int i = 0; i < 3; ++i)
+            for (unsigned int l = 0; l < lanes; ++l)
+              u[a][0][i][l] = -(u[a][1][i][l] + u[a][2][i][l] + u[a][3][i][l]);
+        }
+      for (unsigned int k = 0; k < n_blocks; ++k)
+        {
+          const unsigned int a = block_row[k], b = block_column[k];
+          for (unsigned int j = 0; j < 3; ++j)
+            for (unsigned int i = 0; i < 3; ++i)
+              for (unsigned int l = 0; l < lanes; ++l)
+                {
+                  // (T_a T_b^T)(i, j); the identity on the diagonal blocks.
+                  const double frame_product =
+                    a == b ? (i == j ? 1. : 0.) :
+                             t[a][i][l] * t[b][j][l] + t[a][i + 3][l] * t[b][j + 3][l] +
+                               t[a][i + 6][l] * t[b][j + 6][l];
+                  out.value[k][i + 3 * j][l] = lambda_volume[l] * u[a][a][i][l] * u[b][b][j][l] +
+                                               mu_volume[l] * u[a][b][i][l] * u[b][a][j][l] +
+                                               diagonal[k][l] * frame_product;
+                }
+        }
+    }
+
+    /** The blocks of the elements' dense matrices from @p element_matrix, lane by lane. */
+    auto function_blocks(const SystemMatrix::ElementMatrixFunction &element_matrix)
+    {
+      return [&element_matrix](const unsigned int *elements, const unsigned int count, LaneBlocks &out) {
+        ElementMatrix matrix;
+        for (unsigned int l = 0; l < count; ++l)
+          {
+            element_matrix(elements[l], matrix);
+            for (unsigned int k = 0; k < n_blocks; ++k)
+              for (unsigned int j = 0; j < 3; ++j)
+                for (unsigned int i = 0; i < 3; ++i)
+                  out.value[k][i + 3 * j][l] = matrix(3 * block_row[k] + i, 3 * block_column[k] + j);
+          }
+      };
+    }
+
+    /** Above this share of the free vertices touched, re-assembly assembles all of A. */
+    constexpr double reassembly_limit = 0.25;
+  } // namespace
+
   SystemMatrix::SystemMatrix(const ElasticBody &body, const SystemCoefficients &coefficients)
     : body(body)
     , coefficients(coefficients)
@@ -76,175 +251,390 @@ namespace warpchol::fem
       throw InputError("system matrix: " + std::to_string(coefficients.vertex_diagonal.size()) +
                        " vertex diagonal values for " + std::to_string(body.n_vertices()) +
                        " vertices");
-    const Index                    n = body.n_unknowns();
-    dealii::DynamicSparsityPattern dynamic_pattern(n, n);
-    for (unsigned int e = 0; e < body.n_elements(); ++e)
-      for (const unsigned int row_vertex : body.element_vertices(e))
-        for (const unsigned int column_vertex : body.element_vertices(e))
-          {
-            const Index row = body.first_unknown(row_vertex);
-            const Index col = body.first_unknown(column_vertex);
-            if (row < 0 || col < 0)
-              continue;
-            for (unsigned int i = 0; i < 3; ++i)
-              for (unsigned int j = 0; j < 3; ++j)
-                dynamic_pattern.add(row + i, col + j);
-          }
-    // Free vertices in no element with another free vertex still own their diagonal.
-    for (Index i = 0; i < n; ++i)
-      dynamic_pattern.add(i, i);
-    pattern.copy_from(dynamic_pattern);
-    system_matrix.reinit(pattern);
-    system_csc = sparse::to_csc(system_matrix);
+    const Index n_free = body.n_unknowns() / 3;
 
-    // Where every element entry lands: found once, so that assembly is a scatter.
-    element_entries.resize(body.n_elements());
+    // The free vertices of larger unknown that share an element with each free vertex.
+    std::vector<std::vector<Index>> neighbours(n_free);
+    for (unsigned int e = 0; e < body.n_elements(); ++e)
+      for (const unsigned int v : body.element_vertices(e))
+        for (const unsigned int w : body.element_vertices(e))
+          if (free_index(v) >= 0 && free_index(w) > free_index(v))
+            neighbours[free_index(v)].push_back(free_index(w));
+    for (auto &list : neighbours)
+      {
+        std::sort(list.begin(), list.end());
+        list.erase(std::unique(list.begin(), list.end()), list.end());
+      }
+
+    // Column 3 j + c holds the rows 3 j + c .. 3 j + 2 of the diagonal block, then the 3
+    // rows of each neighbour in increasing order. Entry (r, c) of the block of neighbour q
+    // then sits at p0 + offset(c) + r with p0 = start(3 j) + 3 + 3 q and offset(c) =
+    // 0, s, 2 s - 1 for s = 3 n + 2 (the columns shrink by one diagonal entry each);
+    // the diagonal block's (r >= c) alike with p0 = start(3 j).
+    lower_matrix = sparse::CSCMatrix::zero(3 * n_free, 3 * n_free, sparse::Storage::lower);
+    column_stride.resize(n_free);
+    for (Index j = 0; j < n_free; ++j)
+      {
+        column_stride[j] = 3 * static_cast<std::int64_t>(neighbours[j].size()) + 2;
+        for (Index c = 0; c < 3; ++c)
+          {
+            for (Index r = c; r < 3; ++r)
+              lower_matrix.row_index.push_back(3 * j + r);
+            for (const Index i : neighbours[j])
+              for (Index r = 0; r < 3; ++r)
+                lower_matrix.row_index.push_back(3 * i + r);
+            lower_matrix.column_start[3 * j + c + 1] = static_cast<Index>(lower_matrix.row_index.size());
+          }
+      }
+    lower_matrix.values.assign(lower_matrix.row_index.size(), 0.);
+
+    scatter.resize(body.n_elements());
     for (unsigned int e = 0; e < body.n_elements(); ++e)
       {
         const auto &vertices = body.element_vertices(e);
-        for (unsigned int c = 0; c < 12; ++c)
-          for (unsigned int r = 0; r < 12; ++r)
-            {
-              const Index row = body.first_unknown(vertices[r / 3]);
-              const Index col = body.first_unknown(vertices[c / 3]);
-              element_entries[e][12 * c + r] =
-                row < 0 || col < 0 ? -1 : static_cast<std::int64_t>(pattern(row + r % 3, col + c % 3));
-            }
+        for (unsigned int k = 0; k < n_blocks; ++k)
+          {
+            const Index row = free_index(vertices[block_row[k]]), column = free_index(vertices[block_column[k]]);
+            std::int64_t &position = scatter[e].position[k];
+            if (row < 0 || column < 0)
+              position = -1;
+            else if (row == column)
+              position = lower_matrix.column_start[3 * column];
+            else
+              {
+                // The block lands in the column of the vertex of smaller unknown.
+                const Index low = std::min(row, column), high = std::max(row, column);
+                const auto &list = neighbours[low];
+                const Index rank = std::lower_bound(list.begin(), list.end(), high) - list.begin();
+                position         = lower_matrix.column_start[3 * low] + 3 + 3 * rank;
+                if (row < column)
+                  scatter[e].transposed |= static_cast<std::uint16_t>(1u << k);
+              }
+          }
       }
-    diagonal_entries.resize(body.n_vertices());
-    for (unsigned int v = 0; v < body.n_vertices(); ++v)
-      for (unsigned int i = 0; i < 3; ++i)
+    whole.first_vertex = 0;
+    whole.end_vertex   = n_free;
+    whole.elements.resize(body.n_elements());
+    std::iota(whole.elements.begin(), whole.elements.end(), 0u);
+  }
+
+  Index SystemMatrix::free_index(const unsigned int vertex) const
+  {
+    const Index first = body.first_unknown(vertex);
+    return first < 0 ? -1 : first / 3;
+  }
+
+  template <typename BlockSource>
+  void SystemMatrix::assemble_range(const ColumnRange &range, const std::vector<unsigned int> &elements,
+                                    const std::vector<char> *column_selected, const BlockSource &blocks)
+  {
+    const auto selected = [&](const Index column) {
+      return column >= range.first_vertex && column < range.end_vertex &&
+             (column_selected == nullptr || (*column_selected)[column]);
+    };
+    double *values = lower_matrix.values.data();
+    for (Index j = range.first_vertex; j < range.end_vertex; ++j)
+      if (selected(j))
+        std::fill(values + lower_matrix.column_start[3 * j], values + lower_matrix.column_start[3 * j + 3], 0.);
+
+    LaneBlocks lane_blocks;
+    for (std::size_t first = 0; first < elements.size(); first += lanes)
+      {
+        const unsigned int count = static_cast<unsigned int>(std::min<std::size_t>(lanes, elements.size() - first));
+        blocks(elements.data() + first, count, lane_blocks);
+        for (unsigned int l = 0; l < count; ++l)
+          {
+            const unsigned int    e        = elements[first + l];
+            const ElementScatter &where    = scatter[e];
+            const auto           &vertices = body.element_vertices(e);
+            for (unsigned int k = 0; k < n_blocks; ++k)
+              {
+                const std::int64_t p0 = where.position[k];
+                if (p0 < 0)
+                  continue;
+                const bool  transposed = (where.transposed >> k) & 1u;
+                const Index column     = free_index(vertices[transposed ? block_row[k] : block_column[k]]);
+                if (!selected(column))
+                  continue;
+                const std::int64_t stride    = column_stride[column];
+                const std::int64_t offset[3] = {0, stride, 2 * stride - 1};
+                const auto        &block     = lane_blocks.value[k];
+                if (block_row[k] == block_column[k])
+                  {
+                    for (unsigned int c = 0; c < 3; ++c)
+                      for (unsigned int r = c; r < 3; ++r)
+                        values[p0 + offset[c] + r] += block[r + 3 * c][l];
+                  }
+                else if (!transposed)
+                  {
+                    for (unsigned int c = 0; c < 3; ++c)
+                      for (unsigned int r = 0; r < 3; ++r)
+                        values[p0 + offset[c] + r] += block[r + 3 * c][l];
+                  }
+                else
+                  for (unsigned int c = 0; c < 3; ++c)
+                    for (unsigned int r = 0; r < 3; ++r)
+                      values[p0 + offset[c] + r] += block[c + 3 * r][l];
+              }
+          }
+      }
+
+    // The tool's springs, after the elements: a column's value is the same sum whoever
+    // assembles it. The first entry of each column is its diagonal.
+    if (!coefficients.vertex_diagonal.empty())
+      for (Index j = range.first_vertex; j < range.end_vertex; ++j)
+        if (selected(j))
+          {
+            const double extra = coefficients.vertex_diagonal[body.vertex_of_unknown(3 * j)];
+            for (Index c = 0; c < 3; ++c)
+              values[lower_matrix.column_start[3 * j + c]] += extra;
+          }
+    full_current   = false;
+    dealii_current = false;
+  }
+
+  void SystemMatrix::for_each_range(const std::function<void(const ColumnRange &)> &assemble)
+  {
+    const unsigned int n_threads = dealii::MultithreadInfo::n_threads();
+    const Index        n_free    = body.n_unknowns() / 3;
+    if (n_threads <= 1 || n_free < 64)
+      {
+        assemble(whole);
+        return;
+      }
+    if (ranges_threads != n_threads)
+      {
+        // Ranges of about equal numbers of entries, four per thread for the balance; each
+        // lists the elements with a free vertex in it, in increasing order.
+        const Index n_ranges = std::min<Index>(4 * n_threads, n_free);
+        ranges.assign(n_ranges, ColumnRange());
+        const double entries_per_range = static_cast<double>(lower_matrix.n_nonzeros()) / n_ranges;
+        std::vector<Index> range_of(n_free);
+        Index              current = 0;
+        for (Index j = 0; j < n_free; ++j)
+          {
+            while (current + 1 < n_ranges &&
+                   lower_matrix.column_start[3 * j] >= entries_per_range * static_cast<double>(current + 1))
+              {
+                ranges[current].end_vertex       = j;
+                ranges[current + 1].first_vertex = j;
+                ++current;
+              }
+            range_of[j] = current;
+          }
+        ranges[current].end_vertex = n_free;
+        for (Index r = current + 1; r < n_ranges; ++r)
+          ranges[r].first_vertex = ranges[r].end_vertex = n_free;
+        for (unsigned int e = 0; e < body.n_elements(); ++e)
+          for (const unsigned int v : body.element_vertices(e))
+            if (free_index(v) >= 0)
+              {
+                auto &elements = ranges[range_of[free_index(v)]].elements;
+                if (elements.empty() || elements.back() != e)
+                  elements.push_back(e);
+              }
+        ranges_threads = n_threads;
+      }
+    tbb::parallel_for(std::size_t(0), ranges.size(), [&](const std::size_t r) { assemble(ranges[r]); });
+  }
+
+  void SystemMatrix::assemble(const ElementFrames &frames)
+  {
+    const auto blocks = [&](const unsigned int *elements, const unsigned int count, LaneBlocks &out) {
+      form_blocks(body, coefficients, frames, elements, count, out);
+    };
+    for_each_range([&](const ColumnRange &range) { assemble_range(range, range.elements, nullptr, blocks); });
+  }
+
+  std::vector<Index> SystemMatrix::touched_free_vertices(const std::vector<unsigned int> &changed_elements) const
+  {
+    std::vector<Index> touched;
+    for (const unsigned int e : changed_elements)
+      for (const unsigned int v : body.element_vertices(e))
+        if (free_index(v) >= 0)
+          touched.push_back(free_index(v));
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    return touched;
+  }
+
+  std::vector<Index> SystemMatrix::columns_of(const std::vector<Index> &free_vertices)
+  {
+    std::vector<Index> columns;
+    columns.reserve(3 * free_vertices.size());
+    for (const Index j : free_vertices)
+      for (Index c = 0; c < 3; ++c)
+        columns.push_back(3 * j + c);
+    return columns;
+  }
+
+  std::vector<Index> SystemMatrix::reassemble(const std::vector<unsigned int> &changed_elements,
+                                              const ElementFrames             &frames)
+  {
+    const std::vector<Index> touched = touched_free_vertices(changed_elements);
+    if (touched.empty())
+      return {};
+    if (static_cast<double>(touched.size()) > reassembly_limit * static_cast<double>(body.n_unknowns() / 3))
+      {
+        // Every other column gets the bits it has already.
+        assemble(frames);
+        return columns_of(touched);
+      }
+    std::vector<char> selected(body.n_unknowns() / 3, 0);
+    for (const Index j : touched)
+      selected[j] = 1;
+    const auto blocks = [&](const unsigned int *elements, const unsigned int count, LaneBlocks &out) {
+      form_blocks(body, coefficients, frames, elements, count, out);
+    };
+    for_each_range([&](const ColumnRange &range) {
+      // The elements around the touched vertices of this range, in increasing order.
+      std::vector<unsigned int> elements;
+      for (auto j = std::lower_bound(touched.begin(), touched.end(), range.first_vertex);
+           j != touched.end() && *j < range.end_vertex; ++j)
         {
-          const Index first      = body.first_unknown(v);
-          diagonal_entries[v][i] = first < 0 ? -1 : static_cast<std::int64_t>(pattern(first + i, first + i));
+          const auto &around = body.elements_of_vertex(body.vertex_of_unknown(3 * *j));
+          elements.insert(elements.end(), around.begin(), around.end());
         }
-    csc_position.resize(pattern.n_nonzero_elements());
-    for (Index i = 0; i < n; ++i)
-      for (auto entry = pattern.begin(i); entry != pattern.end(i); ++entry)
-        {
-          const Index column = entry->column();
-          const auto  begin  = system_csc.row_index.begin() + system_csc.column_start[column];
-          const auto  end    = system_csc.row_index.begin() + system_csc.column_start[column + 1];
-          csc_position[entry->global_index()] = std::lower_bound(begin, end, i) - system_csc.row_index.begin();
-        }
+      if (elements.empty())
+        return;
+      std::sort(elements.begin(), elements.end());
+      elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
+      assemble_range(range, elements, &selected, blocks);
+    });
+    return columns_of(touched);
   }
 
-  void SystemMatrix::add_to_entry(const std::int64_t k, const double value)
+  void SystemMatrix::assemble(const ElementMatrixFunction &element_matrix)
   {
-    // Entry k of the SparsityPattern is value k of the SparseMatrix.
-    dealii::SparseMatrix<double>::iterator(&system_matrix, k)->value() += value;
+    // The function need not be thread-safe: one range, one element after the other.
+    assemble_range(whole, whole.elements, nullptr, function_blocks(element_matrix));
   }
 
-  void SystemMatrix::set_entry(const std::int64_t k, const double value)
+  std::vector<Index> SystemMatrix::reassemble(const std::vector<unsigned int> &changed_elements,
+                                              const ElementMatrixFunction     &element_matrix)
   {
-    dealii::SparseMatrix<double>::iterator(&system_matrix, k)->value() = value;
+    const std::vector<Index> touched = touched_free_vertices(changed_elements);
+    std::vector<char>        selected(body.n_unknowns() / 3, 0);
+    std::vector<unsigned int> elements;
+    for (const Index j : touched)
+      {
+        selected[j]        = 1;
+        const auto &around = body.elements_of_vertex(body.vertex_of_unknown(3 * j));
+        elements.insert(elements.end(), around.begin(), around.end());
+      }
+    std::sort(elements.begin(), elements.end());
+    elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
+    assemble_range(whole, elements, &selected, function_blocks(element_matrix));
+    return columns_of(touched);
   }
 
-  void SystemMatrix::copy_to_csc(const std::int64_t k)
+  const sparse::CSCMatrix &SystemMatrix::lower() const
   {
-    system_csc.values[csc_position[k]] =
-      dealii::SparseMatrix<double>::const_iterator(&system_matrix, k)->value();
+    return lower_matrix;
+  }
+
+  const sparse::CSCMatrix &SystemMatrix::csc() const
+  {
+    const Index n = lower_matrix.n_cols;
+    if (full_source.empty() && n > 0)
+      {
+        // Column j: first the rows above the diagonal (the entries (j, r), r < j, of the
+        // lower triangle, met in increasing r when the columns are scanned in order), then
+        // column j of the lower triangle.
+        std::vector<Index> above(n, 0);
+        for (Index r = 0; r < n; ++r)
+          for (Index k = lower_matrix.column_start[r]; k < lower_matrix.column_start[r + 1]; ++k)
+            if (lower_matrix.row_index[k] != r)
+              ++above[lower_matrix.row_index[k]];
+        full_matrix = sparse::CSCMatrix::zero(n, n, sparse::Storage::full);
+        for (Index j = 0; j < n; ++j)
+          full_matrix.column_start[j + 1] = full_matrix.column_start[j] + above[j] +
+                                            lower_matrix.column_start[j + 1] - lower_matrix.column_start[j];
+        const Index nnz = full_matrix.column_start[n];
+        full_matrix.row_index.resize(nnz);
+        full_matrix.values.resize(nnz);
+        full_source.resize(nnz);
+        std::vector<Index> next(full_matrix.column_start.begin(), full_matrix.column_start.end() - 1);
+        for (Index r = 0; r < n; ++r)
+          for (Index k = lower_matrix.column_start[r]; k < lower_matrix.column_start[r + 1]; ++k)
+            if (lower_matrix.row_index[k] != r)
+              {
+                const Index position          = next[lower_matrix.row_index[k]]++;
+                full_matrix.row_index[position] = r;
+                full_source[position]           = k;
+              }
+        for (Index j = 0; j < n; ++j)
+          for (Index k = lower_matrix.column_start[j]; k < lower_matrix.column_start[j + 1]; ++k)
+            {
+              const Index position          = next[j]++;
+              full_matrix.row_index[position] = lower_matrix.row_index[k];
+              full_source[position]           = k;
+            }
+        full_current = false;
+      }
+    if (!full_current)
+      {
+        for (std::size_t k = 0; k < full_source.size(); ++k)
+          full_matrix.values[k] = lower_matrix.values[full_source[k]];
+        full_current = true;
+      }
+    return full_matrix;
+  }
+
+  const dealii::SparseMatrix<double> &SystemMatrix::matrix() const
+  {
+    const Index n = lower_matrix.n_cols;
+    if (dealii_source.empty() && n > 0)
+      {
+        const sparse::CSCMatrix &full = csc();
+        // Symmetric: row i of A has the rows of column i.
+        dealii::DynamicSparsityPattern dynamic_pattern(n, n);
+        for (Index i = 0; i < n; ++i)
+          for (Index k = full.column_start[i]; k < full.column_start[i + 1]; ++k)
+            dynamic_pattern.add(i, full.row_index[k]);
+        pattern.copy_from(dynamic_pattern);
+        dealii_matrix.reinit(pattern);
+        // Where each entry, in the storage order the iterators visit, is in lower().
+        dealii_source.reserve(pattern.n_nonzero_elements());
+        for (Index i = 0; i < n; ++i)
+          for (auto entry = pattern.begin(i); entry != pattern.end(i); ++entry)
+            {
+              const Index j = entry->column(), low = std::min<Index>(i, j), high = std::max<Index>(i, j);
+              const auto  first = lower_matrix.row_index.begin() + lower_matrix.column_start[low];
+              const auto  last  = lower_matrix.row_index.begin() + lower_matrix.column_start[low + 1];
+              dealii_source.push_back(std::lower_bound(first, last, high) - lower_matrix.row_index.begin());
+            }
+        dealii_current = false;
+      }
+    if (!dealii_current)
+      {
+        std::size_t k = 0;
+        for (auto &entry : dealii_matrix)
+          entry.value() = lower_matrix.values[dealii_source[k++]];
+        dealii_current = true;
+      }
+    return dealii_matrix;
+  }
+
+  Index SystemMatrix::size() const
+  {
+    return body.n_unknowns();
   }
 
   void SystemMatrix::save(BinaryWriter &writer) const
   {
-    std::vector<double> values;
-    values.reserve(system_matrix.n_nonzero_elements());
-    for (const auto &entry : system_matrix)
-      values.push_back(entry.value());
-    writer.write(values);
-    writer.write(contributions);
+    writer.write(lower_matrix.values);
   }
 
   void SystemMatrix::load(BinaryReader &reader)
   {
     std::vector<double> values;
     reader.read(values);
-    if (values.size() != system_matrix.n_nonzero_elements())
+    if (values.size() != lower_matrix.values.size())
       reader.fail("the system matrix holds " + std::to_string(values.size()) + " entries, this body's " +
-                  std::to_string(system_matrix.n_nonzero_elements()));
-    reader.read(contributions);
-    if (contributions.size() != body.n_elements())
-      reader.fail("holds the contributions of " + std::to_string(contributions.size()) +
-                  " elements, the body has " + std::to_string(body.n_elements()));
-    // The iterators visit the entries in their storage order, that of save().
-    std::size_t k = 0;
-    for (auto &entry : system_matrix)
-      entry.value() = values[k++];
-    sparse::copy_values(system_matrix, system_csc);
-  }
-
-  void SystemMatrix::assemble(const ElementMatrixFunction &element_matrix)
-  {
-    system_matrix = 0;
-    contributions.resize(body.n_elements());
-    for (unsigned int e = 0; e < body.n_elements(); ++e)
-      {
-        element_matrix(e, contributions[e]);
-        const auto &entries = element_entries[e];
-        for (unsigned int k = 0; k < 144; ++k)
-          if (entries[k] >= 0)
-            add_to_entry(entries[k], contributions[e].data()[k]);
-      }
-    if (!coefficients.vertex_diagonal.empty())
-      for (unsigned int v = 0; v < body.n_vertices(); ++v)
-        for (const auto k : diagonal_entries[v])
-          if (k >= 0)
-            add_to_entry(k, coefficients.vertex_diagonal[v]);
-    sparse::copy_values(system_matrix, system_csc);
-  }
-
-  std::vector<Index> SystemMatrix::reassemble(const std::vector<unsigned int> &changed_elements,
-                                              const ElementMatrixFunction     &element_matrix)
-  {
-    if (contributions.empty())
-      throw MatrixError("system matrix: reassemble() before assemble()");
-    std::vector<unsigned int> touched_vertices;
-    ElementMatrix             updated;
-    for (const unsigned int e : changed_elements)
-      {
-        element_matrix(e, updated);
-        const ElementMatrix difference = updated - contributions[e];
-        contributions[e]               = updated;
-        const auto &entries            = element_entries[e];
-        for (unsigned int k = 0; k < 144; ++k)
-          if (entries[k] >= 0)
-            {
-              add_to_entry(entries[k], difference.data()[k]);
-              copy_to_csc(entries[k]);
-            }
-        for (const unsigned int v : body.element_vertices(e))
-          touched_vertices.push_back(v);
-      }
-    std::sort(touched_vertices.begin(), touched_vertices.end());
-    touched_vertices.erase(std::unique(touched_vertices.begin(), touched_vertices.end()),
-                           touched_vertices.end());
-
-    std::vector<Index> changed_columns;
-    for (const unsigned int v : touched_vertices)
-      if (body.first_unknown(v) >= 0)
-        for (unsigned int i = 0; i < 3; ++i)
-          changed_columns.push_back(body.first_unknown(v) + i);
-    return changed_columns;
-  }
-
-  const ElementMatrix &SystemMatrix::contribution(const unsigned int e) const
-  {
-    return contributions.at(e);
-  }
-
-  const dealii::SparseMatrix<double> &SystemMatrix::matrix() const
-  {
-    return system_matrix;
-  }
-
-  const sparse::CSCMatrix &SystemMatrix::csc() const
-  {
-    return system_csc;
-  }
-
-  Index SystemMatrix::size() const
-  {
-    return body.n_unknowns();
+                  std::to_string(lower_matrix.values.size()));
+    lower_matrix.values = std::move(values);
+    full_current        = false;
+    dealii_current      = false;
   }
 } // namespace warpchol::fem

@@ -225,10 +225,11 @@ namespace warpchol::fem
     cost_model.load(reader);
   }
 
-  ElementMatrix WarpCancelingModel::current_contribution(const unsigned int e)
+  void WarpCancelingModel::update_frames(const unsigned int e)
   {
-    return updated_contribution(body, coefficients, e, elastic_state.nodal_rotations, elastic_state.element_rotations[e],
-                                stored_frames[e]);
+    const auto &vertices = body.element_vertices(e);
+    for (unsigned int a = 0; a < 4; ++a)
+      stored_frames[e][a] = elastic_state.nodal_rotations[vertices[a]].transpose() * elastic_state.element_rotations[e];
   }
 
   void WarpCancelingModel::prepare_step(const std::vector<Vector3> &positions,
@@ -257,19 +258,18 @@ namespace warpchol::fem
     evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
     record_no_refactorization(statistics);
 
-    // Updating an element stores its contribution with the current rotations: the system
-    // matrix keeps it, the S_a and Q_e it was made with, until the next update.
+    // Updating an element stores the frames S_a^T Q_e of the current rotations: its
+    // contribution to A is made with them until its next update.
     const unsigned int n_elements = body.n_elements();
-    const auto         contribution_of = [&](const unsigned int e, ElementMatrix &matrix) {
-      matrix = current_contribution(e);
-    };
 
     if (threshold == 0)
       {
         // Every element is updated: exact corotation, assembled and factored in full.
         {
           StageTimer timer(statistics.stages, stage::assembly);
-          system.assemble(contribution_of);
+          for (unsigned int e = 0; e < n_elements; ++e)
+            update_frames(e);
+          system.assemble(ElementFrames::warped(stored_frames));
         }
         statistics.elements_updated = n_elements;
         record_updates(true);
@@ -293,7 +293,9 @@ namespace warpchol::fem
     if (!update.empty())
       {
         StageTimer timer(statistics.stages, stage::assembly);
-        changed_columns = system.reassemble(update, contribution_of);
+        for (const unsigned int e : update)
+          update_frames(e);
+        changed_columns = system.reassemble(update, ElementFrames::warped(stored_frames));
       }
     // Nothing changed and nothing is left stale: the factor is that of A.
     if (changed_columns.empty() && cholesky_solver.factor_is_exact())

@@ -94,6 +94,17 @@ namespace warpchol::fem
     const Material &material() const;
     MassMatrix      mass_matrix_type() const;
 
+    /**
+     * Dm^-1 of element @p e, the inverse of its rest edge matrix [X1 - X0, X2 - X0, X3 - X0]:
+     * row a - 1 is the gradient of the shape function of its vertex a (a = 1, 2, 3; vertex
+     * 0's is minus their sum), constant on the element.
+     */
+    const Matrix3 &rest_shape_gradients(unsigned int e) const;
+
+    /** Lame's first parameter and the shear modulus of the material. */
+    double lame_lambda() const;
+    double lame_mu() const;
+
     /** K_e: the rest stiffness matrix of element @p e. */
     const ElementMatrix &rest_stiffness(unsigned int e) const;
     /** m_ab: the scalar mass matrix of element @p e (consistent, or lumped: diagonal). */

@@ -126,11 +126,11 @@ namespace warpchol::fem
     std::vector<unsigned int> elements_to_update(const std::vector<Vector3> &velocities);
 
     /**
-     * A_e with the current rotations (S_a = R of its vertices, Q_e = R_e): what element
-     * @p e contributes to A once updated. The system matrix keeps it until the next update
-     * of e, and the model the frames S_a^T Q_e it was made with.
+     * Update element @p e: its frames become S_a^T Q_e with the current rotations (S_a = R
+     * of its vertices, Q_e = R_e), which its contribution to A is made with until its next
+     * update.
      */
-    ElementMatrix current_contribution(unsigned int e);
+    void update_frames(unsigned int e);
 
     const double threshold;
     const double target;
