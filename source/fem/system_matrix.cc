@@ -95,6 +95,12 @@ namespace warpchol::fem
   {
     /** Elements whose blocks are formed side by side (one AVX-512 register of doubles). */
     constexpr unsigned int lanes = 8;
+    /**
+     * One value of 8 elements: a vector of the compiler (GCC's and clang's vector
+     * extension), so that every element goes through the very same instructions, whatever
+     * its lane, and each operation is one AVX-512 instruction (two AVX2 ones).
+     */
+    using Lane = double __attribute__((vector_size(8 * lanes)));
     /** The blocks (a, b), a >= b, numbered k = a (a + 1) / 2 + b. */
     constexpr unsigned int n_blocks = 10;
     constexpr unsigned int block_row[n_blocks]    = {0, 1, 1, 2, 2, 2, 3, 3, 3, 3};
@@ -103,13 +109,58 @@ namespace warpchol::fem
     /** The 10 blocks of up to 8 elements: entry (i, j) of block k of lane l at value[k][i + 3 j][l]. */
     struct LaneBlocks
     {
-      alignas(64) double value[n_blocks][9][lanes];
+      Lane value[n_blocks][9];
     };
+
+    /** What the blocks of 8 elements are made of, lane by lane. */
+    struct LaneInputs
+    {
+      /** g[a][i]: component i of the gradient of vertex a's shape function (g_0 = -g_1 - g_2 - g_3). */
+      Lane g[4][3];
+      /** c_K lambda V and c_K mu V. */
+      Lane lambda_volume, mu_volume;
+      /** c_K mu V (g_a . g_b) + c_M m_ab: what block k adds to its diagonal (times T_a T_b^T). */
+      Lane diagonal[n_blocks];
+    };
+
+    LaneInputs gather_inputs(const ElasticBody &body, const SystemCoefficients &coefficients,
+                             const unsigned int *elements, const unsigned int count)
+    {
+      LaneInputs   in;
+      const double lambda = coefficients.stiffness * body.lame_lambda();
+      const double mu     = coefficients.stiffness * body.lame_mu();
+      const bool   lumped = body.mass_matrix_type() == MassMatrix::lumped;
+      Lane         mass[n_blocks];
+      for (unsigned int l = 0; l < lanes; ++l)
+        {
+          const unsigned int e         = elements[std::min(l, count - 1)];
+          const Matrix3     &gradients = body.rest_shape_gradients(e);
+          for (unsigned int a = 1; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              in.g[a][i][l] = gradients(a - 1, i);
+          const double volume  = body.element_volume(e);
+          in.lambda_volume[l] = lambda * volume;
+          in.mu_volume[l]     = mu * volume;
+          const auto &m       = body.element_mass(e);
+          for (unsigned int k = 0; k < n_blocks; ++k)
+            mass[k][l] = lumped && block_row[k] != block_column[k] ? 0. :
+                                                                     coefficients.mass * m(block_row[k], block_column[k]);
+        }
+      for (unsigned int i = 0; i < 3; ++i)
+        in.g[0][i] = -(in.g[1][i] + in.g[2][i] + in.g[3][i]);
+      for (unsigned int k = 0; k < n_blocks; ++k)
+        {
+          const unsigned int a = block_row[k], b = block_column[k];
+          in.diagonal[k] =
+            in.mu_volume * (in.g[a][0] * in.g[b][0] + in.g[a][1] * in.g[b][1] + in.g[a][2] * in.g[b][2]) + mass[k];
+        }
+      return in;
+    }
 
     /**
      * The blocks of the contributions of @p elements[0 .. count) in @p frames, lane by lane
-     * (lanes past count repeat the last element): with g_a the shape function gradients
-     * (g_0 = -g_1 - g_2 - g_3), V the volume, lambda and mu the material's,
+     * (lanes past count repeat the last element): with g_a the shape function gradients,
+     * V the volume, lambda and mu the material's,
      *   B_ab = c_K V (lambda u_aa u_bb^T + mu u_ab u_ba^T + mu (g_a.g_b) T_a T_b^T) + c_M m_ab T_a T_b^T
      * with u_ab = T_a g_b. Where every T_a is the same rotation R, T_a T_b^T = I and
      * u_ab = R g_b: the rotated and rest cases skip the products of frames.
@@ -117,72 +168,47 @@ namespace warpchol::fem
     void form_blocks(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
                      const unsigned int *elements, const unsigned int count, LaneBlocks &out)
     {
-      alignas(64) double g[4][3][lanes];
-      alignas(64) double lambda_volume[lanes], mu_volume[lanes];
-      alignas(64) double mass[n_blocks][lanes];
-      const double       lambda = coefficients.stiffness * body.lame_lambda();
-      const double       mu     = coefficients.stiffness * body.lame_mu();
-      for (unsigned int l = 0; l < lanes; ++l)
-        {
-          const unsigned int e         = elements[std::min(l, count - 1)];
-          const Matrix3     &gradients = body.rest_shape_gradients(e);
-          for (unsigned int i = 0; i < 3; ++i)
-            {
-              g[1][i][l] = gradients(0, i);
-              g[2][i][l] = gradients(1, i);
-              g[3][i][l] = gradients(2, i);
-              g[0][i][l] = -(gradients(0, i) + gradients(1, i) + gradients(2, i));
-            }
-          const double volume = body.element_volume(e);
-          lambda_volume[l]    = lambda * volume;
-          mu_volume[l]        = mu * volume;
-          const auto &m       = body.element_mass(e);
-          for (unsigned int k = 0; k < n_blocks; ++k)
-            mass[k][l] = coefficients.mass * m(block_row[k], block_column[k]);
-        }
-      // The diagonal of each block: mu V (g_a . g_b) + the mass.
-      alignas(64) double diagonal[n_blocks][lanes];
-      for (unsigned int k = 0; k < n_blocks; ++k)
-        for (unsigned int l = 0; l < lanes; ++l)
-          diagonal[k][l] = mu_volume[l] * (g[block_row[k]][0][l] * g[block_column[k]][0][l] +
-                                           g[block_row[k]][1][l] * g[block_column[k]][1][l] +
-                                           g[block_row[k]][2][l] * g[block_column[k]][2][l]) +
-                           mass[k][l];
-
+      const LaneInputs in = gather_inputs(body, coefficients, elements, count);
       if (frames.kind != ElementFrames::Kind::warped)
         {
-          // h_a = R g_a (R = I at rest).
-          alignas(64) double r[9][lanes];
-          for (unsigned int l = 0; l < lanes; ++l)
+          // h_a = R g_a (R = I at rest), and lambda V h_a, mu V h_a.
+          Lane h[4][3], lambda_h[4][3], mu_h[4][3];
+          if (frames.kind == ElementFrames::Kind::rest)
+            std::copy(&in.g[0][0], &in.g[0][0] + 12, &h[0][0]);
+          else
             {
-              const Matrix3 rotation = frames.kind == ElementFrames::Kind::rotated ?
-                                         (*frames.element_rotations)[elements[std::min(l, count - 1)]] :
-                                         Matrix3::Identity();
-              for (unsigned int i = 0; i < 9; ++i)
-                r[i][l] = rotation.data()[i];
-            }
-          alignas(64) double h[4][3][lanes];
-          for (unsigned int a = 1; a < 4; ++a)
-            for (unsigned int i = 0; i < 3; ++i)
+              Lane r[9];
               for (unsigned int l = 0; l < lanes; ++l)
-                h[a][i][l] = r[i][l] * g[a][0][l] + r[i + 3][l] * g[a][1][l] + r[i + 6][l] * g[a][2][l];
-          for (unsigned int i = 0; i < 3; ++i)
-            for (unsigned int l = 0; l < lanes; ++l)
-              h[0][i][l] = -(h[1][i][l] + h[2][i][l] + h[3][i][l]);
+                {
+                  const Matrix3 &rotation = (*frames.element_rotations)[elements[std::min(l, count - 1)]];
+                  for (unsigned int i = 0; i < 9; ++i)
+                    r[i][l] = rotation.data()[i];
+                }
+              for (unsigned int a = 0; a < 4; ++a)
+                for (unsigned int i = 0; i < 3; ++i)
+                  h[a][i] = r[i] * in.g[a][0] + r[i + 3] * in.g[a][1] + r[i + 6] * in.g[a][2];
+            }
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              {
+                lambda_h[a][i] = in.lambda_volume * h[a][i];
+                mu_h[a][i]     = in.mu_volume * h[a][i];
+              }
           for (unsigned int k = 0; k < n_blocks; ++k)
             {
               const unsigned int a = block_row[k], b = block_column[k];
               for (unsigned int j = 0; j < 3; ++j)
                 for (unsigned int i = 0; i < 3; ++i)
-                  for (unsigned int l = 0; l < lanes; ++l)
-                    out.value[k][i + 3 * j][l] = lambda_volume[l] * h[a][i][l] * h[b][j][l] +
-                                                 mu_volume[l] * h[b][i][l] * h[a][j][l] +
-                                                 (i == j ? diagonal[k][l] : 0.);
+                  {
+                    out.value[k][i + 3 * j] = lambda_h[a][i] * h[b][j] + mu_h[b][i] * h[a][j];
+                    if (i == j)
+                      out.value[k][i + 3 * j] += in.diagonal[k];
+                  }
             }
           return;
         }
 
-      alignas(64) double t[4][9][lanes];
+      Lane t[4][9];
       for (unsigned int l = 0; l < lanes; ++l)
         {
           const auto &element_frames = (*frames.vertex_frames)[elements[std::min(l, count - 1)]];
@@ -191,34 +217,25 @@ namespace warpchol::fem
               t[a][i][l] = element_frames[a].data()[i];
         }
       // u[a][b] = T_a g_b.
-      alignas(64) double u[4][4][3][lanes];
+      Lane u[4][4][3];
       for (unsigned int a = 0; a < 4; ++a)
-        {
-          for (unsigned int b = 1; b < 4; ++b)
-            for (unsigned int i = 0; i < 3; ++i)
-              for (unsigned int l = 0; l < lanes; ++l)
-                u[a][b][i][l] =
-                  t[a][i][l] * g[b][0][l] + t[a][i + 3][l] * g[b][1][l] + t[a][i + 6][l] * g[b][2][l];
+        for (unsigned int b = 0; b < 4; ++b)
           for (unsigned int i = 0; i < 3; ++i)
-            for (unsigned int l = 0; l < lanes; ++l)
-              u[a][0][i][l] = -(u[a][1][i][l] + u[a][2][i][l] + u[a][3][i][l]);
-        }
+            u[a][b][i] = t[a][i] * in.g[b][0] + t[a][i + 3] * in.g[b][1] + t[a][i + 6] * in.g[b][2];
       for (unsigned int k = 0; k < n_blocks; ++k)
         {
           const unsigned int a = block_row[k], b = block_column[k];
           for (unsigned int j = 0; j < 3; ++j)
             for (unsigned int i = 0; i < 3; ++i)
-              for (unsigned int l = 0; l < lanes; ++l)
-                {
-                  // (T_a T_b^T)(i, j); the identity on the diagonal blocks.
-                  const double frame_product =
-                    a == b ? (i == j ? 1. : 0.) :
-                             t[a][i][l] * t[b][j][l] + t[a][i + 3][l] * t[b][j + 3][l] +
-                               t[a][i + 6][l] * t[b][j + 6][l];
-                  out.value[k][i + 3 * j][l] = lambda_volume[l] * u[a][a][i][l] * u[b][b][j][l] +
-                                               mu_volume[l] * u[a][b][i][l] * u[b][a][j][l] +
-                                               diagonal[k][l] * frame_product;
-                }
+              {
+                Lane value = in.lambda_volume * u[a][a][i] * u[b][b][j] + in.mu_volume * u[a][b][i] * u[b][a][j];
+                // (T_a T_b^T)(i, j): the identity on the diagonal blocks.
+                if (a != b)
+                  value += in.diagonal[k] * (t[a][i] * t[b][j] + t[a][i + 3] * t[b][j + 3] + t[a][i + 6] * t[b][j + 6]);
+                else if (i == j)
+                  value += in.diagonal[k];
+                out.value[k][i + 3 * j] = value;
+              }
         }
     }
 
@@ -272,10 +289,10 @@ namespace warpchol::fem
     // 0, s, 2 s - 1 for s = 3 n + 2 (the columns shrink by one diagonal entry each);
     // the diagonal block's (r >= c) alike with p0 = start(3 j).
     lower_matrix = sparse::CSCMatrix::zero(3 * n_free, 3 * n_free, sparse::Storage::lower);
-    column_stride.resize(n_free);
+    std::vector<std::int32_t> column_stride(n_free);
     for (Index j = 0; j < n_free; ++j)
       {
-        column_stride[j] = 3 * static_cast<std::int64_t>(neighbours[j].size()) + 2;
+        column_stride[j] = 3 * static_cast<std::int32_t>(neighbours[j].size()) + 2;
         for (Index c = 0; c < 3; ++c)
           {
             for (Index r = c; r < 3; ++r)
@@ -296,13 +313,15 @@ namespace warpchol::fem
           {
             const Index row = free_index(vertices[block_row[k]]), column = free_index(vertices[block_column[k]]);
             std::int64_t &position = scatter[e].position[k];
+            // The block lands in the column of the vertex of smaller unknown.
+            scatter[e].column[k] = std::min(row, column);
+            scatter[e].stride[k] = row < 0 || column < 0 ? 0 : column_stride[std::min(row, column)];
             if (row < 0 || column < 0)
               position = -1;
             else if (row == column)
               position = lower_matrix.column_start[3 * column];
             else
               {
-                // The block lands in the column of the vertex of smaller unknown.
                 const Index low = std::min(row, column), high = std::max(row, column);
                 const auto &list = neighbours[low];
                 const Index rank = std::lower_bound(list.begin(), list.end(), high) - list.begin();
@@ -332,7 +351,10 @@ namespace warpchol::fem
       return column >= range.first_vertex && column < range.end_vertex &&
              (column_selected == nullptr || (*column_selected)[column]);
     };
-    double *values = lower_matrix.values.data();
+    // The whole matrix from every element: no column to skip.
+    const bool all_selected = column_selected == nullptr && range.first_vertex == 0 &&
+                              range.end_vertex == body.n_unknowns() / 3;
+    double    *values       = lower_matrix.values.data();
     for (Index j = range.first_vertex; j < range.end_vertex; ++j)
       if (selected(j))
         std::fill(values + lower_matrix.column_start[3 * j], values + lower_matrix.column_start[3 * j + 3], 0.);
@@ -344,19 +366,16 @@ namespace warpchol::fem
         blocks(elements.data() + first, count, lane_blocks);
         for (unsigned int l = 0; l < count; ++l)
           {
-            const unsigned int    e        = elements[first + l];
-            const ElementScatter &where    = scatter[e];
-            const auto           &vertices = body.element_vertices(e);
+            const ElementScatter &where = scatter[elements[first + l]];
             for (unsigned int k = 0; k < n_blocks; ++k)
               {
                 const std::int64_t p0 = where.position[k];
                 if (p0 < 0)
                   continue;
-                const bool  transposed = (where.transposed >> k) & 1u;
-                const Index column     = free_index(vertices[transposed ? block_row[k] : block_column[k]]);
-                if (!selected(column))
+                const bool transposed = (where.transposed >> k) & 1u;
+                if (!all_selected && !selected(where.column[k]))
                   continue;
-                const std::int64_t stride    = column_stride[column];
+                const std::int64_t stride    = where.stride[k];
                 const std::int64_t offset[3] = {0, stride, 2 * stride - 1};
                 const auto        &block     = lane_blocks.value[k];
                 if (block_row[k] == block_column[k])

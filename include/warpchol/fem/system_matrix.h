@@ -164,6 +164,9 @@ namespace warpchol::fem
        * (0, 0) in the column vertex's first column, -1 if a vertex is fixed.
        */
       std::array<std::int64_t, 10> position;
+      /** The free index of the vertex whose columns block k lands in, and its stride 3 n + 2. */
+      std::array<std::int32_t, 10> column;
+      std::array<std::int32_t, 10> stride;
       /** Bit k: block k lands as its transpose (the row vertex a has the smaller unknown). */
       std::uint16_t transposed = 0;
     };
@@ -202,8 +205,6 @@ namespace warpchol::fem
     const ElasticBody           &body;
     SystemCoefficients           coefficients;
     sparse::CSCMatrix            lower_matrix;
-    /** Per free vertex: 3 n + 2 for its n neighbours of larger unknown (see assemble_range). */
-    std::vector<std::int64_t>    column_stride;
     std::vector<ElementScatter>  scatter;
     /** One range of every column and element: the serial assembly and the reference path. */
     ColumnRange                  whole;
