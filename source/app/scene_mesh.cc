@@ -31,6 +31,19 @@ namespace warpchol::app
         if (mesh.box.sliver_flattening < 1)
           text += ", slivers flattened to " + format_number(mesh.box.sliver_flattening);
       }
+    else if (mesh.source == "cylinder")
+      {
+        fem::create_cylinder(tria, mesh.cylinder);
+        text = "generated cylinder (radius " + format_number(mesh.cylinder.radius) + ", length " +
+               format_number(mesh.cylinder.length) + ", " + std::to_string(mesh.cylinder.axial_cells) +
+               " axial cells, " + std::to_string(mesh.cylinder.refinements) + " refinements)";
+      }
+    else if (mesh.source == "tube")
+      {
+        fem::create_tube(tria, mesh.tube);
+        text = "generated tube (radii " + format_number(mesh.tube.inner_radius) + " and " +
+               format_number(mesh.tube.outer_radius) + ", length " + format_number(mesh.tube.length) + ")";
+      }
     else
       {
         numbering = fem::read_mesh(all.mesh_file_path(), tria);

@@ -402,9 +402,13 @@ namespace warpchol::cholesky
     };
 
     /**
-     * Split until the heaviest subtree (by stored values: the solve's memory traffic) is at
-     * most a quarter of a thread's share, so that the subtrees balance over the threads.
+     * Subtrees of the split are at most this share of the stored values (the solve's memory
+     * traffic): enough subtrees to balance a few threads, and the same split for any number
+     * of them, so that a solve gives the same bits on one thread as on several.
      */
+    constexpr double solve_subtree_share = 1. / 16;
+
+    /** Split until the heaviest subtree is at most solve_subtree_share of the whole. */
     SolvePartition partition_for_solve(const SupernodalSymbolic &symbolic, const unsigned int n_threads)
     {
       const Index         ns = symbolic.n_supernodes();
@@ -426,7 +430,7 @@ namespace warpchol::cholesky
       double total = 0;
       for (const Index r : roots)
         total += weight[r];
-      const double bound = total / (4. * n_threads);
+      const double bound = total * solve_subtree_share;
 
       SolvePartition partition;
       std::vector<Index> candidates = roots;
@@ -451,7 +455,7 @@ namespace warpchol::cholesky
             partition.top_position[j] = partition.n_top_columns++;
             partition.top_columns.push_back(j);
           }
-      partition.arena = std::make_unique<tbb::task_arena>(static_cast<int>(n_threads));
+      partition.arena = std::make_unique<tbb::task_arena>(static_cast<int>(std::max(1u, n_threads)));
       return partition;
     }
 
@@ -594,11 +598,9 @@ namespace warpchol::cholesky
     unsigned int                               partition_threads = 0;
     std::mutex                                 partition_mutex;
 
-    /** The partition for @p n_threads threads (null for one thread). */
+    /** The partition, its arena made for @p n_threads threads. */
     const SolvePartition *partition_for(const SupernodalSymbolic &symbolic, const unsigned int n_threads)
     {
-      if (n_threads <= 1)
-        return nullptr;
       const std::lock_guard<std::mutex> lock(partition_mutex);
       if (!partition || partition_threads != n_threads)
         {
@@ -621,6 +623,10 @@ namespace warpchol::cholesky
   {
     *this = other;
   }
+
+  SupernodalFactor::SupernodalFactor(SupernodalFactor &&other) noexcept = default;
+
+  SupernodalFactor &SupernodalFactor::operator=(SupernodalFactor &&other) noexcept = default;
 
   SupernodalFactor &SupernodalFactor::operator=(const SupernodalFactor &other)
   {

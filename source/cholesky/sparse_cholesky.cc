@@ -469,4 +469,9 @@ namespace warpchol::cholesky
   {
     return solver_settings;
   }
+
+  void SparseCholesky::set_thread_count(const unsigned int n_threads)
+  {
+    solver_settings.n_threads = std::max(1u, n_threads);
+  }
 } // namespace warpchol::cholesky

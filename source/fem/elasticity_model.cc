@@ -42,6 +42,15 @@ namespace warpchol::fem
     return stages.seconds(stage::cg_iterations);
   }
 
+  double StepStatistics::strategy_seconds() const
+  {
+    double seconds = 0;
+    for (const char *name : {stage::error_estimate, stage::assembly, stage::refresh_choice, stage::factorization,
+                             stage::background_refresh, stage::solve, stage::cg_iterations})
+      seconds += stages.seconds(name);
+    return seconds;
+  }
+
   void StepStatistics::add_phase_times(const StepStatistics &step)
   {
     stages.add(step.stages);
@@ -86,8 +95,7 @@ namespace warpchol::fem
     return true;
   }
 
-  template <typename Factor>
-  void ElasticityModel::checked(const Factor &factor)
+  void ElasticityModel::checked(const std::function<void()> &factor)
   {
     try
       {
@@ -188,6 +196,19 @@ namespace warpchol::fem
     return false;
   }
 
+  bool ElasticityModel::refresh_after_failed_solve(StepStatistics &statistics)
+  {
+    if (cholesky_solver.factor_is_exact())
+      return false;
+    refactorize({}, statistics, cholesky::Refresh::all);
+    return true;
+  }
+
+  bool ElasticityModel::factor_solves_target() const
+  {
+    return false;
+  }
+
   void ElasticityModel::save_model_state(BinaryWriter &) const
   {}
 
@@ -258,6 +279,14 @@ namespace warpchol::fem
   void ElasticityModel::solve(const std::vector<Vector3> &right_hand_side,
                               std::vector<Vector3> &velocities, StepStatistics &statistics)
   {
+    const Stopwatch stopwatch;
+    solve_in_frame(right_hand_side, velocities, statistics);
+    last_solve_seconds = stopwatch.seconds();
+  }
+
+  void ElasticityModel::solve_in_frame(const std::vector<Vector3> &right_hand_side,
+                                       std::vector<Vector3> &velocities, StepStatistics &statistics)
+  {
     // A y = R^T rhs, then v = R y: the nodal rotations stand for the updates A lacks.
     std::vector<double> rotated(body.n_unknowns());
     to_solve_frame(right_hand_side, rotated.data());
@@ -275,7 +304,7 @@ namespace warpchol::fem
         last_cg_iterations = peer_solver->last_iterations();
         statistics.cg_iterations += last_cg_iterations;
       }
-    else if (!strategy.iterates())
+    else if (!strategy.iterates() || factor_solves_target())
       {
         StageTimer timer(statistics.stages, stage::solve);
         cholesky_solver.solve(rotated, solution);
@@ -288,14 +317,13 @@ namespace warpchol::fem
           }
         catch (const dealii::SolverControl::NoConvergence &)
           {
-            if (cholesky_solver.factor_is_exact())
+            // A factor that has become a poor preconditioner: refresh it and retry (from
+            // the same initial guess: velocities is untouched so far).
+            if (!refresh_after_failed_solve(statistics))
               throw MatrixError("preconditioned CG did not reach the tolerance " +
                                 format_number(strategy.cg_tolerance) + " in " +
                                 std::to_string(strategy.max_cg_iterations) + " iterations");
-            // A stale factor that has become a poor preconditioner: refresh it and retry
-            // (from the same initial guess: velocities is untouched so far).
-            refactorize({}, statistics, cholesky::Refresh::all);
-            solve(right_hand_side, velocities, statistics);
+            solve_in_frame(right_hand_side, velocities, statistics);
             return;
           }
       }

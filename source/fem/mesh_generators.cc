@@ -4,6 +4,7 @@
 #include <warpchol/fem/mesh_readers.h>
 
 #include <deal.II/grid/grid_generator.h>
+#include <deal.II/grid/grid_tools.h>
 
 #include <cmath>
 #include <limits>
@@ -239,6 +240,38 @@ namespace warpchol::fem
     dealii::GridGenerator::subdivided_hyper_rectangle(
       hexahedra, std::vector<std::vector<double>>(steps.begin(), steps.end()),
       geometry.lower_corner, geometry.upper_corner);
+    split_into_tetrahedra(hexahedra, triangulation);
+  }
+
+  void create_cylinder(dealii::Triangulation<3> &triangulation, const CylinderGeometry &geometry)
+  {
+    if (!(geometry.radius > 0) || !(geometry.length > 0))
+      throw InputError("cylinder: the radius and the length must be > 0, got " + format_number(geometry.radius) +
+                       " and " + format_number(geometry.length));
+    if (geometry.axial_cells == 0)
+      throw InputError("cylinder: at least one axial cell is needed");
+    // Refined on the hexahedra, whose cylindrical manifold puts new surface vertices on the
+    // circle; then moved so that the rod starts at x = 0.
+    dealii::Triangulation<3> hexahedra;
+    dealii::GridGenerator::subdivided_cylinder(hexahedra, geometry.axial_cells, geometry.radius,
+                                               geometry.length / 2);
+    hexahedra.refine_global(geometry.refinements);
+    dealii::GridTools::shift(dealii::Tensor<1, 3>({geometry.length / 2, 0., 0.}), hexahedra);
+    split_into_tetrahedra(hexahedra, triangulation);
+  }
+
+  void create_tube(dealii::Triangulation<3> &triangulation, const TubeGeometry &geometry)
+  {
+    if (!(geometry.inner_radius > 0) || !(geometry.outer_radius > geometry.inner_radius) || !(geometry.length > 0))
+      throw InputError("tube: need 0 < inner radius < outer radius and a length > 0, got " +
+                       format_number(geometry.inner_radius) + ", " + format_number(geometry.outer_radius) +
+                       " and " + format_number(geometry.length));
+    if (geometry.circumferential_cells < 3 || geometry.axial_cells == 0)
+      throw InputError("tube: at least 3 cells around and one along are needed");
+    dealii::Triangulation<3> hexahedra;
+    dealii::GridGenerator::cylinder_shell(hexahedra, geometry.length, geometry.inner_radius, geometry.outer_radius,
+                                          geometry.circumferential_cells, geometry.axial_cells);
+    hexahedra.refine_global(geometry.refinements);
     split_into_tetrahedra(hexahedra, triangulation);
   }
 } // namespace warpchol::fem

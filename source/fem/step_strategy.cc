@@ -21,6 +21,8 @@ namespace warpchol::fem
           return "preconditioned";
         case StepStrategy::Kind::automatic:
           return "auto";
+        case StepStrategy::Kind::background:
+          return "background";
       }
     return "unknown";
   }
@@ -28,11 +30,12 @@ namespace warpchol::fem
   StepStrategy::Kind parse_step_strategy(const std::string &name)
   {
     for (const auto kind : {StepStrategy::Kind::partial, StepStrategy::Kind::delayed_top,
-                            StepStrategy::Kind::preconditioned, StepStrategy::Kind::automatic})
+                            StepStrategy::Kind::preconditioned, StepStrategy::Kind::automatic,
+                            StepStrategy::Kind::background})
       if (name == to_string(kind))
         return kind;
     throw InputError("unknown step strategy " + quote(name) +
-                     " (expected partial, delayed_top, preconditioned or auto)");
+                     " (expected partial, delayed_top, preconditioned, auto or background)");
   }
 
   std::string to_string(const StepStrategy::Target target)
@@ -74,7 +77,7 @@ namespace warpchol::fem
     }
   } // namespace
 
-  void RefreshCostModel::record_factorization(const double flops, const double seconds)
+  void StepCostModel::record_factorization(const double flops, const double seconds)
   {
     // Small refactorizations are dominated by their fixed costs: they would flatter the
     // rate of the large ones the model must foresee.
@@ -82,8 +85,8 @@ namespace warpchol::fem
       blend(flop_rate, flops / seconds);
   }
 
-  void RefreshCostModel::record_iterations(const cholesky::Refresh refresh, const unsigned int iterations,
-                                           const double seconds)
+  void StepCostModel::record_iterations(const cholesky::Refresh refresh, const unsigned int iterations,
+                                        const double seconds)
   {
     if (iterations > 0)
       blend(seconds_per_iteration, seconds / iterations);
@@ -99,26 +102,74 @@ namespace warpchol::fem
     last_iterations = iterations;
   }
 
-  bool RefreshCostModel::calibrated() const
+  void StepCostModel::record_exact_step(const double seconds)
+  {
+    blend(exact_seconds, seconds);
+  }
+
+  void StepCostModel::record_iterating_step(const unsigned int staleness, const double seconds)
+  {
+    if (staleness == 0)
+      return;
+    blend(iterating_seconds[std::min(staleness, longest_staleness) - 1], seconds);
+  }
+
+  bool StepCostModel::calibrated() const
   {
     return flop_rate > 0 && seconds_per_iteration > 0;
   }
 
-  void RefreshCostModel::save(BinaryWriter &writer) const
+  double StepCostModel::predicted_exact_seconds() const
+  {
+    return exact_seconds;
+  }
+
+  double StepCostModel::predicted_iterating_seconds(const unsigned int staleness) const
+  {
+    // The last staleness measured at or before this one stands for it.
+    for (unsigned int s = std::min(std::max(staleness, 1u), longest_staleness); s >= 1; --s)
+      if (iterating_seconds[s - 1] >= 0)
+        return iterating_seconds[s - 1];
+    return -1;
+  }
+
+  bool StepCostModel::exact_step_is_due(const unsigned int staleness) const
+  {
+    if (exact_seconds < 0)
+      return true;
+    const double next = predicted_iterating_seconds(staleness);
+    if (next < 0)
+      return false;
+    // The least average cost of a cycle that starts with an exact step.
+    double cycle = exact_seconds, least_average = exact_seconds;
+    for (unsigned int length = 2; length <= longest_staleness; ++length)
+      {
+        const double step = predicted_iterating_seconds(length - 1);
+        cycle += step >= 0 ? step : 0.;
+        least_average = std::min(least_average, cycle / length);
+      }
+    return next > least_average;
+  }
+
+  void StepCostModel::save(BinaryWriter &writer) const
   {
     for (const double value : {flop_rate, seconds_per_iteration, iterations_after_all,
-                               iterations_after_top, last_iterations})
+                               iterations_after_top, last_iterations, exact_seconds})
       writer.write(value);
+    writer.write(iterating_seconds);
   }
 
-  void RefreshCostModel::load(BinaryReader &reader)
+  void StepCostModel::load(BinaryReader &reader)
   {
     for (double *value : {&flop_rate, &seconds_per_iteration, &iterations_after_all,
-                          &iterations_after_top, &last_iterations})
+                          &iterations_after_top, &last_iterations, &exact_seconds})
       reader.read(*value);
+    reader.read(iterating_seconds);
+    if (iterating_seconds.size() != longest_staleness)
+      reader.fail("the cost model's step costs have the wrong length (corrupt)");
   }
 
-  double RefreshCostModel::predicted_seconds(const cholesky::Refresh refresh, const double flops) const
+  double StepCostModel::predicted_seconds(const cholesky::Refresh refresh, const double flops) const
   {
     double iterations = last_iterations + 1;
     if (refresh == cholesky::Refresh::all)

@@ -414,7 +414,7 @@ namespace warpchol::fem
 
   void SystemMatrix::for_each_range(const std::function<void(const ColumnRange &)> &assemble)
   {
-    const unsigned int n_threads = dealii::MultithreadInfo::n_threads();
+    const unsigned int n_threads = thread_count > 0 ? thread_count : dealii::MultithreadInfo::n_threads();
     const Index        n_free    = body.n_unknowns() / 3;
     if (n_threads <= 1 || n_free < 64)
       {
@@ -633,6 +633,20 @@ namespace warpchol::fem
         dealii_current = true;
       }
     return dealii_matrix;
+  }
+
+  void SystemMatrix::set_thread_count(const unsigned int n_threads)
+  {
+    thread_count = n_threads;
+  }
+
+  void SystemMatrix::swap_values(SystemMatrix &other)
+  {
+    if (other.lower_matrix.values.size() != lower_matrix.values.size() || &other.body != &body)
+      throw MatrixError("system matrix: swap_values() with the matrix of another body");
+    lower_matrix.values.swap(other.lower_matrix.values);
+    full_current = dealii_current = false;
+    other.full_current = other.dealii_current = false;
   }
 
   Index SystemMatrix::size() const

@@ -117,9 +117,13 @@ namespace warpchol::fem
     stored_frames.assign(body.n_elements(), {{Matrix3::Identity(), Matrix3::Identity(),
                                                Matrix3::Identity(), Matrix3::Identity()}});
     // Estimates exist only between the two limits (0: all updated, inf: none); at rest
-    // they are 0.
-    if (update_threshold > 0 && !std::isinf(update_threshold))
+    // they are 0. The background refresh estimates nothing.
+    if (update_threshold > 0 && !std::isinf(update_threshold) && strategy.kind != StepStrategy::Kind::background)
       record.error_estimate.assign(body.n_elements(), 0.0);
+    // The background refresh: asked for, or the automatic strategy's with a thread to spare.
+    if (strategy.kind == StepStrategy::Kind::background ||
+        (strategy.kind == StepStrategy::Kind::automatic && solver_settings.n_threads > 1))
+      background = std::make_unique<BackgroundRefresh>(body, coefficients, cholesky_solver);
   }
 
   std::string WarpCancelingModel::name() const
@@ -202,7 +206,22 @@ namespace warpchol::fem
 
   bool WarpCancelingModel::matrix_carries_over() const
   {
-    return threshold > 0 && !std::isinf(threshold);
+    return (threshold > 0 && !std::isinf(threshold)) || background;
+  }
+
+  bool WarpCancelingModel::factor_solves_target() const
+  {
+    return exact_this_step && cholesky_solver.factor_is_exact();
+  }
+
+  bool WarpCancelingModel::refresh_after_failed_solve(StepStatistics &statistics)
+  {
+    if (!cholesky_solver.factor_is_exact())
+      return ElasticityModel::refresh_after_failed_solve(statistics);
+    if (exact_this_step)
+      return false;
+    exact_step(statistics);
+    return true;
   }
 
   void WarpCancelingModel::save_model_state(BinaryWriter &writer) const
@@ -211,6 +230,13 @@ namespace warpchol::fem
     writer.write(adapted_threshold);
     writer.write(steps_since_top_refresh);
     cost_model.save(writer);
+    writer.write(step_count);
+    writer.write(factor_step);
+    writer.write(last_prepare_seconds);
+    writer.write(last_step_exact);
+    writer.write(last_staleness);
+    if (background)
+      background->save(writer);
   }
 
   void WarpCancelingModel::load_model_state(BinaryReader &reader)
@@ -223,6 +249,13 @@ namespace warpchol::fem
     reader.read(adapted_threshold);
     reader.read(steps_since_top_refresh);
     cost_model.load(reader);
+    reader.read(step_count);
+    reader.read(factor_step);
+    reader.read(last_prepare_seconds);
+    reader.read(last_step_exact);
+    reader.read(last_staleness);
+    if (background)
+      background->load(reader);
   }
 
   void WarpCancelingModel::update_frames(const unsigned int e)
@@ -236,7 +269,15 @@ namespace warpchol::fem
                                         const std::vector<Vector3> &velocities,
                                         StepStatistics             &statistics)
   {
-    // What the last step's solve measured calibrates the cost model.
+    // What the last step measured calibrates the cost model.
+    if (step_count > 0)
+      {
+        const double last_seconds = last_prepare_seconds + last_solve_seconds;
+        if (last_step_exact)
+          cost_model.record_exact_step(last_seconds);
+        else
+          cost_model.record_iterating_step(last_staleness, last_seconds);
+      }
     if (last_cg_iterations > 0)
       cost_model.record_iterations(last_refresh, last_cg_iterations, last_cg_seconds);
     last_refresh = cholesky::Refresh::none;
@@ -254,31 +295,79 @@ namespace warpchol::fem
         adapted_threshold = std::clamp(adapted_threshold * factor, 1e-6, 100.0);
       }
     statistics.update_threshold = adapted_threshold;
+    ++step_count;
+    exact_this_step = false;
 
     evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
     record_no_refactorization(statistics);
+    const Stopwatch stopwatch;
+    prepare_factor(velocities, statistics);
+    last_prepare_seconds = stopwatch.seconds();
+    last_step_exact      = exact_this_step;
+    last_staleness       = step_count - factor_step;
+    if (background)
+      statistics.factor_lag = static_cast<int>(last_staleness);
+  }
 
-    // Updating an element stores the frames S_a^T Q_e of the current rotations: its
-    // contribution to A is made with them until its next update.
-    const unsigned int n_elements = body.n_elements();
+  void WarpCancelingModel::exact_step(StepStatistics &statistics)
+  {
+    {
+      StageTimer timer(statistics.stages, stage::assembly);
+      for (unsigned int e = 0; e < body.n_elements(); ++e)
+        update_frames(e);
+      system.assemble(ElementFrames::warped(stored_frames));
+    }
+    statistics.elements_updated = body.n_elements();
+    record_updates(true);
+    factorize(statistics);
+    factor_step     = step_count;
+    exact_this_step = true;
+  }
+
+  void WarpCancelingModel::prepare_factor(const std::vector<Vector3> &velocities, StepStatistics &statistics)
+  {
+    const bool automatic = strategy.kind == StepStrategy::Kind::automatic;
+    if (background)
+      {
+        const bool took = take_background_refresh(statistics);
+        if (strategy.kind == StepStrategy::Kind::background)
+          {
+            statistics.choice = took ? "background" : "none";
+            if (!took)
+              record_updates(false);
+            return;
+          }
+        if (took)
+          {
+            // A factor exact for the rotations of a few steps ago: iterate on it.
+            statistics.choice            = "background";
+            statistics.predicted_seconds = cost_model.predicted_iterating_seconds(step_count - factor_step);
+            return;
+          }
+      }
 
     if (threshold == 0)
       {
         // Every element is updated: exact corotation, assembled and factored in full.
-        {
-          StageTimer timer(statistics.stages, stage::assembly);
-          for (unsigned int e = 0; e < n_elements; ++e)
-            update_frames(e);
-          system.assemble(ElementFrames::warped(stored_frames));
-        }
-        statistics.elements_updated = n_elements;
-        record_updates(true);
-        factorize(statistics);
+        exact_step(statistics);
         return;
       }
+    const unsigned int staleness = step_count - factor_step;
+    if (automatic && cost_model.exact_step_is_due(staleness))
+      {
+        // Iterating on would cost more than the least average of a cycle that starts now.
+        statistics.choice            = "exact";
+        statistics.predicted_seconds = cost_model.predicted_exact_seconds();
+        exact_step(statistics);
+        return;
+      }
+    if (automatic)
+      statistics.predicted_seconds = cost_model.predicted_iterating_seconds(staleness);
     if (std::isinf(threshold))
       {
-        // Nothing is ever updated: stiffness warping.
+        // Nothing is ever updated: stiffness warping, or the automatic strategy's factor
+        // between its exact steps.
+        statistics.choice = automatic ? "none" : "";
         record_updates(false);
         return;
       }
@@ -299,10 +388,38 @@ namespace warpchol::fem
       }
     // Nothing changed and nothing is left stale: the factor is that of A.
     if (changed_columns.empty() && cholesky_solver.factor_is_exact())
-      return;
+      {
+        statistics.choice = automatic ? "none" : "";
+        return;
+      }
     const cholesky::Refresh refresh = choose_refresh(changed_columns, statistics);
+    if (automatic)
+      statistics.choice = to_string(refresh);
     refactorize(changed_columns, statistics, refresh);
     cost_model.record_factorization(statistics.flops_recomputed, statistics.t_factor());
+  }
+
+  bool WarpCancelingModel::take_background_refresh(StepStatistics &statistics)
+  {
+    StageTimer timer(statistics.stages, stage::background_refresh);
+    // Deterministic (lag N > 0): the refresh of step k at step k + N, waiting if need be.
+    // Otherwise the one that has finished, if any.
+    const unsigned int lag = strategy.kind == StepStrategy::Kind::background ? strategy.background_lag : 0;
+    const bool due = background->in_flight() &&
+                     (lag > 0 ? step_count - background->started_step() >= lag : background->done());
+    if (due)
+      {
+        const unsigned int started = background->started_step();
+        checked([&]() { background->take(system, stored_frames, cholesky_solver); });
+        factor_step        = started;
+        last_refresh       = cholesky::Refresh::all;
+        statistics.refresh = "background";
+        record_updates(true);
+        statistics.elements_updated = body.n_elements();
+      }
+    if (!background->in_flight())
+      background->start(step_count, elastic_state.element_rotations, elastic_state.nodal_rotations);
+    return due;
   }
 
   cholesky::Refresh WarpCancelingModel::choose_refresh(const std::vector<Index> &changed_columns,
@@ -313,6 +430,7 @@ namespace warpchol::fem
       {
         case StepStrategy::Kind::partial:
         case StepStrategy::Kind::preconditioned:
+        case StepStrategy::Kind::background:
           return Refresh::all;
         case StepStrategy::Kind::delayed_top:
           // The top when it is due, or when the last solve showed the factor has become a

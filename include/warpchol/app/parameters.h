@@ -81,13 +81,15 @@ namespace warpchol::app
     /** Subsection "Mesh": a generated torus or box, or a mesh file. */
     struct Mesh
     {
-      /** "torus", "box" or "file". */
-      std::string         source = "torus";
+      /** "torus", "box", "cylinder", "tube" or "file". */
+      std::string           source = "torus";
       /** The mesh file as written in the parameter file. */
-      std::string         file_name;
-      double              scale = 1;
-      fem::TorusGeometry  torus;
-      fem::BoxGeometry    box;
+      std::string           file_name;
+      double                scale = 1;
+      fem::TorusGeometry    torus;
+      fem::BoxGeometry      box;
+      fem::CylinderGeometry cylinder;
+      fem::TubeGeometry     tube;
 
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);

@@ -35,6 +35,9 @@ namespace warpchol::cholesky
     ~SupernodalFactor();
     SupernodalFactor(const SupernodalFactor &other);
     SupernodalFactor &operator=(const SupernodalFactor &other);
+    /** Moves hand the values over without copying them (a swap of factors is cheap). */
+    SupernodalFactor(SupernodalFactor &&other) noexcept;
+    SupernodalFactor &operator=(SupernodalFactor &&other) noexcept;
 
     /**
      * Allocate the values for the structure @p symbolic (which every later call is given
@@ -56,9 +59,11 @@ namespace warpchol::cholesky
                      const std::vector<Index> &start_offsets, unsigned int n_threads);
 
     /**
-     * Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x. With
-     * @p n_threads > 1, independent subtrees of the tree are solved side by side (the same
-     * result to rounding: the top's rows sum the subtrees' parts in another order).
+     * Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x.
+     * Independent subtrees of the tree are solved side by side on @p n_threads threads,
+     * each summing what it subtracts from the top's rows in its own buffer, added in
+     * subtree order; the split does not depend on the number of threads, so neither do
+     * the bits of the result.
      */
     void solve(const SupernodalSymbolic &symbolic, double *x, Index n_rhs, unsigned int n_threads = 1) const;
 

@@ -249,6 +249,12 @@ namespace warpchol::cholesky
     const Settings &settings() const;
 
     /**
+     * Factor and solve on @p n_threads threads from now on (Settings::n_threads): a copy
+     * that factors beside the steps on a thread of its own takes one.
+     */
+    void set_thread_count(unsigned int n_threads);
+
+    /**
      * Write the numeric state to a checkpoint: the loaded values of A, the factor as it is
      * (exact or partly refreshed), what is pending and stale. The analysis is not written:
      * analyze() of the same matrix redoes it exactly.

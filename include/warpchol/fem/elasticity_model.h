@@ -11,6 +11,7 @@
 
 #include <deal.II/lac/vector.h>
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -55,6 +56,8 @@ namespace warpchol::fem
     constexpr const char *cg_iterations = "CG iterations";
     /** WCC with a target error: the step's velocity error against exact corotation. */
     constexpr const char *velocity_error = "velocity error";
+    /** Strategy = background: copying the rotations to a refresh and waiting for one to finish. */
+    constexpr const char *background_refresh = "background refresh";
     /** x += dt v, with the check that the velocities are finite. */
     constexpr const char *position_update = "position update";
   } // namespace stage
@@ -86,6 +89,12 @@ namespace warpchol::fem
     double t_factor() const;
     double t_solve() const;
     double t_iterations() const;
+    /**
+     * What the step spent keeping its factor up to date and solving, the element pass
+     * excluded: estimate, assembly, refresh choice, factorization, background refresh,
+     * solve and CG iterations (what the automatic strategy weighs).
+     */
+    double strategy_seconds() const;
 
     /** How much of the factor was brought up to date ("all", "below_top", "none"; "" if nothing changed). */
     std::string refresh;
@@ -98,6 +107,19 @@ namespace warpchol::fem
     double velocity_error = -1;
     /** The WCC update threshold of the step (negative for the other models). */
     double update_threshold = -1;
+    /**
+     * Steps between the rotations the factor was made with and this step (Strategy =
+     * background; negative for the others).
+     */
+    int factor_lag = -1;
+    /**
+     * Strategy = auto or background: what the step chose ("exact": every element updated,
+     * factored in full, solved directly; "all", "below_top", "none": the refresh of a step
+     * that iterates; "background": a step that took a refresh made beside the steps), and
+     * the seconds the cost model predicted for it (negative if none); "" otherwise.
+     */
+    std::string choice;
+    double      predicted_seconds = -1;
 
     /** Add the stage times of @p step to these: totals over steps. */
     void add_phase_times(const StepStatistics &step);
@@ -218,6 +240,20 @@ namespace warpchol::fem
      * full): only then does a checkpoint hold them. False by default.
      */
     virtual bool matrix_carries_over() const;
+    /**
+     * CG did not converge with the factor of A as the preconditioner: bring A and its
+     * factor closer to the target matrix and return true, or return false when nothing
+     * better can be done (then solve() gives up). By default: refactorize what is pending
+     * or stale if the factor is not exact.
+     */
+    virtual bool refresh_after_failed_solve(StepStatistics &statistics);
+
+    /**
+     * Whether the factor of A is, this step, the exact factor of the matrix an iterating
+     * strategy would iterate on: solve() then solves directly. False by default.
+     */
+    virtual bool factor_solves_target() const;
+
     /** What a derived model carries from step to step besides the base's: none by default. */
     virtual void save_model_state(BinaryWriter &writer) const;
     virtual void load_model_state(BinaryReader &reader);
@@ -236,6 +272,9 @@ namespace warpchol::fem
      */
     void refactorize(const std::vector<Index> &changed_columns, StepStatistics &statistics,
                      cholesky::Refresh refresh = cholesky::Refresh::all);
+
+    /** Run @p factor; a failed pivot becomes a MatrixError naming column and vertex. */
+    void checked(const std::function<void()> &factor);
 
     /** The sizes a step that does not refactorize reports (columns and full flops). */
     void record_no_refactorization(StepStatistics &statistics) const;
@@ -272,6 +311,8 @@ namespace warpchol::fem
     /** What the last solve() did: its CG iterations and their seconds (solves included). */
     unsigned int             last_cg_iterations = 0;
     double                   last_cg_seconds    = 0;
+    /** The seconds of the last solve(), direct or by CG, refreshes after a failed CG included. */
+    double                   last_solve_seconds = 0;
     /**
      * Whether solve() measures how far its solution is from the exact corotational one
      * (StepStatistics::velocity_error, kept in last_velocity_error): one matrix-free
@@ -286,6 +327,10 @@ namespace warpchol::fem
     std::unique_ptr<backends::LinearSolver> peer_solver;
 
   private:
+    /** solve(), untimed: it calls itself again after a refresh of a failed CG. */
+    void solve_in_frame(const std::vector<Vector3> &right_hand_side, std::vector<Vector3> &velocities,
+                        StepStatistics &statistics);
+
     /**
      * y = B^-1 b by preconditioned CG from the initial guess @p y, B the strategy's target
      * matrix in the solve frame, the factor of A the preconditioner. Returns the
@@ -315,10 +360,6 @@ namespace warpchol::fem
     /** Work arrays of the matrix-free products (per vertex, per element). */
     mutable std::vector<Vector3> vertex_work, vertex_product, mass_product;
     mutable std::vector<Matrix3> element_work;
-
-    /** Run @p factor; a failed pivot becomes a MatrixError naming column and vertex. */
-    template <typename Factor>
-    void checked(const Factor &factor);
 
     /** A full factorization of A by the peer's solver, recorded in @p statistics. */
     void factorize_with_peer(StepStatistics &statistics);

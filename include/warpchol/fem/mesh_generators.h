@@ -70,4 +70,39 @@ namespace warpchol::fem
 
   /** Fill @p triangulation (cleared first) with the tetrahedral box of @p geometry. */
   void create_box(dealii::Triangulation<3> &triangulation, const BoxGeometry &geometry);
+
+  /**
+   * A solid circular cylinder along the x axis from x = 0 to x = @p length (deal.II's
+   * GridGenerator::subdivided_cylinder: a cross-section of 5 hexahedra, @p axial_cells
+   * layers), refined @p refinements times on its curved surface: a slender rod or beam.
+   */
+  struct CylinderGeometry
+  {
+    double       radius       = 0.025;
+    double       length       = 1;
+    unsigned int axial_cells  = 20;
+    unsigned int refinements  = 1;
+  };
+
+  /** Fill @p triangulation (cleared first) with the tetrahedral cylinder of @p geometry. */
+  void create_cylinder(dealii::Triangulation<3> &triangulation, const CylinderGeometry &geometry);
+
+  /**
+   * A tube along the z axis from z = 0 to z = @p length, the space between two coaxial
+   * cylinders (deal.II's GridGenerator::cylinder_shell: one layer of hexahedra through the
+   * wall, @p circumferential_cells around it, @p axial_cells along it), refined
+   * @p refinements times: a vessel.
+   */
+  struct TubeGeometry
+  {
+    double       inner_radius         = 0.004;
+    double       outer_radius         = 0.005;
+    double       length               = 0.1;
+    unsigned int circumferential_cells = 12;
+    unsigned int axial_cells          = 20;
+    unsigned int refinements          = 0;
+  };
+
+  /** Fill @p triangulation (cleared first) with the tetrahedral tube of @p geometry. */
+  void create_tube(dealii::Triangulation<3> &triangulation, const TubeGeometry &geometry);
 } // namespace warpchol::fem

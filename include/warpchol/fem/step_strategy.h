@@ -42,7 +42,15 @@ namespace warpchol::fem
        * Per step, the cheapest of refreshing all, below the top or nothing, by a cost model
        * calibrated from the measured flop rate and iteration times; preconditioned CG.
        */
-      automatic
+      automatic,
+      /**
+       * Refresh on a thread of its own (BackgroundRefresh): the matrix with every element
+       * updated at one step's rotations is assembled and factored beside the steps, which
+       * meanwhile solve by CG preconditioned with the last factor that finished; the new
+       * one is taken at a step boundary (background_lag). No element is updated by the
+       * steps themselves: the threshold is not used.
+       */
+      background
     };
 
     /** The matrix preconditioned CG solves with. */
@@ -63,12 +71,19 @@ namespace warpchol::fem
     unsigned int refresh_interval = 10;
     /** delayed_top: and after a solve that needed more than this many iterations. */
     unsigned int refresh_iterations = 8;
+    /**
+     * background: 0, a refresh is taken at the first step boundary after it finished (as
+     * fast as the machine allows, the lag varying with it); N > 0, the refresh started at
+     * step k is taken at step k + N, the step waiting for it if need be (the same bits
+     * whatever the machine and the threads: tests, checkpoints).
+     */
+    unsigned int background_lag = 0;
 
     /** Whether the step's system is solved by preconditioned CG (all but partial). */
     bool iterates() const;
   };
 
-  /** "partial", "delayed_top", "preconditioned", "auto". */
+  /** "partial", "delayed_top", "preconditioned", "auto", "background". */
   std::string to_string(StepStrategy::Kind kind);
   /** The inverse of to_string(); throws InputError listing the valid names. */
   StepStrategy::Kind parse_step_strategy(const std::string &name);
@@ -79,25 +94,56 @@ namespace warpchol::fem
   std::string to_string(cholesky::Refresh refresh);
 
   /**
-   * The cost model of the automatic strategy: what a step will cost with each refresh,
+   * The cost model of the automatic strategy: what a step will cost with each choice,
+   * counting everything the step pays after the element pass (the estimate and the
+   * re-assembly of WCC's updates, the factorization, the solve or CG's iterations), from
+   * what was measured so far (exponential moving averages, so that it follows the run).
+   *
+   * Within a step that iterates, the refresh of the factor:
    *   seconds(refresh) = flops(refresh) / flop rate + iterations(refresh) * seconds per iteration,
-   * with the flops the solver predicts, and the rates and iteration counts measured so far
-   * (exponential moving averages, so they follow the run). The iterations expected after
-   * refreshing all or below the top are those seen after the last such refreshes; with no
-   * refresh, one more than the last step's (the factor only grows staler).
+   * with the flops the solver predicts; the iterations after refreshing all or below the
+   * top are those seen after the last such refreshes, with no refresh one more than the
+   * last step's (the factor only grows staler).
+   *
+   * Between steps, when to make the factor exact (an exact step: every element updated,
+   * A assembled and factored in full, a direct solve): a refresh serves the steps after
+   * it, which iterate the more the staler the factor is. With C the cost of an exact step
+   * and c(s) that of a step s steps after it, a cycle of P steps costs on average
+   *   a(P) = (C + c(1) + ... + c(P - 1)) / P,
+   * least at some P*; the exact step is due as soon as the next step would cost more than
+   * that least average, c(s + 1) > a(P*) (the rule of renewal: replace when the marginal
+   * cost passes the least average cost). c(s) is measured per staleness s; where it was not
+   * measured yet, the last measured one stands for it. When c(s + 1) exceeds C the rule
+   * runs the exact step: never slower than exact, as far as the measurements foresee.
    */
-  class RefreshCostModel
+  class StepCostModel
   {
   public:
     /** A factorization of @p flops took @p seconds. */
     void record_factorization(double flops, double seconds);
     /** A solve after @p refresh took @p iterations iterations in @p seconds. */
     void record_iterations(cholesky::Refresh refresh, unsigned int iterations, double seconds);
+    /** An exact step cost @p seconds (assembly, factorization and solve). */
+    void record_exact_step(double seconds);
+    /** An iterating step @p staleness steps after the last exact factor cost @p seconds. */
+    void record_iterating_step(unsigned int staleness, double seconds);
 
-    /** The predicted seconds of a step that refreshes with @p refresh at @p flops. */
+    /** The predicted seconds of a step that refreshes with @p refresh at @p flops, then iterates. */
     double predicted_seconds(cholesky::Refresh refresh, double flops) const;
 
-    /** Whether enough was measured to predict: before that, refresh all. */
+    /** The predicted seconds of an exact step (negative before one was measured). */
+    double predicted_exact_seconds() const;
+    /** The predicted seconds of an iterating step @p staleness steps after the exact factor (negative if unknown). */
+    double predicted_iterating_seconds(unsigned int staleness) const;
+
+    /**
+     * Whether the step @p staleness steps after the last exact factor should be exact
+     * (the rule above); true before an exact step was measured, false before an
+     * iterating one was.
+     */
+    bool exact_step_is_due(unsigned int staleness) const;
+
+    /** Whether enough was measured to weigh the refreshes of an iterating step: before that, refresh all. */
     bool calibrated() const;
 
     /** Write what was measured so far to a checkpoint. */
@@ -105,10 +151,16 @@ namespace warpchol::fem
     void load(BinaryReader &reader);
 
   private:
-    double flop_rate            = 0;
+    /** Staleness past this is counted as this. */
+    static constexpr unsigned int longest_staleness = 64;
+
+    double flop_rate             = 0;
     double seconds_per_iteration = 0;
     double iterations_after_all  = 0;
     double iterations_after_top  = -1;
     double last_iterations       = 0;
+    double exact_seconds         = -1;
+    /** c(s) for s = 1 .. longest_staleness at [s - 1]; negative where not measured. */
+    std::vector<double> iterating_seconds = std::vector<double>(longest_staleness, -1.);
   };
 } // namespace warpchol::fem

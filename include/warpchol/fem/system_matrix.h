@@ -139,6 +139,15 @@ namespace warpchol::fem
     std::vector<Index> reassemble(const std::vector<unsigned int> &changed_elements,
                                   const ElementMatrixFunction     &element_matrix);
 
+    /**
+     * Assemble on @p n_threads threads from now on; 0 (the default): as many as deal.II's
+     * MultithreadInfo allows. A copy assembling beside the steps takes one.
+     */
+    void set_thread_count(unsigned int n_threads);
+
+    /** Exchange A's values with those of @p other, a matrix of the same body. */
+    void swap_values(SystemMatrix &other);
+
     /** A's lower triangle (unknown numbering): what the solver factors. */
     const sparse::CSCMatrix &lower() const;
     /** A in CSC form with full storage, same values (made from lower() when asked). */
@@ -211,6 +220,8 @@ namespace warpchol::fem
     /** The ranges of the threaded assembly, made for ranges_threads threads. */
     std::vector<ColumnRange>     ranges;
     unsigned int                 ranges_threads = 0;
+    /** set_thread_count(): 0 for deal.II's number. */
+    unsigned int                 thread_count = 0;
 
     /** The forms made on request, and where their entries come from in lower(). */
     mutable sparse::CSCMatrix                             full_matrix;

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/fem/background_refresh.h>
 #include <warpchol/fem/elasticity_model.h>
 
 #include <array>
@@ -115,8 +116,18 @@ namespace warpchol::fem
     const StepStrategy &step_strategy() const;
 
   protected:
-    /** At a threshold strictly between 0 and inf: A is re-assembled in part, its factor refreshed in part. */
+    /**
+     * At a threshold strictly between 0 and inf, A is re-assembled in part and its factor
+     * refreshed in part; with Strategy = background, both come from the refreshes.
+     */
     bool matrix_carries_over() const override;
+    /**
+     * After CG failed with an exact factor of A: update every element to the current
+     * rotations (A is then the exact corotational matrix) and factor it in full.
+     */
+    bool refresh_after_failed_solve(StepStatistics &statistics) override;
+    /** After a step that updated every element: A is the exact corotational matrix. */
+    bool factor_solves_target() const override;
     /** The stored frames, the adapted threshold and what the strategy measured. */
     void save_model_state(BinaryWriter &writer) const override;
     void load_model_state(BinaryReader &reader) override;
@@ -151,12 +162,38 @@ namespace warpchol::fem
     /** Work array of the estimate: R_v^T v_v per vertex. */
     std::vector<Vector3> nodal_velocities;
 
+    /**
+     * Bring A and its factor up to date as the strategy says, after the element pass:
+     * what prepare_step() times as the step's own work.
+     */
+    void prepare_factor(const std::vector<Vector3> &velocities, StepStatistics &statistics);
+
+    /** Update every element to the current rotations, assemble A and factor it in full. */
+    void exact_step(StepStatistics &statistics);
+
+    /**
+     * Take the background refresh in flight if it is due (Strategy = background: after
+     * Background lag steps, or as soon as it is done with lag 0; auto: as soon as it is
+     * done) and start the next one if none is in flight. Returns whether it took one.
+     */
+    bool take_background_refresh(StepStatistics &statistics);
+
+    /** Strategy = background: the refresh that runs beside the steps. */
+    std::unique_ptr<BackgroundRefresh> background;
+    /** The steps prepared so far (the step being prepared is step_count). */
+    unsigned int step_count = 0;
+    /** The step whose rotations A and its factor were made with (0: at rest). */
+    unsigned int factor_step = 0;
+    /** Whether A is the exact corotational matrix of this step's rotations, factored. */
+    bool exact_this_step = false;
+    /** What the last step measured for the cost model: its own seconds, whether it was exact, its staleness. */
+    double       last_prepare_seconds = 0;
+    bool         last_step_exact      = false;
+    unsigned int last_staleness       = 0;
+
     /** delayed_top: steps since the top was last refreshed. */
     unsigned int     steps_since_top_refresh = 0;
     /** automatic: what each refresh will cost. */
-    RefreshCostModel cost_model;
-
-    std::vector<Matrix3> element_rotations;
-    std::vector<Matrix3> nodal_rotations;
+    StepCostModel    cost_model;
   };
 } // namespace warpchol::fem
