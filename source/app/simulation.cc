@@ -5,7 +5,6 @@
 #include <warpchol/base/input_file.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/ordering.h>
-#include <warpchol/distributed/distributed_simulation.h>
 #include <warpchol/fem/energy_balance.h>
 #include <warpchol/fem/warp_canceling_model.h>
 
@@ -836,10 +835,6 @@ namespace warpchol::app
   int main(const int argc, const char *const *argv, std::ostream &out, std::ostream &err)
   {
     const std::vector<std::string> arguments(argv + 1, argv + argc);
-    const bool names_a_file = !arguments.empty() && !arguments[0].empty() && arguments[0][0] != '-';
-    if (names_a_file && ((arguments.size() == 2 && arguments[1] == "--distributed") ||
-                         (arguments.size() == 1 && distributed::launched_on_several_ranks())))
-      return distributed::run_distributed(argc, argv, arguments[0], out, err);
     return report_errors(err, [&] {
       if (arguments.size() == 1 && (arguments[0] == "--help" || arguments[0] == "-h"))
         {
