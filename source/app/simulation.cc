@@ -794,7 +794,8 @@ namespace warpchol::app
                         "                                    PETSc), on N ranks or on one\n"
                         "       warpchol --print-parameters [FILE]\n"
                         "                                    write the documented defaults\n"
-                        "                                    (to FILE, or standard output)";
+                        "                                    (to FILE, which must not exist, or\n"
+                        "                                    standard output)";
   }
 
   int report_errors(std::ostream &err, const std::function<void()> &action, const bool print)
@@ -846,7 +847,15 @@ namespace warpchol::app
           if (arguments.size() > 2)
             throw InputError("--print-parameters takes at most one file name");
           if (arguments.size() == 2)
-            write_file_atomically(arguments[1], [](std::ostream &file) { AllParameters::print_defaults(file); });
+            {
+              // It replaced a scene once: a file that exists is left alone (standard
+              // output, redirected, replaces one on purpose).
+              std::error_code error;
+              if (std::filesystem::exists(arguments[1], error))
+                throw InputError(arguments[1] + ": exists already: --print-parameters writes a new file only "
+                                                "(warpchol --print-parameters > FILE replaces one)");
+              write_file_atomically(arguments[1], [](std::ostream &file) { AllParameters::print_defaults(file); });
+            }
           else
             AllParameters::print_defaults(out);
           return;
