@@ -12,21 +12,14 @@ using namespace warpchol;
 
 namespace
 {
-  /** Print "label: read, RxC, N entries stored" or "label: the error's message". */
   void read(const std::string &label, const std::string &filename, const std::string &text)
   {
     std::ofstream(filename) << text;
-    std::cout << label << ": ";
-    try
-      {
-        const sparse::CSCMatrix matrix = sparse::read_symmetric_matrix_market(filename);
-        std::cout << "read, " << matrix.n_rows << "x" << matrix.n_cols << ", " << matrix.n_nonzeros()
-                  << " entries stored" << std::endl;
-      }
-    catch (const Error &error)
-      {
-        std::cout << error.what() << std::endl;
-      }
+    tests::print_result_or_error(label, [&] {
+      const sparse::CSCMatrix matrix = sparse::read_symmetric_matrix_market(filename);
+      return "read, " + std::to_string(matrix.n_rows) + "x" + std::to_string(matrix.n_cols) + ", " +
+             std::to_string(matrix.n_nonzeros()) + " entries stored";
+    });
   }
 
   const std::string general = "%%MatrixMarket matrix coordinate real general\n";

@@ -14,20 +14,13 @@ using namespace warpchol;
 
 namespace
 {
-  /** Print "label: N tets" or "label: the error's message". */
   void read(const std::string &label, const std::string &filename)
   {
-    std::cout << label << ": ";
-    try
-      {
-        dealii::Triangulation<3> triangulation;
-        fem::read_mesh(filename, triangulation);
-        std::cout << triangulation.n_active_cells() << " tets" << std::endl;
-      }
-    catch (const Error &error)
-      {
-        std::cout << error.what() << std::endl;
-      }
+    tests::print_result_or_error(label, [&] {
+      dealii::Triangulation<3> triangulation;
+      fem::read_mesh(filename, triangulation);
+      return std::to_string(triangulation.n_active_cells()) + " tets";
+    });
   }
 
   /** Gmsh 1: two neighbours sharing a face, then @p more element lines. */
