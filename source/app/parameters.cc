@@ -756,8 +756,9 @@ namespace warpchol::app
                         "seconds per step, share of the run); false leaves what depends on the "
                         "model alone, the same from run to run and from solver to solver, and "
                         "lists the stages by name");
-      prm.declare_entry("Progress", "auto", Patterns::Selection("auto|on|off"),
-                        "A progress line on standard error: auto shows it on a terminal");
+      prm.declare_entry("Progress", "auto", Patterns::Selection("auto|on|off|true|false|yes|no"),
+                        "A progress line on standard error: auto shows it on a terminal; on "
+                        "(or true, yes) always, off (or false, no) never");
       prm.declare_entry("Compare with corotational", "false", Patterns::Bool(),
                         "Also run the exact corotational model, in step (not timed), and report "
                         "the trajectory error max_i |x_i - x_i(corotational)| and the RMS error "
@@ -781,7 +782,12 @@ namespace warpchol::app
       vtu_precision = prm.get("VTU precision");
       write_log     = prm.get_bool("Write log");
       print_timings = prm.get_bool("Print timings");
-      progress      = prm.get("Progress");
+      // The words of a Bool entry mean on and off, as in the other switches.
+      progress = prm.get("Progress");
+      if (progress == "true" || progress == "yes")
+        progress = "on";
+      else if (progress == "false" || progress == "no")
+        progress = "off";
       compare_with_corotational = prm.get_bool("Compare with corotational");
       checkpoint_interval       = prm.get_integer("Checkpoint interval");
       prm.leave_subsection();

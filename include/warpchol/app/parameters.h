@@ -237,7 +237,7 @@ namespace warpchol::app
       std::string  vtu_precision = "float32";
       bool         write_log    = true;
       bool         print_timings = true;
-      /** "auto" (when standard error is a terminal), "on" or "off". */
+      /** "auto" (when standard error is a terminal), "on" or "off" (true/yes, false/no in the file). */
       std::string  progress = "auto";
       /** Run the exact corotational model alongside and log the trajectory error. */
       bool         compare_with_corotational = false;
