@@ -133,7 +133,7 @@ namespace warpchol::app
           if (!rest.empty() && rest[0] == ' ')
             rest.erase(0, 1);
           // A line of the text with its includes written out: the file and line it is.
-          const std::string where = file_name == file.filename() && !line.empty() &&
+          const std::string where = file_name == file.filename() && !line.empty() && line.size() < 10 &&
                                         line.find_first_not_of("0123456789") == std::string::npos ?
                                       file.origin(std::stoi(line)) :
                                       file_name + ":" + line;
