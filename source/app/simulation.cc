@@ -44,12 +44,15 @@ namespace warpchol::app
 
     /**
      * Whether entry @p name may differ between the run that wrote a checkpoint and the
-     * one that resumes from it: none of them changes a result.
+     * one that resumes from it: the number of steps (a stopped run may be extended) and what
+     * only says where and how the results are shown, which changes no step. Not the log or
+     * the corotational reference, whose rows and state the checkpoint holds.
      */
     bool may_differ_on_resume(const std::string &name)
     {
-      for (const char *entry : {"Time stepping/Number of steps", "Output/Checkpoint interval",
-                                "Output/Progress", "Output/Print timings"})
+      for (const char *entry : {"Time stepping/Number of steps", "Output/Directory", "Output/Scene",
+                                "Output/VTU interval", "Output/VTU precision", "Output/Print timings",
+                                "Output/Progress", "Output/Checkpoint interval"})
         if (name == entry)
           return true;
       return false;
@@ -411,10 +414,13 @@ namespace warpchol::app
         if (simulated.log)
           simulated.log->load(reader);
       }
-    if (reader.get<bool>() != (vtu_series != nullptr))
-      reader.fail("the VTU series differs");
-    if (vtu_series)
-      vtu_series->load(reader);
+    // The files the run wrote so far: listed on in the series, or read past by a run that
+    // writes none now (VTU interval = 0); one that did not write any starts its series here.
+    if (reader.get<bool>())
+      {
+        VtuSeries not_written_now(directory, parameters.scene_name(), parameters.output.vtu_precision);
+        (vtu_series ? *vtu_series : not_written_now).load(reader);
+      }
     reader.expect_section("end");
     first_step = step + 1;
   }
