@@ -57,15 +57,23 @@ int main()
   });
 
   std::cout << "-- errors in included files" << std::endl;
-  tests::write_file("library/scenes/bad_value.prm", "subsection Material\n  set Poisson's ratio = 0.5\nend\n");
-  tests::write_file("mine/bad_value.prm", "# comment\ninclude ../library/scenes/bad_value.prm\n");
-  read("a value out of range", "mine/bad_value.prm");
-  tests::write_file("library/scenes/unknown.prm", "subsection Material\n\n  set Stiffness = 3\nend\n");
-  tests::write_file("mine/unknown.prm", "subsection Gravity\nend\ninclude ../library/scenes/unknown.prm\n");
-  read("an unknown entry", "mine/unknown.prm");
-  tests::write_file("library/scenes/unclosed.prm", "subsection Material\n  set Density = 3\n");
-  tests::write_file("mine/unclosed.prm", "include ../library/scenes/unclosed.prm\nend\n");
-  read("a subsection left open", "mine/unclosed.prm");
-  tests::write_file("mine/missing.prm", "include pull.prm\n");
-  read("a file of the working directory's, not of this folder", "mine/missing.prm");
+  // Per case: the file in library/scenes/ (if any) and mine/NAME.prm, which includes it.
+  const struct
+  {
+    const char *label, *name, *included, *including;
+  } errors[] = {
+    {"a value out of range", "bad_value", "subsection Material\n  set Poisson's ratio = 0.5\nend\n",
+     "# comment\ninclude ../library/scenes/bad_value.prm\n"},
+    {"an unknown entry", "unknown", "subsection Material\n\n  set Stiffness = 3\nend\n",
+     "subsection Gravity\nend\ninclude ../library/scenes/unknown.prm\n"},
+    {"a subsection left open", "unclosed", "subsection Material\n  set Density = 3\n",
+     "include ../library/scenes/unclosed.prm\nend\n"},
+    {"a file of the working directory's, not of this folder", "missing", nullptr, "include pull.prm\n"}};
+  for (const auto &error : errors)
+    {
+      if (error.included)
+        tests::write_file("library/scenes/" + std::string(error.name) + ".prm", error.included);
+      tests::write_file("mine/" + std::string(error.name) + ".prm", error.including);
+      read(error.label, "mine/" + std::string(error.name) + ".prm");
+    }
 }
