@@ -33,19 +33,22 @@ int main()
   std::filesystem::create_directories("mine");
   tests::write_file("library/meshes/two.msh", two_tetrahedra);
   tests::write_file("library/scenes/pull.prm", "subsection Mesh\n  set Source = file\n"
-                                               "  set File = ../meshes/two.msh\nend\n"
-                                               "include parts/material.prm\n");
+                                               "  set File = ../meshes/two.msh\nend\n");
+  tests::write_file("library/scenes/heavy_pull.prm", "include parts/material.prm\ninclude pull.prm\n");
   tests::write_file("library/scenes/parts/material.prm", "subsection Material\n  set Density = 3\nend\n");
 
   tests::write_file("mine/relative.prm", "include ../library/scenes/pull.prm\n");
   read("include by a relative path", "mine/relative.prm");
   tests::write_file("mine/absolute.prm", "include " + std::filesystem::absolute("library/scenes/pull.prm").string() + "\n");
-  {
+  tests::print_result_or_error("include by an absolute path", [] {
     const std::string mesh = warpchol::app::AllParameters("mine/absolute.prm").mesh_file_path();
     const std::string end  = "/library/scenes/../meshes/two.msh";
-    tests::check("include by an absolute path: the mesh in the included file's folder",
-                 mesh.size() > end.size() && mesh.compare(mesh.size() - end.size(), end.size(), end) == 0);
-  }
+    return mesh.size() > end.size() && mesh.compare(mesh.size() - end.size(), end.size(), end) == 0 ?
+             std::string("the mesh in the included file's folder") :
+             "the mesh at " + mesh;
+  });
+  tests::write_file("mine/nested.prm", "include ../library/scenes/heavy_pull.prm\n");
+  read("an included file that includes others", "mine/nested.prm");
   tests::write_file("mine/two.msh", two_tetrahedra);
   tests::write_file("mine/own_mesh.prm", "include ../library/scenes/pull.prm\n"
                                          "subsection Mesh\n  set File = two.msh\nend\n");

@@ -56,9 +56,9 @@ int main()
 
   tests::write_file("resumed.prm", scene(30, "results",
                                          "  set VTU interval = 5\n  set VTU precision = float64\n"
-                                         "  set Print timings = true\n  set Progress = false\n"
+                                         "  set Print timings = true\n  set Progress = auto\n"
                                          "  set Checkpoint interval = 3\n"));
-  const auto resumed = run("resumed with VTU interval 5, float64, timings, checkpoints every 3", "resumed.prm", true);
+  const auto resumed = run("resumed with VTU interval 5, float64, timings, progress auto, checkpoints every 3", "resumed.prm", true);
   std::cout << "  the series lists the steps" << pvd_steps() << std::endl;
   tests::check("  the files after the checkpoint are float64",
                tests::read_file("results/resumed/resumed-00025.vtu").find("Float64") != std::string::npos);
