@@ -99,7 +99,7 @@ namespace warpchol::app
       longest_title = std::max(longest_title, group.size());
     const double height = 650, key_width = 90 + 9 * static_cast<double>(longest_title);
     const double width  = 1500 + key_width;
-    const auto   fraction = [&](const double pixels, const double of) { return format_number(pixels / of, 4); };
+    const auto   fraction = [](const double pixels, const double of) { return format_number(pixels / of, 4); };
     const std::string size = std::to_string(static_cast<int>(width)) + "," + std::to_string(static_cast<int>(height));
 
     std::ostringstream out;
