@@ -107,7 +107,7 @@ namespace
 
   void run(const Options &options)
   {
-    sparse::CSCMatrix        matrix = sparse::read_matrix_market(options.matrix_file);
+    sparse::CSCMatrix        matrix = sparse::read_symmetric_matrix_market(options.matrix_file);
     cholesky::SparseCholesky solver(options.solver);
     solver.analyze(matrix);
     // With --compare cholmod, CHOLMOD's supernodal factorization of the same matrix with

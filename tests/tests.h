@@ -76,6 +76,24 @@ namespace tests
       }
   }
 
+  /**
+   * Run @p action and print "label: <what it returns>", or "label: <message>" of the
+   * warpchol::Error it throws: what is read, or why it is refused.
+   */
+  inline void print_result_or_error(const std::string &label, const std::function<std::string()> &action)
+  {
+    std::string result;
+    try
+      {
+        result = action();
+      }
+    catch (const warpchol::Error &error)
+      {
+        result = error.what();
+      }
+    std::cout << label << ": " << result << std::endl;
+  }
+
   /** A small deterministic generator (splitmix64), the same on every platform. */
   class Random
   {

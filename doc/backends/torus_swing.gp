@@ -60,18 +60,17 @@ $front_rms << EOD
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
-  set terminal pngcairo size 1500,650 font ",11"
+  set terminal pngcairo size 1788,650 font ",11"
 } else {
-  set terminal png size 1500,650
+  set terminal png size 1788,650
 }
 set termoption noenhanced
 set output "doc/backends/torus_swing.png"
-set multiplot layout 1,2 title "torus_swing: 10302 unknowns, 100 steps, 1 thread(s); error against the exact corotational run"
+set multiplot layout 1,2 margins 0.05034, 0.8389, 0.1077, 0.9154 spacing 0.06152 title "torus_swing: 10302 unknowns, 100 steps, 1 thread(s); error against the exact corotational run"
 set logscale y
 set format y "%.0e"
 set grid
-set key below horizontal
-set bmargin 6
+set key at screen 0.8473, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
 set xrange [0:0.298892]
 set arrow 1 from 0.0386034, graph 0 to 0.0386034, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
@@ -98,6 +97,7 @@ plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "P
      $group8 using 1:2:4 with labels left offset 0.8, 0.7 textcolor rgb "#a0522d" notitle, \
      $group9 using 1:2 with points pointtype 10 pointsize 1.6 linecolor rgb "#ff69b4" title "WCC target error", \
      $group9 using 1:2:4 with labels left offset 0.8, -0.7 textcolor rgb "#ff69b4" notitle
+unset key
 set ylabel "RMS error over the largest displacement (max over steps)"
 plot $front_rms using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

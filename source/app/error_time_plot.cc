@@ -88,6 +88,20 @@ namespace warpchol::app
     const bool log_seconds = smallest_seconds > 0 && largest_seconds > 30 * smallest_seconds;
 
     const auto number = [](const double value) { return format_number(value, 6); };
+
+    // The legend is a column of its own right of both panels, outside their axes, so that
+    // no number of groups brings it onto a tick label or an axis label: the picture widens
+    // by the column, as wide as the longest title (pngcairo's 11 points take about 8
+    // pixels a character; 9 here, and the sample before it), and the panels keep their
+    // 1500 x 650 pixels.
+    std::size_t longest_title = std::string("Pareto front").size();
+    for (const auto &group : groups)
+      longest_title = std::max(longest_title, group.size());
+    const double height = 650, key_width = 90 + 9 * static_cast<double>(longest_title);
+    const double width  = 1500 + key_width;
+    const auto   fraction = [](const double pixels, const double of) { return format_number(pixels / of, 4); };
+    const std::string size = std::to_string(static_cast<int>(width)) + "," + std::to_string(static_cast<int>(height));
+
     std::ostringstream out;
     out << "# The error-against-time study, written by warpchol-threshold-sweep: edit and\n"
         << "# rerun with `gnuplot THIS_FILE` from the directory the sweep ran in.\n"
@@ -138,18 +152,22 @@ namespace warpchol::app
       }
 
     out << "\nif (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
-        << "  set terminal pngcairo size 1500,650 font \",11\"\n"
+        << "  set terminal pngcairo size " << size << " font \",11\"\n"
         << "} else {\n"
-        << "  set terminal png size 1500,650\n"
+        << "  set terminal png size " << size << "\n"
         << "}\n"
         << "set termoption noenhanced\n"
         << "set output " << quoted(png_file) << "\n"
-        << "set multiplot layout 1,2 title " << quoted(title) << "\n"
+        // Margins (left, right, bottom, top) and the space between the panels, in parts of
+        // the picture: room for the y labels, the x labels, the title and the legend.
+        << "set multiplot layout 1,2 margins " << fraction(90, width) << ", " << fraction(width - key_width, width)
+        << ", " << fraction(70, height) << ", " << fraction(height - 55, height) << " spacing "
+        << fraction(110, width) << " title " << quoted(title) << "\n"
         << "set logscale y\n"
         << "set format y \"%.0e\"\n"
         << "set grid\n"
-        << "set key below horizontal\n"
-        << "set bmargin 6\n"
+        << "set key at screen " << fraction(width - key_width + 15, width) << ", screen "
+        << fraction(height - 55, height) << " left top vertical Left reverse\n"
         << "set xlabel \"seconds per step\"\n"
         << (log_seconds ? "set logscale x\nset xrange [" + number(0.7 * smallest_seconds) + ":" +
                             number(1.4 * largest_seconds) + "]\n" :
@@ -161,6 +179,9 @@ namespace warpchol::app
         << number(reference_seconds_per_step) << ", graph 0.5 center rotate by 90 offset -1.2, 0\n";
     for (const bool rms : {false, true})
       {
+        // One legend for both panels.
+        if (rms)
+          out << "unset key\n";
         out << "set ylabel " << quoted(rms ? "RMS error over the largest displacement (max over steps)" :
                                              "worst vertex error over the largest displacement (max over steps)")
             << "\n";

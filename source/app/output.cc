@@ -45,6 +45,8 @@ namespace warpchol::app
       }
     ::close(descriptor);
     std::remove(probe.c_str());
+    // A run killed while it wrote a file left its temporary: the next one clears it away.
+    remove_stale_temporaries(directory);
   }
 
   VtuSeries::VtuSeries(const std::string &directory, const std::string &scene,

@@ -83,11 +83,26 @@ namespace warpchol::app
     }
 
     /**
+     * A parameter file is text: one that looks binary is refused (InputError "@p where: not
+     * a parameter file: ...") before deal.II echoes its bytes.
+     */
+    void refuse_binary(const std::string &filename, const std::string &where)
+    {
+      std::ifstream input(filename, std::ios::binary);
+      std::string   start(4096, '\0');
+      input.read(start.data(), start.size());
+      start.resize(input.gcount());
+      if (looks_binary(start))
+        throw InputError(where + ": not a parameter file: it starts with " + quote(start));
+    }
+
+    /**
      * ParameterHandler's exceptions carry a several-line message after deal.II's header;
      * keep the "Additional information" as one line, with "Line <N> of file <F>:" written
-     * as "F:N:", and the file's text in it shortened (shorten_quoted_input()).
+     * as "F:N:" (the file and line of @p file's text(), an included file's included), and the
+     * file's text in it shortened (shorten_quoted_input()).
      */
-    std::string parameter_handler_message(const std::exception &error)
+    std::string parameter_handler_message(const std::exception &error, const ParameterFileLocator &file)
     {
       std::string       message = error.what();
       const std::string marker  = "Additional information:";
@@ -108,8 +123,8 @@ namespace warpchol::app
       if (message.rfind(line_prefix, 0) == 0 && file_end != std::string::npos)
         {
           const std::string line = message.substr(line_prefix.size(), line_end - line_prefix.size());
-          const std::string file = message.substr(line_end + file_prefix.size(),
-                                                  file_end - line_end - file_prefix.size());
+          const std::string file_name = message.substr(line_end + file_prefix.size(),
+                                                       file_end - line_end - file_prefix.size());
           std::string rest = message.substr(file_end);
           if (!rest.empty() && rest[0] == '>')
             rest.erase(0, 1);
@@ -117,7 +132,12 @@ namespace warpchol::app
             rest.erase(0, 1);
           if (!rest.empty() && rest[0] == ' ')
             rest.erase(0, 1);
-          return file + ":" + line + ": " + shorten_quoted_input(rest);
+          // A line of the text with its includes written out: the file and line it is.
+          const std::string where = file_name == file.filename() && !line.empty() && line.size() < 10 &&
+                                        line.find_first_not_of("0123456789") == std::string::npos ?
+                                      file.origin(std::stoi(line)) :
+                                      file_name + ":" + line;
+          return where + ": " + shorten_quoted_input(rest);
         }
       return shorten_quoted_input(message);
     }
@@ -144,29 +164,97 @@ namespace warpchol::app
   // ---------------------------------------------------------------------------------------
   ParameterFileLocator::ParameterFileLocator(const std::string &filename)
     : file(filename)
+    , files{filename}
   {
-    std::ifstream            input(filename);
-    std::string              line;
     std::vector<std::string> subsections;
-    int                      line_number = 0;
-    while (std::getline(input, line))
+    std::error_code          error;
+    std::vector<std::string> chain{std::filesystem::weakly_canonical(filename, error).string()};
+    read(0, subsections, chain);
+  }
+
+  namespace
+  {
+    /** The folder of @p filename with its '/', "" for the working directory. */
+    std::string folder_of(const std::string &filename)
+    {
+      const auto slash = filename.find_last_of('/');
+      return slash == std::string::npos ? std::string() : filename.substr(0, slash + 1);
+    }
+  } // namespace
+
+  void ParameterFileLocator::read(const unsigned int file_index, std::vector<std::string> &subsections,
+                                  std::vector<std::string> &chain)
+  {
+    // Copied: files grows while the includes are read.
+    const std::string name = files[file_index];
+    std::ifstream     input(name);
+    int               line_number = 0;
+    bool              continued   = false;
+    for (std::string line; std::getline(input, line);)
       {
         ++line_number;
-        line              = trim(line.substr(0, line.find('#')));
-        const auto first  = line.substr(0, line.find_first_of(" \t"));
-        const auto rest   = trim(line.substr(first.size()));
-        if (first == "subsection")
-          subsections.push_back(one_line(rest));
-        else if (first == "end" && !subsections.empty())
-          subsections.pop_back();
-        else if (first == "set")
+        const std::string statement = trim(line.substr(0, line.find('#')));
+        const std::string first     = statement.substr(0, statement.find_first_of(" \t"));
+        const std::string rest      = trim(statement.substr(first.size()));
+        // A line that ends in a backslash goes on in the next: that one starts no statement.
+        const bool continuation = continued;
+        continued               = !trim(line).empty() && trim(line).back() == '\\';
+        if (continuation || (first != "include" && first != "INCLUDE"))
           {
-            std::string path;
-            for (const auto &name : subsections)
-              path += name + "/";
-            set_lines.emplace_back(path + one_line(rest.substr(0, rest.find('='))), line_number);
+            expanded_text += line + "\n";
+            line_origins.emplace_back(file_index, line_number);
+            if (continuation)
+              continue;
+            if (first == "subsection")
+              subsections.push_back(one_line(rest));
+            else if (first == "end" && !subsections.empty())
+              subsections.pop_back();
+            else if (first == "set")
+              {
+                std::string path;
+                for (const auto &subsection : subsections)
+                  path += subsection + "/";
+                set_lines.emplace_back(path + one_line(rest.substr(0, rest.find('='))),
+                                       static_cast<int>(line_origins.size()));
+              }
+            continue;
           }
+
+        // Relative to the folder of this file, as every path a parameter file holds.
+        const std::string included = rest.empty() || rest[0] == '/' ? rest : folder_of(name) + rest;
+        const std::string where = name + ":" + std::to_string(line_number) + ": include " + quote(rest);
+        struct stat       status;
+        if (::stat(included.c_str(), &status) != 0)
+          throw InputError(where + ": cannot open it");
+        if (!S_ISREG(status.st_mode))
+          throw InputError(where + ": not a regular file");
+        refuse_binary(included, where);
+        std::error_code   error;
+        const std::string path = std::filesystem::weakly_canonical(included, error).string();
+        if (std::find(chain.begin(), chain.end(), path) != chain.end())
+          throw InputError(where + ": it is already being read (a cycle of includes)");
+        // deal.II requires an included file to close the subsections it opens.
+        const std::vector<std::string> open_before = subsections;
+        chain.push_back(path);
+        files.push_back(included);
+        read(files.size() - 1, subsections, chain);
+        chain.pop_back();
+        if (subsections != open_before)
+          throw InputError(where + ": its 'subsection' and 'end' statements do not pair up");
       }
+  }
+
+  const std::string &ParameterFileLocator::text() const
+  {
+    return expanded_text;
+  }
+
+  std::string ParameterFileLocator::origin(const int line) const
+  {
+    if (line < 1 || line > static_cast<int>(line_origins.size()))
+      return file + ":" + std::to_string(line);
+    const auto &[file_index, file_line] = line_origins[line - 1];
+    return files[file_index] + ":" + std::to_string(file_line);
   }
 
   std::string ParameterFileLocator::where(const std::string &subsection,
@@ -175,9 +263,9 @@ namespace warpchol::app
     const std::string path = subsection + "/" + entry;
     if (file.empty())
       return "defaults: " + path;
-    for (const auto &[entry_path, line] : set_lines)
-      if (entry_path == path)
-        return file + ":" + std::to_string(line) + ": " + path;
+    for (auto set = set_lines.rbegin(); set != set_lines.rend(); ++set)
+      if (set->first == path)
+        return origin(set->second) + ": " + path;
     return file + ": " + path + " (default)";
   }
 
@@ -189,10 +277,13 @@ namespace warpchol::app
     throw InputError(where(subsection, entry) + " = " + excerpt(prm.get(entry), 60) + ": " + message);
   }
 
-  std::string ParameterFileLocator::directory() const
+  std::string ParameterFileLocator::directory_of(const std::string &subsection, const std::string &entry) const
   {
-    const auto slash = file.find_last_of('/');
-    return slash == std::string::npos ? std::string() : file.substr(0, slash + 1);
+    const std::string path = subsection + "/" + entry;
+    for (auto set = set_lines.rbegin(); set != set_lines.rend(); ++set)
+      if (set->first == path)
+        return folder_of(files[line_origins[set->second - 1].first]);
+    return folder_of(file);
   }
 
   const std::string &ParameterFileLocator::filename() const
@@ -272,7 +363,7 @@ namespace warpchol::app
       prm.declare_entry("File", "", Patterns::Anything(),
                         "Source = file: a tetrahedral mesh (.msh Gmsh 1, 2.2 or 4.1 ASCII, .vtk "
                         "legacy VTK, .vtu VTK XML); a relative name is taken relative to the "
-                        "directory of this parameter file");
+                        "folder of the parameter file that sets it (an included one's own)");
       prm.declare_entry("Scale", "1", Patterns::Double(0),
                         "Source = file: factor applied to the file's coordinates");
       prm.declare_entry("Torus major radius", "0.3", Patterns::Double(0),
@@ -807,8 +898,9 @@ namespace warpchol::app
                         "seconds per step, share of the run); false leaves what depends on the "
                         "model alone, the same from run to run and from solver to solver, and "
                         "lists the stages by name");
-      prm.declare_entry("Progress", "auto", Patterns::Selection("auto|on|off"),
-                        "A progress line on standard error: auto shows it on a terminal");
+      prm.declare_entry("Progress", "auto", Patterns::Selection("auto|on|off|true|false|yes|no"),
+                        "A progress line on standard error: auto shows it on a terminal; on "
+                        "(or true, yes) always, off (or false, no) never");
       prm.declare_entry("Compare with corotational", "false", Patterns::Bool(),
                         "Also run the exact corotational model, in step (not timed), and report "
                         "the trajectory error max_i |x_i - x_i(corotational)| and the RMS error "
@@ -832,7 +924,12 @@ namespace warpchol::app
       vtu_precision = prm.get("VTU precision");
       write_log     = prm.get_bool("Write log");
       print_timings = prm.get_bool("Print timings");
-      progress      = prm.get("Progress");
+      // The words of a Bool entry mean on and off, as in the other switches.
+      progress = prm.get("Progress");
+      if (progress == "true" || progress == "yes")
+        progress = "on";
+      else if (progress == "false" || progress == "no")
+        progress = "off";
       compare_with_corotational = prm.get_bool("Compare with corotational");
       checkpoint_interval       = prm.get_integer("Checkpoint interval");
       prm.leave_subsection();
@@ -1007,71 +1104,31 @@ namespace warpchol::app
     entries = entry_list(prm);
   }
 
-  namespace
-  {
-    /**
-     * Throw InputError naming the file and line for an "include FILE" of @p filename (and,
-     * recursively, of what it includes) that deal.II could not follow to an end: a file
-     * that is missing or not a regular file (a device reads forever), or one that is
-     * already being read (@p chain: a cycle, which would recurse until the stack breaks).
-     */
-    void check_includes(const std::string &filename, std::vector<std::string> &chain)
-    {
-      std::ifstream input(filename);
-      int           line_number = 0;
-      for (std::string line; std::getline(input, line);)
-        {
-          ++line_number;
-          line = trim(line.substr(0, line.find('#')));
-          if (line.rfind("include", 0) != 0 || (line.size() > 7 && !std::isspace(line[7])))
-            continue;
-          const std::string included = trim(line.substr(7));
-          const std::string where =
-            filename + ":" + std::to_string(line_number) + ": include " + quote(included);
-          struct stat status;
-          if (::stat(included.c_str(), &status) != 0)
-            throw InputError(where + ": cannot open it");
-          if (!S_ISREG(status.st_mode))
-            throw InputError(where + ": not a regular file");
-          std::error_code   error;
-          const std::string path = std::filesystem::weakly_canonical(included, error).string();
-          if (std::find(chain.begin(), chain.end(), path) != chain.end())
-            throw InputError(where + ": it is already being read (a cycle of includes)");
-          chain.push_back(path);
-          check_includes(included, chain);
-          chain.pop_back();
-        }
-    }
-  } // namespace
-
   AllParameters::AllParameters(const std::string &filename)
-    : file(filename)
   {
     check_input_file(filename, "parameter file");
-    {
-      // A parameter file is text: one that looks binary is refused before deal.II echoes
-      // its bytes.
-      std::ifstream input(filename, std::ios::binary);
-      std::string   start(4096, '\0');
-      input.read(start.data(), start.size());
-      start.resize(input.gcount());
-      if (looks_binary(start))
-        throw InputError(filename + ": not a parameter file: it starts with " + quote(start));
-    }
-    {
-      std::error_code          error;
-      std::vector<std::string> chain{std::filesystem::weakly_canonical(filename, error).string()};
-      check_includes(filename, chain);
-    }
+    refuse_binary(filename, filename);
+    file = ParameterFileLocator(filename);
     ParameterHandler prm;
     declare_parameters(prm);
     try
       {
-        prm.parse_input(filename);
+        // deal.II reads .xml and .json files as such; a .prm file it is given as the
+        // locator wrote it out, its includes in place (their paths resolved as ours).
+        std::string extension = filename.substr(filename.find_last_of('.') + 1);
+        std::transform(extension.begin(), extension.end(), extension.begin(),
+                       [](const unsigned char c) { return std::tolower(c); });
+        if (extension == "prm")
+          {
+            std::istringstream text(file.text());
+            prm.parse_input(text, filename);
+          }
+        else
+          prm.parse_input(filename);
       }
     catch (const dealii::ExceptionBase &error)
       {
-        throw InputError(parameter_handler_message(error));
+        throw InputError(parameter_handler_message(error, file));
       }
     parse_parameters(prm);
     entries = entry_list(prm);
@@ -1113,6 +1170,6 @@ namespace warpchol::app
   {
     if (mesh.file_name.empty() || mesh.file_name[0] == '/')
       return mesh.file_name;
-    return file.directory() + mesh.file_name;
+    return file.directory_of("Mesh", "File") + mesh.file_name;
   }
 } // namespace warpchol::app

@@ -18,22 +18,23 @@ namespace warpchol::app
 {
   namespace
   {
-    /** The model of @p model's type with warpchol's factor. */
+    /** The model of @p model's type, factored by warpchol or by @p peer. */
     std::unique_ptr<fem::ElasticityModel>
     create_factored_model(const parameters::Model &model, const fem::ElasticBody &body,
                           const fem::SystemCoefficients            &coefficients,
-                          const cholesky::SparseCholesky::Settings &solver_settings)
+                          const cholesky::SparseCholesky::Settings &solver_settings,
+                          std::unique_ptr<backends::LinearSolver>   peer = nullptr)
     {
       if (model.type == "linear")
-        return std::make_unique<fem::LinearModel>(body, coefficients, solver_settings);
+        return std::make_unique<fem::LinearModel>(body, coefficients, solver_settings, std::move(peer));
       if (model.type == "corotational")
-        return std::make_unique<fem::CorotationalModel>(body, coefficients, solver_settings);
+        return std::make_unique<fem::CorotationalModel>(body, coefficients, solver_settings, std::move(peer));
       if (model.type == "stiffness_warping")
-        return std::make_unique<fem::StiffnessWarpingModel>(body, coefficients, solver_settings);
+        return std::make_unique<fem::StiffnessWarpingModel>(body, coefficients, solver_settings, std::move(peer));
       if (model.type == "warp_canceling")
         return std::make_unique<fem::WarpCancelingModel>(body, coefficients, solver_settings,
                                                          model.update_threshold, model.strategy,
-                                                         model.target_error);
+                                                         model.target_error, std::move(peer));
       throw InputError("unknown model type " + quote(model.type));
     }
   } // namespace
@@ -60,11 +61,11 @@ namespace warpchol::app
         settings.single_precision_preconditioner          = false;
         return create_factored_model(warped, body, coefficients, settings);
       }
-    auto created = create_factored_model(model, body, coefficients, solver.settings);
-    if (backends::replaces_factor(backend.backend))
-      created->use_linear_solver(
-        backends::create_linear_solver(backend, fem::rigid_body_modes(body)));
-    return created;
+    // A peer that replaces warpchol's factor factors the rest system already.
+    return create_factored_model(model, body, coefficients, solver.settings,
+                                 backends::replaces_factor(backend.backend) ?
+                                   backends::create_linear_solver(backend, fem::rigid_body_modes(body)) :
+                                   nullptr);
   }
 
   std::vector<unsigned int> Scene::select_vertices(const RegionParameters &region,

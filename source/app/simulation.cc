@@ -5,7 +5,6 @@
 #include <warpchol/base/input_file.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/ordering.h>
-#include <warpchol/distributed/distributed_simulation.h>
 #include <warpchol/fem/energy_balance.h>
 #include <warpchol/fem/warp_canceling_model.h>
 
@@ -45,12 +44,15 @@ namespace warpchol::app
 
     /**
      * Whether entry @p name may differ between the run that wrote a checkpoint and the
-     * one that resumes from it: none of them changes a result.
+     * one that resumes from it: the number of steps (a stopped run may be extended) and what
+     * only says where and how the results are shown, which changes no step. Not the log or
+     * the corotational reference, whose rows and state the checkpoint holds.
      */
     bool may_differ_on_resume(const std::string &name)
     {
-      for (const char *entry : {"Time stepping/Number of steps", "Output/Checkpoint interval",
-                                "Output/Progress", "Output/Print timings"})
+      for (const char *entry : {"Time stepping/Number of steps", "Output/Directory", "Output/Scene",
+                                "Output/VTU interval", "Output/VTU precision", "Output/Print timings",
+                                "Output/Progress", "Output/Checkpoint interval"})
         if (name == entry)
           return true;
       return false;
@@ -412,10 +414,13 @@ namespace warpchol::app
         if (simulated.log)
           simulated.log->load(reader);
       }
-    if (reader.get<bool>() != (vtu_series != nullptr))
-      reader.fail("the VTU series differs");
-    if (vtu_series)
-      vtu_series->load(reader);
+    // The files the run wrote so far: listed on in the series, or read past by a run that
+    // writes none now (VTU interval = 0); one that did not write any starts its series here.
+    if (reader.get<bool>())
+      {
+        VtuSeries not_written_now(directory, parameters.scene_name(), parameters.output.vtu_precision);
+        (vtu_series ? *vtu_series : not_written_now).load(reader);
+      }
     reader.expect_section("end");
     first_step = step + 1;
   }
@@ -795,7 +800,8 @@ namespace warpchol::app
                         "                                    PETSc), on N ranks or on one\n"
                         "       warpchol --print-parameters [FILE]\n"
                         "                                    write the documented defaults\n"
-                        "                                    (to FILE, or standard output)";
+                        "                                    (to FILE, which must not exist, or\n"
+                        "                                    standard output)";
   }
 
   int report_errors(std::ostream &err, const std::function<void()> &action, const bool print)
@@ -836,10 +842,6 @@ namespace warpchol::app
   int main(const int argc, const char *const *argv, std::ostream &out, std::ostream &err)
   {
     const std::vector<std::string> arguments(argv + 1, argv + argc);
-    const bool names_a_file = !arguments.empty() && !arguments[0].empty() && arguments[0][0] != '-';
-    if (names_a_file && ((arguments.size() == 2 && arguments[1] == "--distributed") ||
-                         (arguments.size() == 1 && distributed::launched_on_several_ranks())))
-      return distributed::run_distributed(argc, argv, arguments[0], out, err);
     return report_errors(err, [&] {
       if (arguments.size() == 1 && (arguments[0] == "--help" || arguments[0] == "-h"))
         {
@@ -851,7 +853,15 @@ namespace warpchol::app
           if (arguments.size() > 2)
             throw InputError("--print-parameters takes at most one file name");
           if (arguments.size() == 2)
-            write_file_atomically(arguments[1], [](std::ostream &file) { AllParameters::print_defaults(file); });
+            {
+              // It replaced a scene once: a file that exists is left alone (standard
+              // output, redirected, replaces one on purpose).
+              std::error_code error;
+              if (std::filesystem::exists(arguments[1], error))
+                throw InputError(arguments[1] + ": exists already: --print-parameters writes a new file only "
+                                                "(warpchol --print-parameters > FILE replaces one)");
+              write_file_atomically(arguments[1], [](std::ostream &file) { AllParameters::print_defaults(file); });
+            }
           else
             AllParameters::print_defaults(out);
           return;

@@ -7,6 +7,8 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <filesystem>
+#include <signal.h>
 #include <streambuf>
 #include <sys/stat.h>
 #include <unistd.h>
@@ -144,7 +146,39 @@ namespace warpchol
       if (!stream)
         throw OutputError(filename + ": the writer's stream failed");
     }
+
+    /** What write_file_atomically() puts between a file's name and its writer's process id. */
+    constexpr const char *temporary_marker = ".tmp.";
+
+    /** The writer's process id of temporary @p name, 0 if it is not a temporary's name. */
+    pid_t writer_of(const std::string &name)
+    {
+      const auto marker = name.rfind(temporary_marker);
+      if (marker == std::string::npos || marker == 0)
+        return 0;
+      const std::string digits = name.substr(marker + std::strlen(temporary_marker));
+      if (digits.empty() || digits.size() > 9 || digits.find_first_not_of("0123456789") != std::string::npos)
+        return 0;
+      return static_cast<pid_t>(std::stol(digits));
+    }
   } // namespace
+
+  std::size_t remove_stale_temporaries(const std::string &directory)
+  {
+    std::size_t     removed = 0;
+    std::error_code error;
+    for (const auto &entry : std::filesystem::directory_iterator(directory, error))
+      {
+        const pid_t writer = writer_of(entry.path().filename().string());
+        // kill(pid, 0) sends nothing: ESRCH says that no such process runs. A process id
+        // taken again since keeps its temporary, which is the safe side.
+        std::error_code not_a_file;
+        if (writer > 0 && ::kill(writer, 0) != 0 && errno == ESRCH && entry.is_regular_file(not_a_file) &&
+            std::filesystem::remove(entry.path(), not_a_file))
+          ++removed;
+      }
+    return removed;
+  }
 
   void write_file_atomically(const std::string                        &filename,
                              const std::function<void(std::ostream &)> &write)
@@ -157,8 +191,9 @@ namespace warpchol
         write_checked(filename, filename, O_WRONLY, write);
         return;
       }
-    // The process id keeps two concurrent writers of the same file apart.
-    const std::string temporary = filename + ".tmp." + std::to_string(::getpid());
+    // The process id keeps two concurrent writers of the same file apart, and tells a
+    // temporary whose writer was killed (remove_stale_temporaries()).
+    const std::string temporary = filename + temporary_marker + std::to_string(::getpid());
     try
       {
         write_checked(temporary, filename, O_WRONLY | O_CREAT | O_TRUNC, write);

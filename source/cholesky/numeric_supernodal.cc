@@ -644,6 +644,20 @@ namespace warpchol::cholesky
     implementation->single_values.assign(single_precision_copy ? symbolic.n_stored_values() : 0, 0.f);
   }
 
+  void SupernodalFactor::clear(const bool single_precision_copy)
+  {
+    implementation->partition.reset();
+    std::vector<double>().swap(implementation->values);
+    std::vector<float>().swap(implementation->single_values);
+    implementation->keep_single = single_precision_copy;
+  }
+
+  std::size_t SupernodalFactor::memory_bytes() const
+  {
+    return implementation->values.capacity() * sizeof(double) +
+           implementation->single_values.capacity() * sizeof(float);
+  }
+
   void SupernodalFactor::save(BinaryWriter &writer) const
   {
     writer.write(implementation->values);
@@ -654,7 +668,8 @@ namespace warpchol::cholesky
   {
     reader.read(implementation->values);
     reader.read(implementation->single_values);
-    const auto n = static_cast<std::size_t>(symbolic.n_stored_values());
+    // None if the writer had not factorized yet.
+    const auto n = implementation->values.empty() ? 0 : static_cast<std::size_t>(symbolic.n_stored_values());
     if (implementation->values.size() != n ||
         implementation->single_values.size() != (implementation->keep_single ? n : 0))
       reader.fail("the supernodal factor holds " + std::to_string(implementation->values.size()) +

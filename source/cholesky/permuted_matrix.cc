@@ -155,8 +155,7 @@ namespace warpchol::cholesky
             {
               const double value = permuted_lower.values[k], twin = matrix.values[mirror[k]];
               const Index  r = permuted_lower.row_index[k], c = entry_column[k];
-              if (std::abs(value - twin) > 1e-10 * std::sqrt(diagonal[r] * diagonal[c]) ||
-                  !std::isfinite(twin))
+              if (!sparse::symmetric_pair(value, twin, diagonal[r], diagonal[c]))
                 throw MatrixError("matrix is not symmetric: A" +
                                   entry_name(permutation[r], permutation[c]) + " = " +
                                   format_number(value) + " but A" +

@@ -83,11 +83,13 @@ namespace warpchol::cholesky
     if (solver_settings.method == FactorizationMethod::supernodal)
       {
         symbolic_factorization = SymbolicFactorization();
-        l_values.clear();
+        std::vector<double>().swap(l_values);
         supernodal_structure = analyze_supernodal(permuted_matrix.lower(),
                                                   cholesky::elimination_tree(permuted_matrix.lower()),
                                                   solver_settings.relaxation);
-        supernodal_factor.initialize(supernodal_structure, solver_settings.single_precision_preconditioner);
+        // The values come with the first factorization: a solver that only analyzes (beside
+        // a peer's) holds none.
+        supernodal_factor.clear(solver_settings.single_precision_preconditioner);
         stats.nnz_l        = supernodal_structure.nnz_l();
         stats.flops        = supernodal_structure.exact_flops;
         stats.method_flops = supernodal_structure.flops;
@@ -112,11 +114,11 @@ namespace warpchol::cholesky
         supernodal_structure   = SupernodalSymbolic();
         top_supernode.clear();
         symbolic_factorization = analyze_left_looking(permuted_matrix.lower());
-        l_values.assign(symbolic_factorization.nnz_l(), 0.);
+        std::vector<double>().swap(l_values);
         stats.nnz_l        = symbolic_factorization.nnz_l();
         stats.flops        = symbolic_factorization.flops;
         stats.method_flops = symbolic_factorization.flops;
-        stats.factor_bytes = l_values.size() * sizeof(double) +
+        stats.factor_bytes = symbolic_factorization.nnz_l() * sizeof(double) +
                              symbolic_factorization.row_index.size() * sizeof(Index) +
                              symbolic_factorization.column_start.size() * sizeof(Index);
       }
@@ -132,6 +134,9 @@ namespace warpchol::cholesky
     if (!plan.full && plan.columns.empty())
       return 0.;
     factor_valid = false;
+    if (solver_settings.method != FactorizationMethod::supernodal &&
+        static_cast<Index>(l_values.size()) != symbolic_factorization.nnz_l())
+      l_values.assign(symbolic_factorization.nnz_l(), 0.);
     try
       {
         double flops = 0;
@@ -339,13 +344,17 @@ namespace warpchol::cholesky
                   ", nnz(L) = " + std::to_string(stats.nnz_l));
     factor_valid = reader.get<bool>();
     permuted_matrix.load(reader);
-    const std::size_t expected_l_values = l_values.size();
+    // L's values, if the writer had factorized (the supernodal method keeps its own).
+    const std::size_t expected_l_values =
+      solver_settings.method == FactorizationMethod::supernodal ? 0 : symbolic_factorization.nnz_l();
     reader.read(l_values);
-    if (l_values.size() != expected_l_values)
+    if (l_values.size() != expected_l_values && !(l_values.empty() && !factor_valid))
       reader.fail("the factor holds " + std::to_string(l_values.size()) + " values, this analysis " +
                   std::to_string(expected_l_values));
     if (solver_settings.method == FactorizationMethod::supernodal)
       supernodal_factor.load(reader, supernodal_structure);
+    if (factor_valid && numeric_bytes() == 0)
+      reader.fail("the factor is said to be valid but holds no values");
     reader.read(pending_columns);
     reader.read(stale_columns);
     reader.read(last_recomputed_columns);
@@ -415,8 +424,15 @@ namespace warpchol::cholesky
     stats.solve_seconds = stopwatch.seconds();
   }
 
+  std::size_t SparseCholesky::numeric_bytes() const
+  {
+    return l_values.capacity() * sizeof(double) + supernodal_factor.memory_bytes();
+  }
+
   sparse::CSCMatrix SparseCholesky::factor() const
   {
+    if (numeric_bytes() == 0)
+      throw Error("factor() called before factorize()");
     if (solver_settings.method == FactorizationMethod::supernodal)
       return supernodal_factor.to_csc(supernodal_structure);
     sparse::CSCMatrix l;

@@ -4,8 +4,9 @@ namespace warpchol::fem
 {
   CorotationalModel::CorotationalModel(const ElasticBody &body,
                                        const SystemCoefficients &coefficients,
-                                       const cholesky::SparseCholesky::Settings &solver_settings)
-    : ElasticityModel(body, coefficients, solver_settings)
+                                       const cholesky::SparseCholesky::Settings &solver_settings,
+                                       std::unique_ptr<backends::LinearSolver>   peer)
+    : ElasticityModel(body, coefficients, solver_settings, std::move(peer))
   {
     // Ordering and symbolic analysis once (the pattern never changes); the numeric factor
     // of the rest matrix is replaced in the first step.

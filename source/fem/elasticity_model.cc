@@ -57,11 +57,13 @@ namespace warpchol::fem
   }
 
   ElasticityModel::ElasticityModel(const ElasticBody &body, const SystemCoefficients &coefficients,
-                                   const cholesky::SparseCholesky::Settings &solver_settings)
+                                   const cholesky::SparseCholesky::Settings &solver_settings,
+                                   std::unique_ptr<backends::LinearSolver>   peer)
     : body(body)
     , coefficients(coefficients)
     , system(body, coefficients)
     , cholesky_solver(solver_settings)
+    , peer_solver(std::move(peer))
   {
     if (body.n_unknowns() == 0)
       throw InputError("every vertex is fixed: nothing to simulate");
@@ -119,13 +121,6 @@ namespace warpchol::fem
     StepStatistics setup;
     factorize(setup);
     setup_time = stopwatch.seconds();
-  }
-
-  void ElasticityModel::use_linear_solver(std::unique_ptr<backends::LinearSolver> linear_solver)
-  {
-    peer_solver = std::move(linear_solver);
-    StepStatistics setup;
-    factorize(setup);
   }
 
   const backends::LinearSolver *ElasticityModel::linear_solver() const
@@ -249,8 +244,18 @@ namespace warpchol::fem
     record_refactorization(statistics);
   }
 
+  bool ElasticityModel::factor_is_exact() const
+  {
+    // A peer factors A in full whenever it changed.
+    return peer_solver || cholesky_solver.factor_is_exact();
+  }
+
   void ElasticityModel::factorize_with_peer(StepStatistics &statistics)
   {
+    // warpchol's solver analyzes A only: the flops of a full factorization, the unit of the
+    // statistics, without a numeric factor beside the peer's.
+    if (cholesky_solver.statistics().n == 0)
+      cholesky_solver.analyze(system.csc());
     checked([&]() { peer_solver->factorize(system.matrix(), system.csc()); });
     statistics.refresh            = "full";
     statistics.refactorized       = true;

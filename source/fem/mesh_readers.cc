@@ -372,6 +372,34 @@ namespace warpchol::fem
           }
       return longest;
     }
+
+    /**
+     * Throw InputError naming both cells if two tetrahedra of @p mesh have the same four
+     * vertices (in any order): the element would count twice in the stiffness and the
+     * mass. The pair reported is the first repetition in the file's order.
+     */
+    void check_no_repeated_tetrahedron(const TetrahedralMesh &mesh)
+    {
+      // Sorted vertex sets with their cells: a repetition is a run of equal sets.
+      std::vector<std::pair<std::array<unsigned int, 4>, std::size_t>> vertex_sets(mesh.tetrahedra.size());
+      for (std::size_t t = 0; t < mesh.tetrahedra.size(); ++t)
+        {
+          vertex_sets[t] = {mesh.tetrahedra[t], t};
+          std::sort(vertex_sets[t].first.begin(), vertex_sets[t].first.end());
+        }
+      std::sort(vertex_sets.begin(), vertex_sets.end());
+      std::size_t first = 0, repeated = mesh.tetrahedra.size();
+      for (std::size_t k = 1; k < vertex_sets.size(); ++k)
+        if (vertex_sets[k].first == vertex_sets[k - 1].first && vertex_sets[k].second < repeated &&
+            (k == 1 || vertex_sets[k - 2].first != vertex_sets[k].first))
+          {
+            first    = vertex_sets[k - 1].second;
+            repeated = vertex_sets[k].second;
+          }
+      if (repeated < mesh.tetrahedra.size())
+        throw InputError(mesh.locations[repeated] + " has the four vertices of " + mesh.locations[first] +
+                         ": a tetrahedron listed twice would count twice in the stiffness and the mass");
+    }
   } // namespace
 
   TetrahedralMesh read_gmsh(const std::string &filename)
@@ -456,6 +484,7 @@ namespace warpchol::fem
         if (volumes[t] < 0)
           ++n_negative;
       }
+    check_no_repeated_tetrahedron(mesh);
     const std::size_t n_total = mesh.tetrahedra.size();
     if (n_negative == n_total)
       {

@@ -4,8 +4,8 @@ namespace warpchol::fem
 {
   StiffnessWarpingModel::StiffnessWarpingModel(
     const ElasticBody &body, const SystemCoefficients &coefficients,
-    const cholesky::SparseCholesky::Settings &solver_settings)
-    : ElasticityModel(body, coefficients, solver_settings)
+    const cholesky::SparseCholesky::Settings &solver_settings, std::unique_ptr<backends::LinearSolver> peer)
+    : ElasticityModel(body, coefficients, solver_settings, std::move(peer))
   {
     set_up_rest_system();
     solve_frame = &elastic_state.nodal_rotations;

@@ -83,8 +83,9 @@ namespace warpchol::fem
                                          const cholesky::SparseCholesky::Settings &solver_settings,
                                          const double update_threshold,
                                          const StepStrategy &step_strategy,
-                                         const double        target_error)
-    : ElasticityModel(body, coefficients, solver_settings)
+                                         const double        target_error,
+                                         std::unique_ptr<backends::LinearSolver> peer)
+    : ElasticityModel(body, coefficients, solver_settings, std::move(peer))
     , threshold(update_threshold)
     , target(target_error)
     , adapted_threshold(update_threshold)
@@ -387,7 +388,7 @@ namespace warpchol::fem
         changed_columns = system.reassemble(update, ElementFrames::warped(stored_frames));
       }
     // Nothing changed and nothing is left stale: the factor is that of A.
-    if (changed_columns.empty() && cholesky_solver.factor_is_exact())
+    if (changed_columns.empty() && factor_is_exact())
       {
         statistics.choice = automatic ? "none" : "";
         return;

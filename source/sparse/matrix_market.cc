@@ -2,6 +2,7 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/input_file.h>
+#include <warpchol/sparse/conversions.h>
 #include <warpchol/sparse/matrix_market.h>
 
 #include <algorithm>
@@ -232,6 +233,48 @@ namespace warpchol::sparse
         matrix.column_start[j + 1] += matrix.column_start[j];
       return matrix;
     }
+  }
+
+  CSCMatrix read_symmetric_matrix_market(const std::string &filename)
+  {
+    CSCMatrix         matrix = read_matrix_market(filename);
+    const std::string size   = std::to_string(matrix.n_rows) + "x" + std::to_string(matrix.n_cols);
+    if (matrix.n_rows == 0 || matrix.n_cols == 0)
+      throw InputError(filename + ": the matrix is empty (" + size + "): nothing to factor");
+    if (matrix.n_rows != matrix.n_cols)
+      throw InputError(filename + ": a matrix to factor must be square, got " + size);
+    if (matrix.storage == Storage::lower)
+      return matrix;
+
+    // A "general" file: every entry (i,j) needs its twin (j,i), of the same value. Column j
+    // of the transpose lists row j of A: both are sorted, and walked side by side.
+    const CSCMatrix transposed = transpose(matrix);
+    const auto      entry      = [](const Index i, const Index j) {
+      return "(" + std::to_string(i + 1) + "," + std::to_string(j + 1) + ")";
+    };
+    const auto not_symmetric = [&](const std::string &what) {
+      return InputError(filename + ": " + what + ": a matrix to factor must be symmetric");
+    };
+    for (Index j = 0; j < matrix.n_cols; ++j)
+      {
+        Index       k = matrix.column_start[j], t = transposed.column_start[j];
+        const Index k_end = matrix.column_start[j + 1], t_end = transposed.column_start[j + 1];
+        while (k < k_end || t < t_end)
+          {
+            const Index i = k < k_end ? matrix.row_index[k] : matrix.n_rows;
+            const Index i_twin = t < t_end ? transposed.row_index[t] : matrix.n_rows;
+            if (i < i_twin)
+              throw not_symmetric("entry " + entry(i, j) + " is stored but " + entry(j, i) + " is not");
+            if (i_twin < i)
+              throw not_symmetric("entry " + entry(j, i_twin) + " is stored but " + entry(i_twin, j) + " is not");
+            if (!symmetric_pair(matrix.values[k], transposed.values[t], matrix(i, i), matrix(j, j)))
+              throw not_symmetric("A" + entry(i, j) + " = " + format_number(matrix.values[k]) + " but A" +
+                                  entry(j, i) + " = " + format_number(transposed.values[t]));
+            ++k;
+            ++t;
+          }
+      }
+    return matrix;
   }
 
   void write_matrix_market(const CSCMatrix &matrix, const std::string &filename)

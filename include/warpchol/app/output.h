@@ -23,6 +23,7 @@ namespace warpchol::app
   /**
    * Create @p directory and its parents and check that a file can be created in it (the
    * run checks before it computes anything); throws OutputError naming it otherwise.
+   * Removes the temporary files that killed runs left in it (remove_stale_temporaries()).
    */
   void create_directory(const std::string &directory);
 

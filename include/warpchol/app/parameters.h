@@ -25,31 +25,64 @@
 namespace warpchol::app
 {
   /**
-   * Where entries sit in a parameter file: finds the line of a "set" statement, so that a
-   * value rejected after parsing (a bound ParameterHandler's patterns cannot express, a
-   * missing file) is reported at its line.
+   * A parameter file as deal.II's ParameterHandler reads it, with its includes written out
+   * in place, and where each of its lines and entries comes from: so that a value rejected
+   * after parsing (a bound ParameterHandler's patterns cannot express, a missing file) is
+   * reported at its file and line, and a relative path is taken relative to the folder of
+   * the file that holds it.
+   *
+   * "include FILE" takes a relative FILE relative to the folder of the file the statement is
+   * in (deal.II would take the working directory), like every other path of a parameter
+   * file. An include that cannot be followed is an InputError naming the file and line of
+   * the statement: a file that is missing, not a regular file (a device reads forever),
+   * binary, already being read (a cycle), or that leaves other subsections open than it
+   * found.
    */
   class ParameterFileLocator
   {
   public:
     ParameterFileLocator() = default;
-    /** Scan @p filename (an empty name stands for the defaults). */
+    /** Read @p filename and what it includes (an empty name stands for the defaults). */
     explicit ParameterFileLocator(const std::string &filename);
 
-    /** "FILE:LINE: Subsection/Entry" (or "FILE: Subsection/Entry" if the file does not set it). */
+    /** The file's text with every include statement replaced by the lines of its file. */
+    const std::string &text() const;
+
+    /** "FILE:LINE" of line @p line (from 1) of text(): the file and the line it comes from. */
+    std::string origin(int line) const;
+
+    /**
+     * "FILE:LINE: Subsection/Entry" at the statement that sets the entry last (the value
+     * ParameterHandler keeps), or "FILE: Subsection/Entry (default)" if none does.
+     */
     std::string where(const std::string &subsection, const std::string &entry) const;
 
     /** Throw InputError "where(...) = VALUE: message". */
     [[noreturn]] void fail(const dealii::ParameterHandler &prm, const std::string &subsection,
                            const std::string &entry, const std::string &message) const;
 
-    /** The directory of the file, to which relative paths in it refer ("" for the defaults). */
-    std::string directory() const;
+    /**
+     * The folder of the file that sets Subsection/Entry (the top file's if none does), to
+     * which a relative path in the entry's value refers ("" for the working directory).
+     */
+    std::string directory_of(const std::string &subsection, const std::string &entry) const;
     const std::string &filename() const;
 
   private:
+    /**
+     * Append file @p file_index of @p files to text(), its includes written out; @p
+     * subsections: the subsections open at its start, @p chain: the files being read (their
+     * canonical paths).
+     */
+    void read(unsigned int file_index, std::vector<std::string> &subsections, std::vector<std::string> &chain);
+
     std::string file;
-    /** "Subsection/Entry" -> line, for every "set" statement of the file. */
+    std::string expanded_text;
+    /** The top file and every file it includes, each path relative to the working directory. */
+    std::vector<std::string> files;
+    /** Per line of expanded_text: the index of its file in files, and its line there. */
+    std::vector<std::pair<unsigned int, int>> line_origins;
+    /** "Subsection/Entry" -> line of expanded_text, for every "set" statement. */
     std::vector<std::pair<std::string, int>> set_lines;
   };
 
@@ -239,7 +272,7 @@ namespace warpchol::app
       std::string  vtu_precision = "float32";
       bool         write_log    = true;
       bool         print_timings = true;
-      /** "auto" (when standard error is a terminal), "on" or "off". */
+      /** "auto" (when standard error is a terminal), "on" or "off" (true/yes, false/no in the file). */
       std::string  progress = "auto";
       /** Run the exact corotational model alongside and log the trajectory error. */
       bool         compare_with_corotational = false;
@@ -316,7 +349,7 @@ namespace warpchol::app
      */
     AllParameters exact_corotational() const;
 
-    /** The mesh file with a relative name taken relative to the parameter file. */
+    /** The mesh file with a relative name taken relative to the parameter file that sets it. */
     std::string mesh_file_path() const;
 
     ParameterFileLocator file;

@@ -204,9 +204,10 @@ namespace warpchol::app
   int report_errors(std::ostream &err, const std::function<void()> &action, bool print = true);
 
   /**
-   * The warpchol program: "warpchol PARAMS.prm", "warpchol --print-parameters [FILE]",
-   * "warpchol --help"; under an MPI launcher with several processes, or with
-   * "--distributed", the distributed run (distributed::run_distributed()). Prints a one-line error on @p err and returns 2 for bad input
+   * The warpchol program's serial runs: "warpchol PARAMS.prm", "warpchol --print-parameters
+   * [FILE]", "warpchol --help" (the distributed run, distributed::run_distributed(), is
+   * chosen before by programs/warpchol.cc: app/ knows nothing of distributed/, which builds
+   * on it). Prints a one-line error on @p err and returns 2 for bad input
    * (InputError: parameters, mesh files), 3 for results that cannot be written
    * (OutputError: an output directory that cannot be written, a full disk), 1 for another
    * failure (a factorization that fails, a diverging simulation), 0 on success: the

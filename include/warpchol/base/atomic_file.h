@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <functional>
 #include <ostream>
 #include <string>
@@ -28,4 +29,12 @@ namespace warpchol
    */
   void write_file_atomically(const std::string                        &filename,
                              const std::function<void(std::ostream &)> &write);
+
+  /**
+   * Remove from @p directory the temporary files that write_file_atomically() left there
+   * for processes that no longer run (NAME.tmp.PID: a run killed while it wrote NAME). Those
+   * of a process that runs, this one's or another writer's, stay; so does what cannot be
+   * removed. Returns how many were removed.
+   */
+  std::size_t remove_stale_temporaries(const std::string &directory);
 } // namespace warpchol

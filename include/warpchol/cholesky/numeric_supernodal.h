@@ -47,6 +47,15 @@ namespace warpchol::cholesky
     void initialize(const SupernodalSymbolic &symbolic, bool single_precision_copy = false);
 
     /**
+     * Free the values (a new analysis, or none needed): factorize() allocates them for its
+     * structure, with the single-precision copy if @p single_precision_copy.
+     */
+    void clear(bool single_precision_copy = false);
+
+    /** Bytes of the values held now (and of their single-precision copy). */
+    std::size_t memory_bytes() const;
+
+    /**
      * Compute the listed @p supernodes (sorted; all of them if empty) from the lower-stored
      * permuted matrix @p lower. Supernode supernodes[k] is recomputed from its column
      * first_column + start_offsets[k] on (all of it if @p start_offsets is empty): the

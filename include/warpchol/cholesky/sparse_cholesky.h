@@ -137,7 +137,7 @@ namespace warpchol::cholesky
       double flops_recomputed    = 0;
       Index  n_factorizations    = 0;
       Index  n_refactorizations  = 0;
-      /** Bytes held by the numeric factor (values, the structure that indexes them, a single-precision copy). */
+      /** Bytes the numeric factor takes once factorized (values, the structure that indexes them, a single-precision copy). */
       std::size_t factor_bytes   = 0;
       /** Supernodes in the top (Settings::top_flops_fraction) and their flops (share: top_flops / method_flops). */
       Index  n_top_supernodes    = 0;
@@ -221,6 +221,13 @@ namespace warpchol::cholesky
 
     /** L, the factor of P^T A P (permuted numbering; a triangular matrix, full storage). */
     sparse::CSCMatrix factor() const;
+
+    /**
+     * Bytes of numeric values held now (L's, and their single-precision copy): 0 until the
+     * first factorization, since analyze() allocates none (a solver that only analyzes, as
+     * beside a peer's, holds none). Statistics::factor_bytes is what a factorization takes.
+     */
+    std::size_t numeric_bytes() const;
 
     /** perm[k] = column of A that is column k of P^T A P. */
     const std::vector<Index> &permutation() const;

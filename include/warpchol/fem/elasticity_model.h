@@ -149,10 +149,16 @@ namespace warpchol::fem
   public:
     /**
      * The model sets its system up and factors it. @p coefficients are those of the time
-     * step, @p solver_settings the ordering and method of the factorization.
+     * step, @p solver_settings the ordering and method of warpchol's factorization. With a
+     * @p peer (Solver/Backend) the peer factors and solves A instead: every factorization
+     * in full, solve() the peer's, directly or by its own iterations; warpchol's solver then
+     * only analyzes A (the flops of a full factorization, which the statistics count) and
+     * holds no numeric factor. A step that needs warpchol's factor (an iterating strategy,
+     * a target error) is refused by the parameters before this.
      */
     ElasticityModel(const ElasticBody &body, const SystemCoefficients &coefficients,
-                    const cholesky::SparseCholesky::Settings &solver_settings);
+                    const cholesky::SparseCholesky::Settings &solver_settings,
+                    std::unique_ptr<backends::LinearSolver> peer = nullptr);
     virtual ~ElasticityModel() = default;
 
     /** "linear", "corotational", ... */
@@ -201,14 +207,6 @@ namespace warpchol::fem
      */
     double elastic_energy_at_last_evaluation() const;
 
-    /**
-     * From now on factor and solve A with @p linear_solver, a peer's (Solver/Backend),
-     * instead of warpchol's factor: every factorization is in full, and solve() is the
-     * peer's, directly or by its own iterations. A step that needs warpchol's factor
-     * (an iterating strategy, a target error) is refused by the parameters before this.
-     * The current A is factored with it at once.
-     */
-    void use_linear_solver(std::unique_ptr<backends::LinearSolver> linear_solver);
     /** The peer's solver, or null for warpchol's factor. */
     const backends::LinearSolver *linear_solver() const;
     /** Bytes of the factor (warpchol's or the peer's) or of the peer's preconditioner. */
@@ -266,6 +264,9 @@ namespace warpchol::fem
 
     /** Full numeric factorization of the current A (analyzed on the first call). */
     void factorize(StepStatistics &statistics);
+
+    /** Whether the factor (warpchol's or the peer's) is that of the current A. */
+    bool factor_is_exact() const;
     /**
      * Partial refactorization after @p changed_columns of A changed, bringing the factor up
      * to date as far as @p refresh says (SparseCholesky::refactorize()).

@@ -15,9 +15,9 @@
  * Every format is first read into a TetrahedralMesh (Gmsh by a line-aware scanner that
  * keeps the tetrahedra and skips lines, triangles and points; legacy VTK files by our own
  * parser; VTK XML files through the VTK library, as ParaView reads them), checked (each
- * element's orientation and volume, with the file and line or cell that is wrong),
- * stripped of the vertices no tetrahedron uses, and then handed to deal.II's GridIn as a
- * Gmsh stream of tetrahedra only.
+ * element's orientation and volume, no element twice, with the file and line or cell that
+ * is wrong), stripped of the vertices no tetrahedron uses, and then handed to deal.II's
+ * GridIn as a Gmsh stream of tetrahedra only.
  */
 namespace warpchol::fem
 {
@@ -81,10 +81,11 @@ namespace warpchol::fem
   TetrahedralMesh read_legacy_vtk(const std::string &filename);
 
   /**
-   * Check the elements of @p mesh: every tetrahedron must have a volume, and all must have
-   * the same orientation. A file whose tetrahedra are all negatively oriented (the opposite
-   * convention) is accepted: its tetrahedra are reoriented. Throws InputError naming the
-   * first degenerate or inverted element and its location.
+   * Check the elements of @p mesh: every tetrahedron must have a volume, no two the same
+   * four vertices, and all the same orientation. A file whose tetrahedra are all negatively
+   * oriented (the opposite convention) is accepted: its tetrahedra are reoriented. Throws
+   * InputError naming the first degenerate or inverted element and its location, or both
+   * cells of a tetrahedron listed twice.
    */
   void check_and_orient(TetrahedralMesh &mesh);
 

@@ -19,7 +19,8 @@ namespace warpchol::fem
   {
   public:
     StiffnessWarpingModel(const ElasticBody &body, const SystemCoefficients &coefficients,
-                          const cholesky::SparseCholesky::Settings &solver_settings);
+                          const cholesky::SparseCholesky::Settings &solver_settings,
+                          std::unique_ptr<backends::LinearSolver> peer = nullptr);
 
     std::string name() const override;
 

@@ -94,11 +94,11 @@ namespace warpchol::fem
   class WarpCancelingModel : public ElasticityModel
   {
   public:
-    /** @p update_threshold >= 0, possibly infinite. */
+    /** @p update_threshold >= 0, possibly infinite; @p peer as ElasticityModel's. */
     WarpCancelingModel(const ElasticBody &body, const SystemCoefficients &coefficients,
                        const cholesky::SparseCholesky::Settings &solver_settings,
                        double update_threshold, const StepStrategy &step_strategy = StepStrategy(),
-                       double target_error = 0);
+                       double target_error = 0, std::unique_ptr<backends::LinearSolver> peer = nullptr);
 
     std::string name() const override;
 

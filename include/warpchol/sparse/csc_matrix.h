@@ -2,6 +2,7 @@
 
 #include <warpchol/base/types.h>
 
+#include <cmath>
 #include <vector>
 
 /**
@@ -52,4 +53,17 @@ namespace warpchol::sparse
      */
     void check_consistency() const;
   };
+
+  /**
+   * Whether A(i,j) = @p value and A(j,i) = @p twin agree as the entries of a symmetric
+   * matrix: @p twin finite and within 1e-10 sqrt(|A(i,i)| |A(j,j)|) of @p value (the
+   * diagonal entries @p diagonal_i and @p diagonal_j). The solver's test, and that of the
+   * programs that read a matrix to factor.
+   */
+  inline bool symmetric_pair(const double value, const double twin, const double diagonal_i,
+                             const double diagonal_j)
+  {
+    return std::isfinite(twin) &&
+           std::abs(value - twin) <= 1e-10 * std::sqrt(std::abs(diagonal_i) * std::abs(diagonal_j));
+  }
 } // namespace warpchol::sparse

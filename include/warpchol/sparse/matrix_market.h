@@ -23,6 +23,14 @@ namespace warpchol::sparse
   CSCMatrix read_matrix_market(std::istream &stream, const std::string &name);
 
   /**
+   * Read the Matrix Market file of a matrix to factor (the solver's benchmarks): as
+   * read_matrix_market(), and an empty matrix, a non-square one and a "general" one whose
+   * pattern or values are not symmetric (symmetric_pair()) are refused with InputError
+   * naming the file and the entry as the file numbers it, from 1.
+   */
+  CSCMatrix read_symmetric_matrix_market(const std::string &filename);
+
+  /**
    * Write @p matrix as a real coordinate Matrix Market file, "symmetric" for lower
    * storage and "general" otherwise, with 17 significant digits (values round-trip).
    * The file is written under a temporary name and renamed into place.

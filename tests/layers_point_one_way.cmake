@@ -1,0 +1,32 @@
+## The library's layers include only those below them (STYLE.md: one direction, no
+## back-references): base, sparse, cholesky, backends, fem, app, distributed, in this order;
+## the programs choose among the top ones. Run as
+##   cmake -DSOURCE_DIR=<repository> -P tests/layers_point_one_way.cmake
+## and fails with one line per include that points up.
+
+set(layers base sparse cholesky backends fem app distributed)
+set(violations "")
+foreach(layer ${layers})
+  list(FIND layers ${layer} level)
+  file(GLOB_RECURSE files
+    ${SOURCE_DIR}/include/warpchol/${layer}/*.h ${SOURCE_DIR}/source/${layer}/*.cc)
+  foreach(file ${files})
+    file(STRINGS ${file} includes REGEX "^[ \t]*#[ \t]*include[ \t]*<warpchol/[a-z_]+/")
+    foreach(include ${includes})
+      string(REGEX REPLACE ".*<warpchol/([a-z_]+)/.*" "\\1" included "${include}")
+      list(FIND layers ${included} included_level)
+      if(included_level GREATER level)
+        file(RELATIVE_PATH name ${SOURCE_DIR} ${file})
+        string(STRIP "${include}" include)
+        list(APPEND violations "${name}: ${include}: ${layer} must not include ${included}, which builds on it")
+      endif()
+    endforeach()
+  endforeach()
+endforeach()
+
+if(violations)
+  string(REPLACE ";" "\n" violations "${violations}")
+  message(FATAL_ERROR "${violations}")
+endif()
+string(REPLACE ";" ", " layers "${layers}")
+message(STATUS "every layer includes only the layers below it: ${layers}")
