@@ -1018,6 +1018,14 @@ namespace warpchol::app
                   "needs a step that solves the WCC system (Strategy = partial, or Iterate on = "
                   "warp_canceling): CG on the corotational matrix is exact to the CG tolerance");
       }
+    if (model.type == "warp_canceling" && model.strategy.kind == fem::StepStrategy::Kind::background &&
+        model.strategy.iterate_on != fem::StepStrategy::Target::corotational)
+      {
+        prm.enter_subsection("Model");
+        file.fail(prm, "Model", "Iterate on",
+                  "must be corotational with Strategy = background: a refresh updates every element, "
+                  "which makes the WCC matrix the corotational one");
+      }
     check_backend(prm);
     const auto strategy = model.strategy.kind;
     if ((strategy == fem::StepStrategy::Kind::delayed_top || strategy == fem::StepStrategy::Kind::automatic) &&

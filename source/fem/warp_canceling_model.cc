@@ -95,6 +95,9 @@ namespace warpchol::fem
       if (solver_settings.method != cholesky::FactorizationMethod::supernodal)
         throw InputError("the step strategy " + to_string(strategy.kind) +
                          " needs the supernodal method (Solver/Method = supernodal)");
+    if (strategy.kind == StepStrategy::Kind::background && strategy.iterate_on != StepStrategy::Target::corotational)
+      throw InputError("the step strategy background iterates on the corotational matrix (a refresh "
+                       "updates every element)");
     if (!(update_threshold >= 0))
       throw InputError("the WCC update threshold must be >= 0 (or inf), got " +
                        format_number(update_threshold));
@@ -123,7 +126,8 @@ namespace warpchol::fem
       record.error_estimate.assign(body.n_elements(), 0.0);
     // The background refresh: asked for, or the automatic strategy's with a thread to spare.
     if (strategy.kind == StepStrategy::Kind::background ||
-        (strategy.kind == StepStrategy::Kind::automatic && solver_settings.n_threads > 1))
+        (strategy.kind == StepStrategy::Kind::automatic && solver_settings.n_threads > 1 &&
+         strategy.iterate_on == StepStrategy::Target::corotational))
       background = std::make_unique<BackgroundRefresh>(body, coefficients, cholesky_solver);
   }
 
@@ -353,8 +357,11 @@ namespace warpchol::fem
         exact_step(statistics);
         return;
       }
+    // Exact steps change A to the corotational matrix: only where CG iterates on that one
+    // (on the WCC matrix they would change the system being solved).
     const unsigned int staleness = step_count - factor_step;
-    if (automatic && cost_model.exact_step_is_due(staleness))
+    if (automatic && strategy.iterate_on == StepStrategy::Target::corotational &&
+        cost_model.exact_step_is_due(staleness))
       {
         // Iterating on would cost more than the least average of a cycle that starts now.
         statistics.choice            = "exact";
