@@ -3,8 +3,10 @@
 // stopped ends: positions, velocities, the matrix A its model carries, the log's values
 // and the summary. Scenes: WCC with partial refactorization beside its corotational
 // reference run; WCC with the factor refreshed below the top only (a stale factor, in
-// single precision, as CG's preconditioner); WCC adapting its threshold to a target
-// error; two bodies, one of them factored by CHOLMOD. Then what resume refuses.
+// single precision, as CG's preconditioner); WCC refreshing its factor on a thread of its
+// own at a fixed lag, the checkpoint taken while a refresh is in flight; WCC adapting its
+// threshold to a target error; two bodies, one of them factored by CHOLMOD. Then what
+// resume refuses.
 
 #include "simulation_tests.h"
 
@@ -192,6 +194,9 @@ int main()
               "  set Type = warp_canceling\n  set Update threshold = 0.1\n  set Strategy = delayed_top\n"
               "  set Refresh interval = 7\n",
               "subsection Solver\n  set Preconditioner precision = single\nend\n");
+  // A checkpoint at step 10 while the refresh started at step 9 is in flight (taken at 12).
+  check_scene("background",
+              "  set Type = warp_canceling\n  set Strategy = background\n  set Background lag = 3\n", "");
   check_scene("target_error",
               "  set Type = warp_canceling\n  set Update threshold = 0.3\n  set Target error = 0.01\n", "");
   check_scene("two_bodies", "  set Type = warp_canceling\n",
