@@ -330,7 +330,7 @@ namespace warpchol::app
              "flops_recomputed_pct,refresh,cg_iterations,t_rotations,t_error_estimate,t_assembly,"
              "t_factor,t_solve,t_iterations,t_step,kinetic_energy,elastic_energy,potential_energy,"
              "tool_energy,total_energy,external_work,tool_work_on_body,energy_ratio,update_threshold,"
-             "velocity_error") +
+             "velocity_error,choice,t_predicted,t_strategy,factor_lag") +
            (with_error ? ",error_vs_corotational,rms_error_vs_corotational" : "");
   }
 
@@ -356,6 +356,14 @@ namespace warpchol::app
     line << ",";
     if (s.velocity_error >= 0)
       line << s.velocity_error;
+    // The automatic strategy's choice, what it predicted and what the step then spent
+    // keeping its factor and solving; the age of a background refresh's factor.
+    line << "," << s.choice << ",";
+    if (s.predicted_seconds >= 0)
+      line << s.predicted_seconds;
+    line << "," << s.strategy_seconds() << ",";
+    if (s.factor_lag >= 0)
+      line << s.factor_lag;
     if (with_error)
       line << "," << std::setprecision(6) << row.error_vs_corotational << ","
            << row.rms_error_vs_corotational;

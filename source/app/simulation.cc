@@ -83,6 +83,8 @@ namespace warpchol::app
       io(totals.step_seconds);
       io(totals.updated_distance_to_tool);
       io(totals.error_vs_corotational);
+      io(totals.factor_lag_sum);
+      io(totals.factor_lag_steps);
     }
 
     void save_totals(BinaryWriter &writer, const RunTotals &totals)
@@ -91,13 +93,18 @@ namespace warpchol::app
       for_each_checkpointed_total(totals, [&](const auto &value) { writer.write(value); });
       std::vector<std::string>  names;
       std::vector<unsigned int> counts;
-      for (const auto &[refresh, count] : totals.refreshes)
+      for (const auto *counted : {&totals.refreshes, &totals.choices})
         {
-          names.push_back(refresh);
-          counts.push_back(count);
+          names.clear();
+          counts.clear();
+          for (const auto &[name, count] : *counted)
+            {
+              names.push_back(name);
+              counts.push_back(count);
+            }
+          writer.write(names);
+          writer.write(counts);
         }
-      writer.write(names);
-      writer.write(counts);
       std::vector<double> seconds;
       names.clear();
       counts.clear();
@@ -120,12 +127,15 @@ namespace warpchol::app
       std::vector<std::string>  names;
       std::vector<unsigned int> counts;
       std::vector<double>       seconds;
-      reader.read(names);
-      reader.read(counts);
-      if (names.size() != counts.size())
-        reader.fail("the refresh counts do not match their names");
-      for (std::size_t i = 0; i < names.size(); ++i)
-        totals.refreshes[names[i]] = counts[i];
+      for (auto *counted : {&totals.refreshes, &totals.choices})
+        {
+          reader.read(names);
+          reader.read(counts);
+          if (names.size() != counts.size())
+            reader.fail("the refresh or choice counts do not match their names");
+          for (std::size_t i = 0; i < names.size(); ++i)
+            (*counted)[names[i]] = counts[i];
+        }
       reader.read(names);
       reader.read(seconds);
       reader.read(counts);
@@ -249,6 +259,13 @@ namespace warpchol::app
       }
     if (!statistics.refresh.empty())
       ++t.refreshes[statistics.refresh];
+    if (!statistics.choice.empty())
+      ++t.choices[statistics.choice];
+    if (statistics.factor_lag >= 0)
+      {
+        t.factor_lag_sum += statistics.factor_lag;
+        ++t.factor_lag_steps;
+      }
     t.step_seconds += step_seconds;
     if (!simulated.scene->loads().tool.vertices.empty())
       {
@@ -686,6 +703,14 @@ namespace warpchol::app
               out << " 0";
             for (const auto &[refresh, count] : t.refreshes)
               out << " " << refresh << " " << count;
+            if (!t.choices.empty())
+              {
+                out << "; choices:";
+                for (const auto &[choice, count] : t.choices)
+                  out << " " << choice << " " << count;
+              }
+            if (t.factor_lag_steps > 0)
+              out << "; factor age mean " << n(t.factor_lag_sum / t.factor_lag_steps) << " steps";
             out << "\n";
           }
         if (!scene.loads().tool.vertices.empty() && t.elements_updated > 0)

@@ -66,6 +66,11 @@ namespace warpchol::app
     double       max_velocity_error = 0;
     /** Steps per refresh of the factor: "full", "all", "below_top", "none". */
     std::map<std::string, unsigned int> refreshes;
+    /** Steps per choice of the automatic strategy ("exact", "all", ...; fem::StepStatistics::choice). */
+    std::map<std::string, unsigned int> choices;
+    /** The age of the factor in steps (background refreshes), summed over the steps that report it. */
+    double       factor_lag_sum   = 0;
+    unsigned int factor_lag_steps = 0;
     /** The stages that ran: the steps' (fem::stage) and the run's own (app::stage). */
     StageTimes   stages;
     double       step_seconds = 0;
