@@ -137,18 +137,23 @@ namespace warpchol::fem
   {
     if (exact_seconds < 0)
       return true;
-    const double next = predicted_iterating_seconds(staleness);
-    if (next < 0)
+    if (predicted_iterating_seconds(staleness) < 0)
       return false;
+    // The rule holds for costs that do not fall with the staleness; the measured ones may
+    // (a step right after an exact one that needed an iteration more than its successors,
+    // noise): the rule reads their running maximum, or it could refresh forever.
+    std::vector<double> cost(longest_staleness, 0.);
+    double              largest = 0;
+    for (unsigned int s = 1; s <= longest_staleness; ++s)
+      cost[s - 1] = largest = std::max(largest, std::max(predicted_iterating_seconds(s), 0.));
     // The least average cost of a cycle that starts with an exact step.
     double cycle = exact_seconds, least_average = exact_seconds;
     for (unsigned int length = 2; length <= longest_staleness; ++length)
       {
-        const double step = predicted_iterating_seconds(length - 1);
-        cycle += step >= 0 ? step : 0.;
+        cycle += cost[length - 2];
         least_average = std::min(least_average, cycle / length);
       }
-    return next > least_average;
+    return cost[std::min(std::max(staleness, 1u), longest_staleness) - 1] > least_average;
   }
 
   void StepCostModel::save(BinaryWriter &writer) const

@@ -113,8 +113,11 @@ namespace warpchol::fem
    * least at some P*; the exact step is due as soon as the next step would cost more than
    * that least average, c(s + 1) > a(P*) (the rule of renewal: replace when the marginal
    * cost passes the least average cost). c(s) is measured per staleness s; where it was not
-   * measured yet, the last measured one stands for it. When c(s + 1) exceeds C the rule
-   * runs the exact step: never slower than exact, as far as the measurements foresee.
+   * measured yet, the last measured one stands for it, and the rule reads the running
+   * maximum of c over s (it assumes costs that do not fall as the factor ages: a cheaper
+   * step later in the cycle, or noise, would otherwise make it refresh every step). When
+   * c(s + 1) exceeds C the rule runs the exact step: never slower than exact, as far as
+   * the measurements foresee.
    */
   class StepCostModel
   {
