@@ -690,6 +690,8 @@ namespace warpchol::app
               << n(t.min_threshold) << " to " << n(t.max_threshold)
               << "; velocity error against exact corotation per step: mean "
               << n(t.velocity_error_sum / t.steps, 2) << ", max " << n(t.max_velocity_error, 2) << "\n";
+        if (wcc && !wcc->target_note().empty())
+          out << "  " << wcc->target_note() << "\n";
         if (wcc)
           {
             const auto &strategy = wcc->step_strategy();

@@ -151,6 +151,19 @@ namespace warpchol::fem
     return target;
   }
 
+  const std::string &WarpCancelingModel::target_note() const
+  {
+    return given_up;
+  }
+
+  void WarpCancelingModel::give_up_target()
+  {
+    strategy.kind          = StepStrategy::Kind::automatic;
+    strategy.iterate_on    = StepStrategy::Target::corotational;
+    measure_velocity_error = false;
+    last_velocity_error    = -1;
+  }
+
   const StepStrategy &WarpCancelingModel::step_strategy() const
   {
     return strategy;
@@ -240,6 +253,9 @@ namespace warpchol::fem
     writer.write(last_prepare_seconds);
     writer.write(last_step_exact);
     writer.write(last_staleness);
+    writer.write(recent_update_fraction);
+    writer.write(recent_error_ratio);
+    writer.write(given_up);
     if (background)
       background->save(writer);
   }
@@ -259,6 +275,11 @@ namespace warpchol::fem
     reader.read(last_prepare_seconds);
     reader.read(last_step_exact);
     reader.read(last_staleness);
+    reader.read(recent_update_fraction);
+    reader.read(recent_error_ratio);
+    reader.read(given_up);
+    if (!given_up.empty())
+      give_up_target();
     if (background)
       background->load(reader);
   }
@@ -298,6 +319,24 @@ namespace warpchol::fem
                                 std::clamp(std::pow(goal / last_velocity_error, 0.7), 0.125, 2.0) :
                                 2.0;
         adapted_threshold = std::clamp(adapted_threshold * factor, 1e-6, 100.0);
+        // A threshold that updates a quarter of the elements or more, step after step, and
+        // still misses the goal cannot hold the target (thin bodies in bending: the error
+        // of the few elements left accumulates over the steps): the partial
+        // refactorization then costs nearly a full one. The steps iterate on the exact
+        // corotational matrix instead (the automatic strategy), exact to the CG tolerance.
+        constexpr double weight = 0.3;
+        recent_update_fraction  = (1 - weight) * recent_update_fraction +
+                                 weight * static_cast<double>(std::count(record.updated.begin(), record.updated.end(), 1)) /
+                                   body.n_elements();
+        recent_error_ratio = (1 - weight) * recent_error_ratio + weight * last_velocity_error / goal;
+        if (step_count >= 3 && recent_update_fraction > 0.25 && recent_error_ratio > 1)
+          {
+            given_up = "target error " + format_number(target) + " given up at step " +
+                       std::to_string(step_count + 1) + ": " + format_number(100 * recent_update_fraction, 2) +
+                       " % of the elements updated per step and still " + format_number(recent_error_ratio, 2) +
+                       " times the step error aimed at; the steps iterate on the corotational matrix (auto)";
+            give_up_target();
+          }
       }
     statistics.update_threshold = adapted_threshold;
     ++step_count;

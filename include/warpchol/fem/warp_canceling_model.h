@@ -115,6 +115,12 @@ namespace warpchol::fem
 
     const StepStrategy &step_strategy() const;
 
+    /**
+     * Empty while the target error steers the threshold; once it gave up (no threshold
+     * holds the target with few updates: see prepare_step()), why and from which step.
+     */
+    const std::string &target_note() const;
+
   protected:
     /**
      * At a threshold strictly between 0 and inf, A is re-assembled in part and its factor
@@ -168,6 +174,9 @@ namespace warpchol::fem
      */
     void prepare_factor(const std::vector<Vector3> &velocities, StepStatistics &statistics);
 
+    /** Leave the target error: iterate on the corotational matrix (auto) from now on. */
+    void give_up_target();
+
     /** Update every element to the current rotations, assemble A and factor it in full. */
     void exact_step(StepStatistics &statistics);
 
@@ -184,6 +193,14 @@ namespace warpchol::fem
     unsigned int step_count = 0;
     /** The step whose rotations A and its factor were made with (0: at rest). */
     unsigned int factor_step = 0;
+    /**
+     * Target error: moving averages of the share of elements updated per step and of the
+     * step error over its goal; whether the target gave up, and why.
+     */
+    double      recent_update_fraction = 0;
+    double      recent_error_ratio     = 0;
+    std::string given_up;
+
     /** Whether A is the exact corotational matrix of this step's rotations, factored. */
     bool exact_this_step = false;
     /** What the last step measured for the cost model: its own seconds, whether it was exact, its staleness. */
