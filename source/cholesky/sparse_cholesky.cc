@@ -42,6 +42,30 @@ namespace warpchol::cholesky
     return nnz_a > 0 ? static_cast<double>(nnz_l) / static_cast<double>(nnz_a) : 0.;
   }
 
+  namespace
+  {
+    /**
+     * permuted.load(matrix), dropping the factor (@p factor_valid) if it fails: a load that
+     * stops part way (a value that is not finite, an asymmetric pair) leaves C with some of
+     * the new values and L with the old factor, and the next load, which finds the changed
+     * columns by comparing with C, would miss those already written. The next
+     * refactorize() then factors in full.
+     */
+    std::vector<Index> load_or_drop_factor(PermutedMatrix &permuted, const sparse::CSCMatrix &matrix,
+                                           bool &factor_valid)
+    {
+      try
+        {
+          return permuted.load(matrix);
+        }
+      catch (...)
+        {
+          factor_valid = false;
+          throw;
+        }
+    }
+  } // namespace
+
   SparseCholesky::SparseCholesky()
     : SparseCholesky(Settings())
   {}
@@ -171,7 +195,7 @@ namespace warpchol::cholesky
     if (!analyzed)
       analyze(matrix);
     const Stopwatch stopwatch;
-    permuted_matrix.load(matrix);
+    load_or_drop_factor(permuted_matrix, matrix, factor_valid);
     pending_columns.clear();
     stale_columns.clear();
     RefreshPlan everything;
@@ -272,7 +296,7 @@ namespace warpchol::cholesky
       throw Error("refactorize() called before analyze()");
     check_request(changed_columns, refresh);
     const Stopwatch          stopwatch;
-    const std::vector<Index> unlisted = permuted_matrix.load(matrix);
+    const std::vector<Index> unlisted = load_or_drop_factor(permuted_matrix, matrix, factor_valid);
     const std::vector<Index> listed   = pending_with(changed_columns);
     std::vector<Index>       changes;
     std::set_union(listed.begin(), listed.end(), unlisted.begin(), unlisted.end(), std::back_inserter(changes));

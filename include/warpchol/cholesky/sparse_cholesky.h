@@ -183,7 +183,9 @@ namespace warpchol::cholesky
      *
      * Throws InputError for a column out of range or Refresh::below_top with a method other
      * than the supernodal one, and what factorize() throws. If no valid factor exists yet,
-     * factors fully whatever @p refresh.
+     * factors fully whatever @p refresh. A matrix that factorize() or refactorize() refuses
+     * (another pattern, a value that is not finite, asymmetric values, a pivot that is not
+     * positive) leaves no valid factor: solve() throws until the next factorization.
      */
     void refactorize(const sparse::CSCMatrix  &matrix,
                      const std::vector<Index> &changed_columns,
