@@ -2,48 +2,170 @@
 #include <warpchol/sparse/conversions.h>
 #include <warpchol/sparse/dealii_conversion.h>
 
+#ifdef DEAL_II_WITH_TRILINOS
+#  include <Epetra_CrsMatrix.h>
+#endif
+
 #include <algorithm>
+#include <string>
+#include <utility>
 
 namespace warpchol::sparse
 {
+  namespace
+  {
+    /** The one-line error of an entry (@p row, @p column) that is not where the pattern has it. */
+    MatrixError not_in_pattern(const std::string &source, const Index row, const Index column)
+    {
+      return MatrixError("copy_values: entry (" + std::to_string(row) + "," + std::to_string(column) + ") of the " +
+                         source + " is not in the pattern of the CSC matrix");
+    }
+
+    /**
+     * Row by row, as (column, value) pairs that @p entries_of_row(i, add) hands to add,
+     * to CSC: each row sorted by column, then transposed (a counting sort).
+     */
+    template <typename EntriesOfRow>
+    CSCMatrix rows_to_csc(const Index n_rows, const Index n_cols, const Index n_entries,
+                          const EntriesOfRow &entries_of_row)
+    {
+      CSRMatrix rows;
+      rows.n_rows = n_rows;
+      rows.n_cols = n_cols;
+      rows.row_start.assign(n_rows + 1, 0);
+      rows.column_index.reserve(n_entries);
+      rows.values.reserve(n_entries);
+      std::vector<std::pair<Index, double>> row_entries;
+      for (Index i = 0; i < n_rows; ++i)
+        {
+          row_entries.clear();
+          entries_of_row(i, [&](const Index column, const double value) { row_entries.emplace_back(column, value); });
+          std::sort(row_entries.begin(), row_entries.end());
+          for (const auto &[column, value] : row_entries)
+            {
+              rows.column_index.push_back(column);
+              rows.values.push_back(value);
+            }
+          rows.row_start[i + 1] = static_cast<Index>(rows.column_index.size());
+        }
+      return sparse::to_csc(rows);
+    }
+  } // namespace
+
   CSCMatrix to_csc(const dealii::SparseMatrix<double> &matrix)
   {
-    // deal.II stores rows, diagonal first: gather them as CSR with sorted columns, then
-    // transpose (a counting sort) into CSC.
-    CSRMatrix rows;
-    rows.n_rows = matrix.m();
-    rows.n_cols = matrix.n();
-    rows.row_start.assign(rows.n_rows + 1, 0);
-    rows.column_index.reserve(matrix.n_nonzero_elements());
-    rows.values.reserve(matrix.n_nonzero_elements());
-    std::vector<std::pair<Index, double>> row_entries;
-    for (Index i = 0; i < rows.n_rows; ++i)
-      {
-        row_entries.clear();
-        for (auto entry = matrix.begin(i); entry != matrix.end(i); ++entry)
-          row_entries.emplace_back(entry->column(), entry->value());
-        std::sort(row_entries.begin(), row_entries.end());
-        for (const auto &[column, value] : row_entries)
-          {
-            rows.column_index.push_back(column);
-            rows.values.push_back(value);
-          }
-        rows.row_start[i + 1] = static_cast<Index>(rows.column_index.size());
-      }
-    return sparse::to_csc(rows);
+    // deal.II stores rows, diagonal first.
+    return rows_to_csc(matrix.m(), matrix.n(), matrix.n_nonzero_elements(), [&](const Index i, const auto &add) {
+      for (auto entry = matrix.begin(i); entry != matrix.end(i); ++entry)
+        add(entry->column(), entry->value());
+    });
   }
 
   void copy_values(const dealii::SparseMatrix<double> &matrix, CSCMatrix &csc)
   {
     if (static_cast<Index>(matrix.m()) != csc.n_rows || static_cast<Index>(matrix.n()) != csc.n_cols ||
         static_cast<Index>(matrix.n_nonzero_elements()) != csc.n_nonzeros())
-      throw MatrixError("copy_values: the CSC matrix does not have the deal.II matrix's pattern");
+      throw MatrixError("copy_values: the CSC matrix does not have the deal.II matrix's pattern (" +
+                        std::to_string(matrix.m()) + "x" + std::to_string(matrix.n()) + ", " +
+                        std::to_string(matrix.n_nonzero_elements()) + " entries; CSC " +
+                        std::to_string(csc.n_rows) + "x" + std::to_string(csc.n_cols) + ", " +
+                        std::to_string(csc.n_nonzeros()) + " entries)");
     // Column j of the CSC form lists its rows increasingly; visiting the deal.II rows in
     // increasing order therefore meets the entries of column j in storage order, whatever
-    // the order of the entries within a row (deal.II puts the diagonal first).
+    // the order of the entries within a row (deal.II puts the diagonal first). That the
+    // entry met is the one stored there checks the pattern on the way.
     std::vector<Index> cursor(csc.column_start.begin(), csc.column_start.end() - 1);
     for (Index i = 0; i < csc.n_rows; ++i)
       for (auto entry = matrix.begin(i); entry != matrix.end(i); ++entry)
-        csc.values[cursor[entry->column()]++] = entry->value();
+        {
+          const Index j        = entry->column();
+          const Index position = cursor[j]++;
+          if (position >= csc.column_start[j + 1] || csc.row_index[position] != i)
+            throw not_in_pattern("deal.II matrix", i, j);
+          csc.values[position] = entry->value();
+        }
   }
+
+#ifdef DEAL_II_WITH_TRILINOS
+  namespace
+  {
+    /**
+     * Call @p visit(global_row, global_column, value) for each stored entry of @p matrix in
+     * Epetra's order, after checking that this process holds every row.
+     */
+    template <typename Visit>
+    void for_each_trilinos_entry(const dealii::TrilinosWrappers::SparseMatrix &matrix, const Visit &visit)
+    {
+      const Epetra_CrsMatrix &epetra = matrix.trilinos_matrix();
+      if (static_cast<dealii::types::global_dof_index>(epetra.NumMyRows()) != matrix.m())
+        throw MatrixError("the Trilinos matrix has " + std::to_string(matrix.m()) + " rows, this process holds " +
+                          std::to_string(epetra.NumMyRows()) + " of them");
+      // The graph's maps: Epetra_CrsMatrix::RowMap() and ColMap() cast the graph's
+      // Epetra_BlockMap to the Epetra_Map it is not (UndefinedBehaviorSanitizer: invalid
+      // downcast); GID() is the block map's.
+      const Epetra_BlockMap &row_map    = epetra.Graph().RowMap();
+      const Epetra_BlockMap &column_map = epetra.Graph().ColMap();
+      for (int row = 0; row < epetra.NumMyRows(); ++row)
+        {
+          int     n_entries = 0;
+          double *values    = nullptr;
+          int    *columns   = nullptr;
+          epetra.ExtractMyRowView(row, n_entries, values, columns);
+          const Index global_row = row_map.GID(row);
+          for (int k = 0; k < n_entries; ++k)
+            visit(global_row, static_cast<Index>(column_map.GID(columns[k])), values[k]);
+        }
+    }
+  } // namespace
+
+  CSCMatrix to_csc(const dealii::TrilinosWrappers::SparseMatrix &matrix)
+  {
+    // Epetra numbers its local rows in the order of its row map: gather them by global row.
+    std::vector<std::vector<std::pair<Index, double>>> row_entries(matrix.m());
+    for_each_trilinos_entry(matrix, [&](const Index row, const Index column, const double value) {
+      row_entries[row].emplace_back(column, value);
+    });
+    return rows_to_csc(matrix.m(), matrix.n(), matrix.n_nonzero_elements(), [&](const Index i, const auto &add) {
+      for (const auto &[column, value] : row_entries[i])
+        add(column, value);
+    });
+  }
+
+  std::vector<Index> csc_positions(const dealii::TrilinosWrappers::SparseMatrix &matrix, const CSCMatrix &csc)
+  {
+    std::vector<Index> positions;
+    positions.reserve(csc.n_nonzeros());
+    for_each_trilinos_entry(matrix, [&](const Index row, const Index column, double) {
+      if (column >= csc.n_cols)
+        throw not_in_pattern("Trilinos matrix", row, column);
+      const auto begin    = csc.row_index.begin() + csc.column_start[column];
+      const auto end      = csc.row_index.begin() + csc.column_start[column + 1];
+      const auto position = std::lower_bound(begin, end, row);
+      if (position == end || *position != row)
+        throw not_in_pattern("Trilinos matrix", row, column);
+      positions.push_back(position - csc.row_index.begin());
+    });
+    return positions;
+  }
+
+  void copy_values(const dealii::TrilinosWrappers::SparseMatrix &matrix,
+                   const std::vector<Index>                     &positions,
+                   CSCMatrix                                    &csc)
+  {
+    if (static_cast<Index>(matrix.n_nonzero_elements()) != static_cast<Index>(positions.size()) ||
+        static_cast<Index>(matrix.m()) != csc.n_rows || static_cast<Index>(matrix.n()) != csc.n_cols)
+      throw MatrixError("copy_values: the Trilinos matrix (" + std::to_string(matrix.m()) + "x" +
+                        std::to_string(matrix.n()) + ", " + std::to_string(matrix.n_nonzero_elements()) +
+                        " entries) does not have the pattern of the CSC matrix (" + std::to_string(csc.n_rows) +
+                        "x" + std::to_string(csc.n_cols) + ", " + std::to_string(positions.size()) + " entries)");
+    std::size_t k = 0;
+    for_each_trilinos_entry(matrix, [&](const Index row, const Index column, const double value) {
+      const Index position = positions[k++];
+      if (column >= csc.n_cols || position < csc.column_start[column] || position >= csc.column_start[column + 1] ||
+          csc.row_index[position] != row)
+        throw not_in_pattern("Trilinos matrix", row, column);
+      csc.values[position] = value;
+    });
+  }
+#endif
 } // namespace warpchol::sparse

@@ -2,7 +2,15 @@
 
 #include <warpchol/sparse/csc_matrix.h>
 
+#include <deal.II/base/config.h>
+
 #include <deal.II/lac/sparse_matrix.h>
+
+#ifdef DEAL_II_WITH_TRILINOS
+#  include <deal.II/lac/trilinos_sparse_matrix.h>
+#endif
+
+#include <vector>
 
 /**
  * @file
@@ -19,7 +27,33 @@ namespace warpchol::sparse
 
   /**
    * Copy the values of @p matrix into @p csc, which came from to_csc() of a matrix with
-   * the same sparsity pattern: O(nnz), no allocation.
+   * the same sparsity pattern: O(nnz), no allocation. Throws MatrixError, naming an
+   * entry, if the patterns differ.
    */
   void copy_values(const dealii::SparseMatrix<double> &matrix, CSCMatrix &csc);
+
+#ifdef DEAL_II_WITH_TRILINOS
+  /**
+   * The CSC form (full storage) of a Trilinos matrix whose rows are all held by this
+   * process: every stored entry is kept, explicit zeros included. Throws MatrixError if
+   * the process holds only some of the rows.
+   */
+  CSCMatrix to_csc(const dealii::TrilinosWrappers::SparseMatrix &matrix);
+
+  /**
+   * For each stored entry of @p matrix in Epetra's order (local rows in turn, the entries
+   * of a row as Epetra stores them), its position in @p csc, which came from to_csc() of
+   * a matrix with the same pattern. Throws MatrixError for an entry that @p csc lacks.
+   */
+  std::vector<Index> csc_positions(const dealii::TrilinosWrappers::SparseMatrix &matrix, const CSCMatrix &csc);
+
+  /**
+   * Copy the values of @p matrix into @p csc at the @p positions that csc_positions()
+   * computed for a matrix of the same pattern: O(nnz), no search. Throws MatrixError,
+   * naming an entry, if the patterns differ.
+   */
+  void copy_values(const dealii::TrilinosWrappers::SparseMatrix &matrix,
+                   const std::vector<Index>                     &positions,
+                   CSCMatrix                                    &csc);
+#endif
 } // namespace warpchol::sparse
