@@ -52,15 +52,18 @@ namespace warpchol::python
 
     SciPyArrays arrays_of(const py::object &matrix)
     {
-      for (const char *attribute : {"format", "shape", "indptr", "indices", "data"})
-        if (!py::hasattr(matrix, attribute))
-          throw py::type_error("warpchol: expected a SciPy sparse matrix in CSC or CSR format, got " +
-                               std::string(py::str(py::type::of(matrix).attr("__name__"))));
+      const auto not_csc_or_csr = [&](const std::string &what) {
+        return py::type_error("warpchol: expected a SciPy sparse matrix in CSC or CSR format, got " + what);
+      };
+      if (!py::hasattr(matrix, "format"))
+        throw not_csc_or_csr(py::str(py::type::of(matrix).attr("__name__")));
       SciPyArrays arrays;
-      arrays.format = matrix.attr("format").cast<std::string>();
+      arrays.format = py::str(matrix.attr("format"));
       if (arrays.format != "csc" && arrays.format != "csr")
-        throw py::type_error("warpchol: a SciPy matrix in " + arrays.format +
-                             " format; convert it with .tocsc() or .tocsr()");
+        throw not_csc_or_csr("one in " + arrays.format + " format (convert it with .tocsc())");
+      for (const char *attribute : {"shape", "indptr", "indices", "data"})
+        if (!py::hasattr(matrix, attribute))
+          throw not_csc_or_csr("an object without " + std::string(attribute));
       const auto shape = matrix.attr("shape").cast<std::pair<Index, Index>>();
       arrays.n_rows    = shape.first;
       arrays.n_cols    = shape.second;
@@ -144,6 +147,8 @@ namespace warpchol::python
     /** x with A x = b, for b of shape (n,) or (n, k). */
     py::array solve(const py::array &b) const
     {
+      if (!solver.factor_is_exact())
+        throw Error("solve() called without a valid factorization");
       const Index n = solver.statistics().n;
       if (b.ndim() == 1 || b.ndim() == 2)
         if (b.shape(0) == n)

@@ -149,12 +149,12 @@ namespace warpchol
 
   void SparseDirectCholesky::solve(const double *b, double *x) const
   {
-    assert_factored();
     cholesky_solver.solve(b, x, 1);
   }
 
   void SparseDirectCholesky::vmult(dealii::Vector<double> &dst, const dealii::Vector<double> &src) const
   {
+    assert_factored();
     AssertThrow(src.size() == n(), dealii::ExcDimensionMismatch(src.size(), n()));
     AssertThrow(dst.size() == m(), dealii::ExcDimensionMismatch(dst.size(), m()));
     solve(src.begin(), dst.begin());
@@ -174,6 +174,7 @@ namespace warpchol
   void SparseDirectCholesky::vmult(dealii::TrilinosWrappers::MPI::Vector       &dst,
                                    const dealii::TrilinosWrappers::MPI::Vector &src) const
   {
+    assert_factored();
     assert_one_process(src.get_mpi_communicator());
     assert_one_process(dst.get_mpi_communicator());
     AssertThrow(src.size() == n(), dealii::ExcDimensionMismatch(src.size(), n()));

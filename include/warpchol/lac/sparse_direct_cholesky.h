@@ -291,7 +291,7 @@ namespace warpchol
     /** Throw ExcRowOutOfRange for a row the matrix does not have; the rows as the solver takes them. */
     std::vector<Index> checked_rows(const std::vector<size_type> &changed_rows) const;
 
-    /** x = A^{-1} b for vectors of n() entries in memory (which may be the same). */
+    /** x = A^{-1} b for vectors of n() entries in memory (which may be the same), checked by the callers. */
     void solve(const double *b, double *x) const;
 
     /** The solver, holding the ordering, the analysis and the factor. */
