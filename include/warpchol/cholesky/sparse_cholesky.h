@@ -170,6 +170,14 @@ namespace warpchol::cholesky
     void factorize(const sparse::CSCMatrix &matrix);
 
     /**
+     * factorize(), with the values of @p matrix read from @p values (matrix.n_nonzeros() of
+     * them, in the order of its entries) instead of matrix.values, which are not used: for
+     * a caller that holds them elsewhere (the Python module: in NumPy's array), without
+     * copying them.
+     */
+    void factorize(const sparse::CSCMatrix &matrix, const double *values);
+
+    /**
      * Partial refactorization after the entries of @p changed_columns (user numbering) of
      * @p matrix changed: recompute exactly the columns of L on the elimination-tree paths
      * from those columns (permuted) to the root, reuse the others. A column of C whose
@@ -188,6 +196,12 @@ namespace warpchol::cholesky
      * positive) leaves no valid factor: solve() throws until the next factorization.
      */
     void refactorize(const sparse::CSCMatrix  &matrix,
+                     const std::vector<Index> &changed_columns,
+                     Refresh                   refresh = Refresh::all);
+
+    /** refactorize(), with the values of @p matrix read from @p values, as factorize() above reads them. */
+    void refactorize(const sparse::CSCMatrix  &matrix,
+                     const double             *values,
                      const std::vector<Index> &changed_columns,
                      Refresh                   refresh = Refresh::all);
 
@@ -264,6 +278,13 @@ namespace warpchol::cholesky
     void load_numeric(BinaryReader &reader);
 
   private:
+    /** factorize() and refactorize() of @p values, or of matrix.values if null. */
+    void factorize_values(const sparse::CSCMatrix &matrix, const double *values);
+    void refactorize_values(const sparse::CSCMatrix  &matrix,
+                            const double             *values,
+                            const std::vector<Index> &changed_columns,
+                            Refresh                   refresh);
+
     /** solve(), with the single-precision copy of the factor if @p single_precision. */
     void solve_in(const double *b, double *x, Index n_rhs, bool single_precision) const;
 
