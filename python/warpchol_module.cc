@@ -7,11 +7,11 @@
 //   solver.refactorize(A, changed_columns)      # A: the same pattern, new values
 //
 // The matrix's arrays are read where SciPy keeps them: at analyze() its pattern becomes
-// the solver's CSC form (as it is when SciPy's indices are sorted and no triangle has to
-// be swapped, the common case); afterwards each call compares the pattern with the
-// analyzed one and copies the values, once, into the solver's form. Solves write into a
-// new array, without a copy of the right-hand side when it is float64 and contiguous
-// (column-major for several).
+// the solver's CSC form; afterwards each call compares the pattern with the analyzed one
+// (memcmp) and the solver reads the values from SciPy's array, without a copy, where their
+// order is the solver's (SciPy's indices sorted and no triangle to swap, the common case;
+// else they are copied once, into the CSC form). Solves write into a new array, without a
+// copy of the right-hand side when it is float64 and contiguous (column-major for several).
 
 #include <warpchol/base/exceptions.h>
 #include <warpchol/cholesky/ordering.h>
@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <cstring>
 #include <numeric>
 #include <string>
 #include <tuple>
@@ -85,8 +86,20 @@ namespace warpchol::python
                            std::string(py::str(array.dtype())) + ", expected int32 or int64");
     }
 
+    /** Whether the index arrays @p a and @p b hold the same values (each int32 or int64). */
+    bool same_indices(const py::array &a, const py::array &b)
+    {
+      if (a.size() != b.size())
+        return false;
+      if (a.itemsize() == b.itemsize())
+        return std::memcmp(a.data(), b.data(), a.nbytes()) == 0;
+      return visit_indices(a, [&](const auto *a_values) {
+        return visit_indices(b, [&](const auto *b_values) { return std::equal(a_values, a_values + a.size(), b_values); });
+      });
+    }
+
     /** The stored values as float64 (a copy only if they are another type). */
-    py::array_t<double, py::array::c_style> values_of(const py::array &data)
+    py::array_t<double, py::array::c_style> float64_values(const py::array &data)
     {
       if (data.dtype().kind() == 'c')
         throw py::type_error("warpchol: the matrix is complex; SparseCholesky factors real matrices");
@@ -125,9 +138,9 @@ namespace warpchol::python
     {
       if (!analyzed)
         analyze(matrix);
-      load_values(matrix);
+      const Values                 values = values_of(matrix);
       const py::gil_scoped_release unlocked;
-      solver.factorize(csc);
+      solver.factorize(csc, values.data);
     }
 
     /** Partial refactorization after the entries of @p changed_columns changed. */
@@ -138,10 +151,10 @@ namespace warpchol::python
       const auto columns = py::array_t<Index, py::array::c_style | py::array::forcecast>::ensure(changed_columns);
       if (!columns || columns.ndim() != 1)
         throw py::type_error("warpchol: changed_columns must be a sequence of column indices");
-      const std::vector<Index> changed(columns.data(), columns.data() + columns.size());
-      load_values(matrix);
+      const std::vector<Index>     changed(columns.data(), columns.data() + columns.size());
+      const Values                 values = values_of(matrix);
       const py::gil_scoped_release unlocked;
-      solver.refactorize(csc, changed);
+      solver.refactorize(csc, values.data, changed);
     }
 
     /** x with A x = b, for b of shape (n,) or (n, k). */
@@ -207,6 +220,8 @@ namespace warpchol::python
       if (arrays.indptr.size() != n + 1)
         throw MatrixError("the matrix's indptr has " + std::to_string(arrays.indptr.size()) + " entries, expected " +
                           std::to_string(n + 1));
+      // The pattern as the solver takes it, unless it has to be sorted or transposed below.
+      std::vector<Index> &column_start = csc.column_start, &row_index = csc.row_index;
       column_start.resize(n + 1);
       row_index.resize(nnz);
       visit_indices(arrays.indptr, [&](const auto *values) { std::copy(values, values + n + 1, column_start.begin()); });
@@ -239,13 +254,12 @@ namespace warpchol::python
       csc.n_rows = csc.n_cols = n;
       csc.storage             = n_above > 0 && n_below > 0 ? sparse::Storage::full : sparse::Storage::lower;
       csc.values.assign(nnz, 0.);
+      // Copies of the user's index arrays as they are, which later matrices' are compared with.
+      analyzed_indptr  = arrays.indptr.attr("copy")();
+      analyzed_indices = arrays.indices.attr("copy")();
+      position.clear();
       if (sorted && !transpose)
-        {
-          csc.column_start = column_start;
-          csc.row_index    = row_index;
-          position.clear();
-          return;
-        }
+        return;
 
       std::vector<std::tuple<Index, Index, Index>> entries; // (column, row, input position)
       entries.reserve(nnz);
@@ -253,8 +267,7 @@ namespace warpchol::python
         for (Index k = column_start[j]; k < column_start[j + 1]; ++k)
           entries.emplace_back(transpose ? row_index[k] : j, transpose ? j : row_index[k], k);
       std::sort(entries.begin(), entries.end());
-      csc.column_start.assign(n + 1, 0);
-      csc.row_index.resize(nnz);
+      column_start.assign(n + 1, 0);
       position.resize(nnz);
       for (Index p = 0; p < nnz; ++p)
         {
@@ -262,50 +275,58 @@ namespace warpchol::python
           if (p > 0 && std::get<0>(entries[p - 1]) == j && std::get<1>(entries[p - 1]) == i)
             throw MatrixError("the matrix stores entry (" + std::to_string(i) + "," + std::to_string(j) +
                               ") twice; add the duplicates first (A.sum_duplicates())");
-          ++csc.column_start[j + 1];
-          csc.row_index[p] = i;
-          position[k]      = p;
+          ++column_start[j + 1];
+          row_index[p] = i;
+          position[k]  = p;
         }
-      std::partial_sum(csc.column_start.begin(), csc.column_start.end(), csc.column_start.begin());
+      std::partial_sum(column_start.begin(), column_start.end(), column_start.begin());
     }
 
-    /** Check that the arrays of @p matrix hold the analyzed pattern and copy its values into the CSC form. */
-    void load_values(const py::object &matrix)
+    /** Where a matrix's values are, for the solver: in SciPy's array (kept alive here) or in csc. */
+    struct Values
+    {
+      py::array_t<double, py::array::c_style> array;
+      const double                           *data = nullptr;
+    };
+
+    /**
+     * The values of @p matrix, after checking that its arrays hold the analyzed pattern, in
+     * the order of the solver's CSC form: SciPy's own array where that order is the user's
+     * (no copy), else copied into the CSC form's.
+     */
+    Values values_of(const py::object &matrix)
     {
       const SciPyArrays arrays = arrays_of(matrix);
-      const Index       n = csc.n_cols, nnz = static_cast<Index>(row_index.size());
-      const bool same_pattern = arrays.n_rows == n && arrays.n_cols == n &&
-                                arrays.indptr.size() == n + 1 && arrays.indices.size() == nnz &&
-                                visit_indices(arrays.indptr, [&](const auto *values) {
-                                  return std::equal(column_start.begin(), column_start.end(), values);
-                                }) &&
-                                visit_indices(arrays.indices, [&](const auto *values) {
-                                  return std::equal(row_index.begin(), row_index.end(), values);
-                                });
+      const Index       n = csc.n_cols, nnz = csc.n_nonzeros();
+      const bool        same_pattern = arrays.n_rows == n && arrays.n_cols == n &&
+                                same_indices(arrays.indptr, analyzed_indptr) &&
+                                same_indices(arrays.indices, analyzed_indices);
       if (!same_pattern)
         throw MatrixError("matrix pattern differs from the analyzed one (" +
                           size_text(arrays.n_rows, arrays.n_cols, arrays.indices.size()) + "; analyzed " +
                           size_text(n, n, nnz) + ")");
-      const auto values = values_of(arrays.data);
-      if (values.ndim() != 1 || values.size() != nnz)
-        throw MatrixError("the matrix has " + std::to_string(values.size()) + " values for " +
+      Values values{float64_values(arrays.data)};
+      if (values.array.ndim() != 1 || values.array.size() != nnz)
+        throw MatrixError("the matrix has " + std::to_string(values.array.size()) + " values for " +
                           std::to_string(nnz) + " entries");
-      const double *data = values.data();
-      if (position.empty())
-        std::copy(data, data + nnz, csc.values.begin());
-      else
-        for (Index k = 0; k < nnz; ++k)
-          csc.values[position[k]] = data[k];
+      values.data = values.array.data();
+      if (!position.empty())
+        {
+          for (Index k = 0; k < nnz; ++k)
+            csc.values[position[k]] = values.data[k];
+          values.data = csc.values.data();
+        }
+      return values;
     }
 
     cholesky::SparseCholesky solver;
     bool                     analyzed = false;
     /**
-     * The analyzed pattern as the user's arrays hold it, read as CSC (CSR arrays too: for
-     * a symmetric matrix they describe the same matrix, whichever format they came in).
+     * The analyzed pattern as the user's arrays hold it (indptr, indices), read as CSC: CSR
+     * arrays too, which for a symmetric matrix describe the same matrix.
      */
-    std::vector<Index> column_start;
-    std::vector<Index> row_index;
+    py::array analyzed_indptr;
+    py::array analyzed_indices;
     /** The solver's form of the matrix: full storage, or the lower triangle. */
     sparse::CSCMatrix csc;
     /** position[k]: the place in csc.values of the user's k-th value; empty where it is k. */
