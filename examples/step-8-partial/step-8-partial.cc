@@ -221,8 +221,9 @@ namespace Step8Partial
   }
 
 
-  // The best of three wall-clock times of @p work (which the machine may share with other
-  // programs), each run on a copy of @p solver as it is now.
+  // The best of three runs of @p work, each on a copy of @p solver as it is now, in CPU
+  // seconds: the solver runs on one thread here, and CPU time leaves out what other
+  // programs on a shared machine take from it.
   template <typename Work>
   double best_of_three(const warpchol::SparseDirectCholesky &solver, const Work &work)
   {
