@@ -1,7 +1,8 @@
 """What the Python module adds to the C++ calls it makes (issue 21: under 5 % at 10k unknowns).
 
     build/warpchol-torus-matrix --dofs 10000 --output output/benchmarks/torus_10000.mtx
-    PYTHONPATH=build/python python3 benchmarks/python_overhead.py output/benchmarks/torus_10000.mtx
+    PYTHONPATH=build/python python3 benchmarks/python_overhead.py output/benchmarks/torus_10000.mtx \
+        [--format csc|csr] [--lower] [--repeat R] [--changed-fraction F]
 
 For each call (analyze, factorize, refactorize after a change in 1 % of the columns, solve)
 it measures, --repeat times, the wall-clock time of the Python call (time.perf_counter
@@ -57,6 +58,7 @@ def main():
     parser.add_argument("--repeat", type=int, default=20)
     parser.add_argument("--changed-fraction", type=float, default=0.01)
     parser.add_argument("--format", choices=["csc", "csr"], default="csc")
+    parser.add_argument("--lower", action="store_true", help="store the lower triangle only")
     arguments = parser.parse_args()
 
     a = scipy.io.mmread(arguments.matrix).tocsc()
@@ -66,6 +68,8 @@ def main():
     n_changed = max(3, int(arguments.changed_fraction * n) // 3 * 3)
     changed = np.arange(n // 2 // 3 * 3, n // 2 // 3 * 3 + n_changed)
     matrices = [a, scaled_block(a, changed, 1.5)]
+    if arguments.lower:
+        matrices = [sp.tril(m, format="csc") for m in matrices]
     if arguments.format == "csr":
         matrices = [m.tocsr() for m in matrices]
     b = np.ones(n)
@@ -85,8 +89,9 @@ def main():
         ("refactorize", refactorize, "refactorize", arguments.repeat),
         ("solve", lambda: solver.solve(b), "solve", arguments.repeat),
     ]
-    print(f"{os.path.basename(arguments.matrix)}: n = {n}, nnz = {a.nnz} ({arguments.format}, int{a.indices.itemsize * 8} "
-          f"indices), nnz(L) = {solver.statistics['nnz_l']}")
+    stored = matrices[0]
+    print(f"{os.path.basename(arguments.matrix)}: n = {n}, {stored.nnz} entries stored ({arguments.format}, "
+          f"{solver.storage}, int{stored.indices.itemsize * 8} indices), nnz(L) = {solver.statistics['nnz_l']}")
     results = []
     for name, call, timing, repeat in rows:
         call()  # warm up

@@ -26,7 +26,6 @@
 #include <cstring>
 #include <numeric>
 #include <string>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -257,29 +256,38 @@ namespace warpchol::python
       // Copies of the user's index arrays as they are, which later matrices' are compared with.
       analyzed_indptr  = arrays.indptr.attr("copy")();
       analyzed_indices = arrays.indices.attr("copy")();
-      position.clear();
+      source.clear();
       if (sorted && !transpose)
         return;
 
-      std::vector<std::tuple<Index, Index, Index>> entries; // (column, row, input position)
-      entries.reserve(nnz);
-      for (Index j = 0; j < n; ++j)
-        for (Index k = column_start[j]; k < column_start[j + 1]; ++k)
-          entries.emplace_back(transpose ? row_index[k] : j, transpose ? j : row_index[k], k);
-      std::sort(entries.begin(), entries.end());
+      // Bucket the entries by their column in the solver's form (a counting sort), then sort
+      // each column's rows, carrying the entries' places in the user's arrays along.
+      const std::vector<Index> input_start = std::move(column_start), input_row = std::move(row_index);
       column_start.assign(n + 1, 0);
-      position.resize(nnz);
-      for (Index p = 0; p < nnz; ++p)
-        {
-          const auto [j, i, k] = entries[p];
-          if (p > 0 && std::get<0>(entries[p - 1]) == j && std::get<1>(entries[p - 1]) == i)
-            throw MatrixError("the matrix stores entry (" + std::to_string(i) + "," + std::to_string(j) +
-                              ") twice; add the duplicates first (A.sum_duplicates())");
-          ++column_start[j + 1];
-          row_index[p] = i;
-          position[k]  = p;
-        }
+      for (Index j = 0; j < n; ++j)
+        for (Index k = input_start[j]; k < input_start[j + 1]; ++k)
+          ++column_start[(transpose ? input_row[k] : j) + 1];
       std::partial_sum(column_start.begin(), column_start.end(), column_start.begin());
+      std::vector<std::pair<Index, Index>> entries(nnz); // (row, place in the user's arrays)
+      std::vector<Index>                   next(column_start.begin(), column_start.end() - 1);
+      for (Index j = 0; j < n; ++j)
+        for (Index k = input_start[j]; k < input_start[j + 1]; ++k)
+          entries[next[transpose ? input_row[k] : j]++] = {transpose ? j : input_row[k], k};
+      row_index.resize(nnz);
+      source.resize(nnz);
+      for (Index j = 0; j < n; ++j)
+        {
+          std::sort(entries.begin() + column_start[j], entries.begin() + column_start[j + 1]);
+          for (Index p = column_start[j]; p < column_start[j + 1]; ++p)
+            {
+              const auto [i, k] = entries[p];
+              if (p > column_start[j] && entries[p - 1].first == i)
+                throw MatrixError("the matrix stores entry (" + std::to_string(i) + "," + std::to_string(j) +
+                                  ") twice; add the duplicates first (A.sum_duplicates())");
+              row_index[p] = i;
+              source[p]    = k;
+            }
+        }
     }
 
     /** Where a matrix's values are, for the solver: in SciPy's array (kept alive here) or in csc. */
@@ -310,10 +318,10 @@ namespace warpchol::python
         throw MatrixError("the matrix has " + std::to_string(values.array.size()) + " values for " +
                           std::to_string(nnz) + " entries");
       values.data = values.array.data();
-      if (!position.empty())
+      if (!source.empty())
         {
-          for (Index k = 0; k < nnz; ++k)
-            csc.values[position[k]] = values.data[k];
+          for (Index p = 0; p < nnz; ++p)
+            csc.values[p] = values.data[source[p]];
           values.data = csc.values.data();
         }
       return values;
@@ -329,8 +337,8 @@ namespace warpchol::python
     py::array analyzed_indices;
     /** The solver's form of the matrix: full storage, or the lower triangle. */
     sparse::CSCMatrix csc;
-    /** position[k]: the place in csc.values of the user's k-th value; empty where it is k. */
-    std::vector<Index> position;
+    /** source[p]: the place in the user's values of csc.values[p]; empty where it is p. */
+    std::vector<Index> source;
   };
 } // namespace warpchol::python
 
