@@ -29,21 +29,19 @@ foreach(variable SUITESPARSE_INCLUDE_DIR CHOLMOD_LIBRARY AMD_LIBRARY SUITESPARSE
   endif()
 endforeach()
 
+# An imported target warpchol::NAME with these include directories and libraries, unless
+# it exists (the package found twice).
+function(warpchol_imported_target name include_directories libraries)
+  if(NOT TARGET warpchol::${name})
+    add_library(warpchol::${name} INTERFACE IMPORTED)
+    set_target_properties(warpchol::${name} PROPERTIES
+      INTERFACE_INCLUDE_DIRECTORIES "${include_directories}" INTERFACE_LINK_LIBRARIES "${libraries}")
+  endif()
+endfunction()
+
 if(NOT WARPCHOL_MISSING_DEPENDENCIES)
-  if(NOT TARGET warpchol::suitesparse)
-    add_library(warpchol::suitesparse INTERFACE IMPORTED)
-    set_target_properties(warpchol::suitesparse PROPERTIES
-      INTERFACE_INCLUDE_DIRECTORIES "${SUITESPARSE_INCLUDE_DIR}"
-      INTERFACE_LINK_LIBRARIES "${CHOLMOD_LIBRARY};${AMD_LIBRARY};${SUITESPARSECONFIG_LIBRARY}")
-  endif()
-  if(NOT TARGET warpchol::metis)
-    add_library(warpchol::metis INTERFACE IMPORTED)
-    set_target_properties(warpchol::metis PROPERTIES
-      INTERFACE_INCLUDE_DIRECTORIES "${METIS_INCLUDE_DIR}"
-      INTERFACE_LINK_LIBRARIES "${METIS_LIBRARY}")
-  endif()
-  if(NOT TARGET warpchol::blas)
-    add_library(warpchol::blas INTERFACE IMPORTED)
-    set_target_properties(warpchol::blas PROPERTIES INTERFACE_LINK_LIBRARIES "${OPENBLAS_LIBRARY}")
-  endif()
+  warpchol_imported_target(suitesparse "${SUITESPARSE_INCLUDE_DIR}"
+    "${CHOLMOD_LIBRARY};${AMD_LIBRARY};${SUITESPARSECONFIG_LIBRARY}")
+  warpchol_imported_target(metis "${METIS_INCLUDE_DIR}" "${METIS_LIBRARY}")
+  warpchol_imported_target(blas "" "${OPENBLAS_LIBRARY}")
 endif()

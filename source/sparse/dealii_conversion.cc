@@ -2,10 +2,6 @@
 #include <warpchol/sparse/conversions.h>
 #include <warpchol/sparse/dealii_conversion.h>
 
-#ifdef DEAL_II_WITH_TRILINOS
-#  include <Epetra_CrsMatrix.h>
-#endif
-
 #include <algorithm>
 #include <string>
 #include <utility>
@@ -159,42 +155,12 @@ namespace warpchol::sparse
   }
 
 #ifdef DEAL_II_WITH_TRILINOS
-  namespace
-  {
-    /**
-     * Call @p visit(global_row, global_column, value) for each stored entry of @p matrix in
-     * Epetra's order, after checking that this process holds every row.
-     */
-    template <typename Visit>
-    void for_each_trilinos_entry(const dealii::TrilinosWrappers::SparseMatrix &matrix, const Visit &visit)
-    {
-      const Epetra_CrsMatrix &epetra = matrix.trilinos_matrix();
-      if (static_cast<dealii::types::global_dof_index>(epetra.NumMyRows()) != matrix.m())
-        throw MatrixError("the Trilinos matrix has " + std::to_string(matrix.m()) + " rows, this process holds " +
-                          std::to_string(epetra.NumMyRows()) + " of them");
-      // The graph's maps: Epetra_CrsMatrix::RowMap() and ColMap() cast the graph's
-      // Epetra_BlockMap to the Epetra_Map it is not (UndefinedBehaviorSanitizer: invalid
-      // downcast); GID() is the block map's.
-      const Epetra_BlockMap &row_map    = epetra.Graph().RowMap();
-      const Epetra_BlockMap &column_map = epetra.Graph().ColMap();
-      for (int row = 0; row < epetra.NumMyRows(); ++row)
-        {
-          int     n_entries = 0;
-          double *values    = nullptr;
-          int    *columns   = nullptr;
-          epetra.ExtractMyRowView(row, n_entries, values, columns);
-          const Index global_row = row_map.GID(row);
-          for (int k = 0; k < n_entries; ++k)
-            visit(global_row, static_cast<Index>(column_map.GID(columns[k])), values[k]);
-        }
-    }
-  } // namespace
 
   CSCMatrix to_csc(const dealii::TrilinosWrappers::SparseMatrix &matrix)
   {
     // Epetra numbers its local rows in the order of its row map: gather them by global row.
     std::vector<std::vector<std::pair<Index, double>>> row_entries(matrix.m());
-    for_each_trilinos_entry(matrix, [&](const Index row, const Index column, const double value) {
+    for_each_stored_entry(matrix, [&](const Index row, const Index column, const double value) {
       row_entries[row].emplace_back(column, value);
     });
     return rows_to_csc(matrix.m(), matrix.n(), matrix.n_nonzero_elements(), [&](const Index i, const auto &add) {
@@ -207,7 +173,7 @@ namespace warpchol::sparse
   {
     std::vector<Index> positions;
     positions.reserve(csc.n_nonzeros());
-    for_each_trilinos_entry(matrix, [&](const Index row, const Index column, double) {
+    for_each_stored_entry(matrix, [&](const Index row, const Index column, double) {
       positions.push_back(csc_position(csc, "Trilinos matrix", row, column));
     });
     return positions;
@@ -222,7 +188,7 @@ namespace warpchol::sparse
         static_cast<Index>(matrix.n()) != csc.n_cols)
       throw other_size("Trilinos matrix", matrix.m(), matrix.n(), matrix.n_nonzero_elements(), csc);
     std::size_t k = 0;
-    for_each_trilinos_entry(matrix, [&](const Index row, const Index column, const double value) {
+    for_each_stored_entry(matrix, [&](const Index row, const Index column, const double value) {
       csc.values[csc_position(csc, "Trilinos matrix", row, column, positions[k++])] = value;
     });
   }

@@ -65,6 +65,14 @@ namespace warpchol::sparse
 
 #ifdef DEAL_II_WITH_TRILINOS
   /**
+   * Call @p visit(row, column, value) for each stored entry of @p matrix, with global row
+   * and column numbers, in Epetra's order (its local rows in turn, the entries of a row as
+   * Epetra stores them). Throws MatrixError unless this process holds every row.
+   */
+  template <typename Visit>
+  void for_each_stored_entry(const dealii::TrilinosWrappers::SparseMatrix &matrix, const Visit &visit);
+
+  /**
    * The CSC form (full storage) of a Trilinos matrix whose rows are all held by this
    * process: every stored entry is kept, explicit zeros included. Throws MatrixError if
    * the process holds only some of the rows.
@@ -88,3 +96,38 @@ namespace warpchol::sparse
                    CSCMatrix                                    &csc);
 #endif
 } // namespace warpchol::sparse
+
+#ifdef DEAL_II_WITH_TRILINOS
+#  include <warpchol/base/exceptions.h>
+
+#  include <Epetra_CrsMatrix.h>
+
+#  include <string>
+
+namespace warpchol::sparse
+{
+  template <typename Visit>
+  void for_each_stored_entry(const dealii::TrilinosWrappers::SparseMatrix &matrix, const Visit &visit)
+  {
+    const Epetra_CrsMatrix &epetra = matrix.trilinos_matrix();
+    if (static_cast<dealii::types::global_dof_index>(epetra.NumMyRows()) != matrix.m())
+      throw MatrixError("the Trilinos matrix has " + std::to_string(matrix.m()) + " rows, this process holds " +
+                        std::to_string(epetra.NumMyRows()) + " of them");
+    // The graph's maps: Epetra_CrsMatrix::RowMap() and ColMap() cast the graph's
+    // Epetra_BlockMap to the Epetra_Map it is not (UndefinedBehaviorSanitizer: invalid
+    // downcast); GID() is the block map's.
+    const Epetra_BlockMap &row_map    = epetra.Graph().RowMap();
+    const Epetra_BlockMap &column_map = epetra.Graph().ColMap();
+    for (int row = 0; row < epetra.NumMyRows(); ++row)
+      {
+        int     n_entries = 0;
+        double *values    = nullptr;
+        int    *columns   = nullptr;
+        epetra.ExtractMyRowView(row, n_entries, values, columns);
+        const Index global_row = row_map.GID(row);
+        for (int k = 0; k < n_entries; ++k)
+          visit(global_row, static_cast<Index>(column_map.GID(columns[k])), values[k]);
+      }
+  }
+} // namespace warpchol::sparse
+#endif
