@@ -14,6 +14,8 @@
 #include <warpchol/base/format.h>
 #include <warpchol/sparse/csc_matrix.h>
 
+#include <deal.II/base/exceptions.h>
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -92,6 +94,36 @@ namespace tests
         result = error.what();
       }
     std::cout << label << ": " << result << std::endl;
+  }
+
+  /**
+   * Run @p action, which must throw the deal.II exception @p Exception; print "label:
+   * <message>" (its print_info(), flagged if it is not one line), "label: NO ERROR", or
+   * the name of another deal.II exception.
+   */
+  template <typename Exception>
+  void expect_dealii_error(const std::string &label, const std::function<void()> &action)
+  {
+    try
+      {
+        action();
+        std::cout << label << ": NO ERROR" << std::endl;
+      }
+    catch (const Exception &error)
+      {
+        std::ostringstream info;
+        error.print_info(info);
+        std::string message = info.str();
+        message.erase(0, message.find_first_not_of(' '));
+        while (!message.empty() && message.back() == '\n')
+          message.pop_back();
+        std::cout << label << ": " << message
+                  << (message.find('\n') == std::string::npos ? "" : " [NOT ONE LINE]") << std::endl;
+      }
+    catch (const dealii::ExceptionBase &error)
+      {
+        std::cout << label << ": WRONG EXCEPTION " << error.get_exc_name() << std::endl;
+      }
   }
 
   /** A small deterministic generator (splitmix64), the same on every platform. */

@@ -1,6 +1,7 @@
 #include <warpchol/backends/trilinos_amg_cg.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/sparse/dealii_conversion.h>
 
 #include <deal.II/base/mpi.h>
 #include <deal.II/lac/solver_cg.h>
@@ -193,33 +194,18 @@ namespace warpchol::backends
       throw MatrixError("Trilinos AMG-CG: the CSC form does not hold the deal.II matrix' entries (full storage, " +
                         std::to_string(matrix.n_nonzero_elements()) + " entries)");
 
-    const Epetra_CrsMatrix &epetra = matrix.trilinos_matrix();
-    // The graph's maps: Epetra_CrsMatrix::RowMap() and ColMap() cast the graph's
-    // Epetra_BlockMap to the Epetra_Map it is not (UndefinedBehaviorSanitizer: invalid
-    // downcast); GID() is the block map's.
-    const Epetra_BlockMap &row_map    = epetra.Graph().RowMap();
-    const Epetra_BlockMap &column_map = epetra.Graph().ColMap();
+    // Entry (row, column) reads A(column, row), the same value, from the CSC's column row.
     csc_position.clear();
     csc_position.reserve(csc.n_nonzeros());
-    for (int row = 0; row < epetra.NumMyRows(); ++row)
-      {
-        int     n_entries = 0;
-        double *values    = nullptr;
-        int    *columns   = nullptr;
-        epetra.ExtractMyRowView(row, n_entries, values, columns);
-        const Index global_row = row_map.GID(row);
-        const auto  begin      = csc.row_index.begin() + csc.column_start[global_row];
-        const auto  end        = csc.row_index.begin() + csc.column_start[global_row + 1];
-        for (int k = 0; k < n_entries; ++k)
-          {
-            const Index column   = column_map.GID(columns[k]);
-            const auto  position = std::lower_bound(begin, end, column);
-            if (position == end || *position != column)
-              throw MatrixError("Trilinos AMG-CG: entry (" + std::to_string(global_row) + ", " +
-                                std::to_string(column) + ") is not in the CSC form");
-            csc_position.push_back(std::distance(csc.row_index.begin(), position));
-          }
-      }
+    sparse::for_each_stored_entry(matrix, [&](const Index row, const Index column, double) {
+      const auto begin    = csc.row_index.begin() + csc.column_start[row];
+      const auto end      = csc.row_index.begin() + csc.column_start[row + 1];
+      const auto position = std::lower_bound(begin, end, column);
+      if (position == end || *position != column)
+        throw MatrixError("Trilinos AMG-CG: entry (" + std::to_string(row) + ", " + std::to_string(column) +
+                          ") is not in the CSC form");
+      csc_position.push_back(std::distance(csc.row_index.begin(), position));
+    });
   }
 
   void TrilinosAmgCgSolver::Implementation::copy_values(const sparse::CSCMatrix &csc)

@@ -115,6 +115,21 @@ namespace warpchol::cholesky
 
   std::vector<Index> PermutedMatrix::load(const sparse::CSCMatrix &matrix)
   {
+    check_pattern(matrix);
+    if (static_cast<Index>(matrix.values.size()) != matrix.n_nonzeros())
+      throw MatrixError("matrix has " + std::to_string(matrix.values.size()) + " values for " +
+                        std::to_string(matrix.n_nonzeros()) + " entries");
+    return load_values(matrix.values.data());
+  }
+
+  std::vector<Index> PermutedMatrix::load(const sparse::CSCMatrix &matrix, const double *const values)
+  {
+    check_pattern(matrix);
+    return load_values(values);
+  }
+
+  void PermutedMatrix::check_pattern(const sparse::CSCMatrix &matrix) const
+  {
     if (matrix.n_rows != permuted_lower.n_rows || matrix.n_cols != permuted_lower.n_cols ||
         matrix.storage != storage || matrix.column_start != analyzed_column_start ||
         matrix.row_index != analyzed_row_index)
@@ -124,15 +139,15 @@ namespace warpchol::cholesky
                         std::to_string(permuted_lower.n_rows) + "x" +
                         std::to_string(permuted_lower.n_cols) + ", " +
                         std::to_string(analyzed_row_index.size()) + " entries)");
-    if (static_cast<Index>(matrix.values.size()) != matrix.n_nonzeros())
-      throw MatrixError("matrix has " + std::to_string(matrix.values.size()) + " values for " +
-                        std::to_string(matrix.n_nonzeros()) + " entries");
+  }
 
+  std::vector<Index> PermutedMatrix::load_values(const double *const values)
+  {
     const Index        nnz = permuted_lower.n_nonzeros();
     std::vector<Index> changed_columns;
     for (Index k = 0; k < nnz; ++k)
       {
-        const double value = matrix.values[source[k]];
+        const double value = values[source[k]];
         if (!std::isfinite(value))
           throw MatrixError("value " + format_number(value) + " at entry " +
                             entry_name(permutation[permuted_lower.row_index[k]],
@@ -153,7 +168,7 @@ namespace warpchol::cholesky
         for (Index k = 0; k < nnz; ++k)
           if (mirror[k] != -1)
             {
-              const double value = permuted_lower.values[k], twin = matrix.values[mirror[k]];
+              const double value = permuted_lower.values[k], twin = values[mirror[k]];
               const Index  r = permuted_lower.row_index[k], c = entry_column[k];
               if (!sparse::symmetric_pair(value, twin, diagonal[r], diagonal[c]))
                 throw MatrixError("matrix is not symmetric: A" +

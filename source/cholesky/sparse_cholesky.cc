@@ -42,6 +42,31 @@ namespace warpchol::cholesky
     return nnz_a > 0 ? static_cast<double>(nnz_l) / static_cast<double>(nnz_a) : 0.;
   }
 
+  namespace
+  {
+    /**
+     * permuted.load(matrix) (of @p values, if not null), dropping the factor (@p factor_valid)
+     * if it fails: a load that
+     * stops part way (a value that is not finite, an asymmetric pair) leaves C with some of
+     * the new values and L with the old factor, and the next load, which finds the changed
+     * columns by comparing with C, would miss those already written. The next
+     * refactorize() then factors in full.
+     */
+    std::vector<Index> load_or_drop_factor(PermutedMatrix &permuted, const sparse::CSCMatrix &matrix,
+                                           const double *values, bool &factor_valid)
+    {
+      try
+        {
+          return values != nullptr ? permuted.load(matrix, values) : permuted.load(matrix);
+        }
+      catch (...)
+        {
+          factor_valid = false;
+          throw;
+        }
+    }
+  } // namespace
+
   SparseCholesky::SparseCholesky()
     : SparseCholesky(Settings())
   {}
@@ -173,10 +198,20 @@ namespace warpchol::cholesky
 
   void SparseCholesky::factorize(const sparse::CSCMatrix &matrix)
   {
+    factorize_values(matrix, nullptr);
+  }
+
+  void SparseCholesky::factorize(const sparse::CSCMatrix &matrix, const double *const values)
+  {
+    factorize_values(matrix, values);
+  }
+
+  void SparseCholesky::factorize_values(const sparse::CSCMatrix &matrix, const double *const values)
+  {
     if (!analyzed)
       analyze(matrix);
     const Stopwatch stopwatch;
-    permuted_matrix.load(matrix);
+    load_or_drop_factor(permuted_matrix, matrix, values, factor_valid);
     pending_columns.clear();
     stale_columns.clear();
     RefreshPlan everything;
@@ -273,11 +308,27 @@ namespace warpchol::cholesky
                                    const std::vector<Index> &changed_columns,
                                    const Refresh             refresh)
   {
+    refactorize_values(matrix, nullptr, changed_columns, refresh);
+  }
+
+  void SparseCholesky::refactorize(const sparse::CSCMatrix  &matrix,
+                                   const double *const       values,
+                                   const std::vector<Index> &changed_columns,
+                                   const Refresh             refresh)
+  {
+    refactorize_values(matrix, values, changed_columns, refresh);
+  }
+
+  void SparseCholesky::refactorize_values(const sparse::CSCMatrix  &matrix,
+                                          const double *const       values,
+                                          const std::vector<Index> &changed_columns,
+                                          const Refresh             refresh)
+  {
     if (!analyzed)
       throw Error("refactorize() called before analyze()");
     check_request(changed_columns, refresh);
     const Stopwatch          stopwatch;
-    const std::vector<Index> unlisted = permuted_matrix.load(matrix);
+    const std::vector<Index> unlisted = load_or_drop_factor(permuted_matrix, matrix, values, factor_valid);
     const std::vector<Index> listed   = pending_with(changed_columns);
     std::vector<Index>       changes;
     std::set_union(listed.begin(), listed.end(), unlisted.begin(), unlisted.end(), std::back_inserter(changes));

@@ -38,6 +38,12 @@ namespace warpchol::cholesky
      */
     std::vector<Index> load(const sparse::CSCMatrix &matrix);
 
+    /**
+     * load(), with the values of @p matrix read from @p values (matrix.n_nonzeros() of them,
+     * in the order of its entries) instead of matrix.values, which are not used.
+     */
+    std::vector<Index> load(const sparse::CSCMatrix &matrix, const double *values);
+
     /** C, lower storage, permuted numbering. */
     const sparse::CSCMatrix &lower() const;
 
@@ -50,6 +56,12 @@ namespace warpchol::cholesky
     void load(BinaryReader &reader);
 
   private:
+    /** Throw MatrixError unless @p matrix has the pattern given to setup(). */
+    void check_pattern(const sparse::CSCMatrix &matrix) const;
+
+    /** load() of values in the analyzed pattern's order, once the pattern is checked. */
+    std::vector<Index> load_values(const double *values);
+
     sparse::CSCMatrix  permuted_lower;
     std::vector<Index> permutation;
     std::vector<Index> inverse_permutation;

@@ -170,6 +170,14 @@ namespace warpchol::cholesky
     void factorize(const sparse::CSCMatrix &matrix);
 
     /**
+     * factorize(), with the values of @p matrix read from @p values (matrix.n_nonzeros() of
+     * them, in the order of its entries) instead of matrix.values, which are not used: for
+     * a caller that holds them elsewhere (the Python module: in NumPy's array), without
+     * copying them.
+     */
+    void factorize(const sparse::CSCMatrix &matrix, const double *values);
+
+    /**
      * Partial refactorization after the entries of @p changed_columns (user numbering) of
      * @p matrix changed: recompute exactly the columns of L on the elimination-tree paths
      * from those columns (permuted) to the root, reuse the others. A column of C whose
@@ -183,9 +191,17 @@ namespace warpchol::cholesky
      *
      * Throws InputError for a column out of range or Refresh::below_top with a method other
      * than the supernodal one, and what factorize() throws. If no valid factor exists yet,
-     * factors fully whatever @p refresh.
+     * factors fully whatever @p refresh. A matrix that factorize() or refactorize() refuses
+     * (another pattern, a value that is not finite, asymmetric values, a pivot that is not
+     * positive) leaves no valid factor: solve() throws until the next factorization.
      */
     void refactorize(const sparse::CSCMatrix  &matrix,
+                     const std::vector<Index> &changed_columns,
+                     Refresh                   refresh = Refresh::all);
+
+    /** refactorize(), with the values of @p matrix read from @p values, as factorize() above reads them. */
+    void refactorize(const sparse::CSCMatrix  &matrix,
+                     const double             *values,
                      const std::vector<Index> &changed_columns,
                      Refresh                   refresh = Refresh::all);
 
@@ -275,6 +291,13 @@ namespace warpchol::cholesky
     void load_numeric(BinaryReader &reader);
 
   private:
+    /** factorize() and refactorize() of @p values, or of matrix.values if null. */
+    void factorize_values(const sparse::CSCMatrix &matrix, const double *values);
+    void refactorize_values(const sparse::CSCMatrix  &matrix,
+                            const double             *values,
+                            const std::vector<Index> &changed_columns,
+                            Refresh                   refresh);
+
     /** solve(), with the single-precision copy of the factor if @p single_precision. */
     void solve_in(const double *b, double *x, Index n_rhs, bool single_precision) const;
 

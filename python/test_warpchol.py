@@ -1,0 +1,214 @@
+"""Tests of the Python module warpchol (python/warpchol_module.cc), against SciPy.
+
+Solutions equal SciPy's spsolve on CSC and CSR matrices with both triangles stored or
+one, unsorted or int64 indices, one or several right-hand sides; a partial
+refactorization recomputes part of the factor and equals a fresh factorization; bad
+input raises the module's exceptions with one-line messages; the README's snippet runs
+and prints what the README shows.
+
+    PYTHONPATH=build/python python3 python/test_warpchol.py    (ctest -R python)
+"""
+
+import contextlib
+import io
+import os
+import re
+import unittest
+
+import numpy as np
+import scipy.sparse as sp
+import scipy.sparse.linalg as spla
+
+import warpchol
+
+
+def laplacian(k, shift=0.01):
+    """The 2D Laplacian on a k x k grid plus shift * I: symmetric positive definite, CSC."""
+    t = sp.diags([-1.0, 2.0, -1.0], [-1, 0, 1], shape=(k, k))
+    eye = sp.eye(k)
+    return (sp.kron(t, eye) + sp.kron(eye, t) + shift * sp.eye(k * k)).tocsc()
+
+
+def scaled_block(a, columns, factor):
+    """a with the entries (i, j), i and j both in columns, multiplied by factor (same pattern)."""
+    a = a.tocsc(copy=True)
+    rows = a.indices
+    cols = np.repeat(np.arange(a.shape[1]), np.diff(a.indptr))
+    inside = np.isin(rows, columns) & np.isin(cols, columns)
+    a.data[inside] *= factor
+    return a
+
+
+def relative_error(x, reference):
+    return np.abs(x - reference).max() / np.abs(reference).max()
+
+
+class Solve(unittest.TestCase):
+    def setUp(self):
+        self.a = laplacian(30)
+        self.b = np.sin(np.arange(self.a.shape[0]) * 0.37) + 1.0
+        self.reference = spla.spsolve(self.a, self.b)
+
+    def check_solves(self, matrix, storage):
+        solver = warpchol.SparseCholesky()
+        solver.analyze(matrix)
+        solver.factorize(matrix)
+        self.assertEqual(solver.storage, storage)
+        self.assertLess(relative_error(solver.solve(self.b), self.reference), 1e-10)
+
+    def test_formats_and_triangles(self):
+        a = self.a
+        for name, matrix, storage in [
+            ("csc full", a, "full"),
+            ("csr full", a.tocsr(), "full"),
+            ("csc lower", sp.tril(a, format="csc"), "lower"),
+            ("csr lower", sp.tril(a, format="csr"), "lower"),
+            ("csc upper", sp.triu(a, format="csc"), "lower"),
+            ("csr upper", sp.triu(a, format="csr"), "lower"),
+        ]:
+            with self.subTest(name):
+                self.check_solves(matrix, storage)
+
+    def test_unsorted_and_int64_indices(self):
+        unsorted = self.a.copy()
+        for j in range(unsorted.shape[1]):  # reverse each column's entries
+            begin, end = unsorted.indptr[j], unsorted.indptr[j + 1]
+            unsorted.indices[begin:end] = unsorted.indices[begin:end][::-1].copy()
+            unsorted.data[begin:end] = unsorted.data[begin:end][::-1].copy()
+        unsorted.has_sorted_indices = False
+        self.check_solves(unsorted, "full")
+        wide = self.a.copy()
+        wide.indptr = wide.indptr.astype(np.int64)
+        wide.indices = wide.indices.astype(np.int64)
+        self.check_solves(wide, "full")
+
+    def test_several_right_hand_sides(self):
+        solver = warpchol.SparseCholesky()
+        solver.factorize(self.a)
+        rhs = np.column_stack([self.b, 2 * self.b, np.ones_like(self.b)])
+        for order in ("C", "F"):
+            with self.subTest(order):
+                x = solver.solve(np.array(rhs, order=order))
+                self.assertEqual(x.shape, rhs.shape)
+                self.assertLess(relative_error(x, spla.spsolve(self.a, rhs)), 1e-10)
+
+    def test_methods_and_orderings(self):
+        for method, ordering in [("left", "amd"), ("up", "natural"), ("supernodal", "amd")]:
+            with self.subTest(method=method, ordering=ordering):
+                solver = warpchol.SparseCholesky(method=method, ordering=ordering)
+                solver.factorize(self.a)
+                self.assertLess(relative_error(solver.solve(self.b), self.reference), 1e-10)
+
+
+class Refactorize(unittest.TestCase):
+    def test_partial_equals_fresh(self):
+        a = laplacian(40)
+        b = np.ones(a.shape[0])
+        changed = np.arange(810, 830)
+        a2 = scaled_block(a, changed, 3.0)
+        for method in ("supernodal", "left"):
+            with self.subTest(method):
+                solver = warpchol.SparseCholesky(method=method)
+                solver.factorize(a)
+                self.assertEqual(solver.flops_recomputed, solver.flops)
+                solver.refactorize(a2, changed)
+                self.assertLess(0, solver.columns_recomputed)
+                self.assertLess(solver.columns_recomputed, solver.n)
+                self.assertLess(solver.flops_recomputed, solver.flops)
+                fresh = warpchol.SparseCholesky(method=method)
+                fresh.factorize(a2)
+                x = solver.solve(b)
+                self.assertLess(relative_error(x, fresh.solve(b)), 1e-12)
+                self.assertLess(relative_error(x, spla.spsolve(a2, b)), 1e-10)
+
+    def test_unlisted_change_is_found(self):
+        a = laplacian(20)
+        b = np.ones(a.shape[0])
+        solver = warpchol.SparseCholesky()
+        solver.factorize(a)
+        a2 = scaled_block(a, np.arange(100, 110), 2.0)
+        solver.refactorize(a2, [])
+        self.assertGreaterEqual(solver.columns_recomputed, 10)
+        self.assertLess(relative_error(solver.solve(b), spla.spsolve(a2, b)), 1e-10)
+
+    def test_statistics_and_timings(self):
+        solver = warpchol.SparseCholesky()
+        solver.factorize(laplacian(20))
+        solver.solve(np.ones(400))
+        statistics = solver.statistics
+        self.assertEqual(statistics["n"], 400)
+        self.assertGreater(statistics["nnz_l"], statistics["nnz_a"])
+        self.assertEqual(statistics["flops"], solver.flops)
+        self.assertEqual(set(solver.timings), {"analyze", "factorize", "refactorize", "solve"})
+        self.assertGreater(solver.timings["factorize"], 0)
+        self.assertGreater(solver.timings["solve"], 0)
+
+
+class Errors(unittest.TestCase):
+    def expect(self, exception, pattern, action):
+        with self.assertRaises(exception) as raised:
+            action()
+        message = str(raised.exception)
+        self.assertNotIn("\n", message)
+        self.assertRegex(message, pattern)
+
+    def test_bad_input(self):
+        a = laplacian(5)
+        solver = warpchol.SparseCholesky()
+        asymmetric = a.tolil()
+        asymmetric[0, 1] = 5.0
+        self.expect(warpchol.MatrixError, r"not symmetric: A\(", lambda: solver.factorize(asymmetric.tocsc()))
+        indefinite = a.copy()
+        indefinite.data *= -1
+        self.expect(warpchol.NotPositiveDefinite, r"pivot of column \d+ is -",
+                    lambda: warpchol.SparseCholesky().factorize(indefinite))
+        self.expect(warpchol.MatrixError, "not square: 5x4",
+                    lambda: warpchol.SparseCholesky().factorize(sp.random(5, 4, 0.5, format="csc")))
+        self.expect(TypeError, "coo format", lambda: warpchol.SparseCholesky().factorize(a.tocoo()))
+        self.expect(TypeError, "expected a SciPy sparse matrix", lambda: warpchol.SparseCholesky().factorize(3))
+        self.expect(warpchol.Error, "before analyze", lambda: warpchol.SparseCholesky().refactorize(a, [0]))
+        self.expect(warpchol.Error, "without a valid factorization",
+                    lambda: warpchol.SparseCholesky().solve(np.ones(25)))
+        duplicated = sp.csc_matrix((np.ones(4), np.array([1, 0, 0, 1]), np.array([0, 3, 4])), shape=(2, 2))
+        self.expect(warpchol.MatrixError, r"twice", lambda: warpchol.SparseCholesky().factorize(duplicated))
+
+        solver = warpchol.SparseCholesky()
+        solver.factorize(a)
+        self.expect(warpchol.MatrixError, "pattern differs", lambda: solver.refactorize(laplacian(6), [0]))
+        solver.factorize(a.tocsr())  # the same arrays: for a symmetric matrix, the same matrix
+        self.expect(warpchol.InputError, r"changed column 25 out of range \[0, 25\)",
+                    lambda: solver.refactorize(a, [25]))
+        self.expect(ValueError, r"shape \(24\), expected \(25,\)", lambda: solver.solve(np.ones(24)))
+        nan = a.copy()
+        nan.data[3] = np.nan
+        self.expect(warpchol.MatrixError, "not finite", lambda: solver.refactorize(nan, [0]))
+        # The failed load dropped the factor; the next refactorization factors in full.
+        self.expect(warpchol.Error, "without a valid factorization", lambda: solver.solve(np.ones(25)))
+        solver.refactorize(a, [0])
+        self.assertEqual(solver.columns_recomputed, 25)
+        self.assertLess(relative_error(solver.solve(np.ones(25)), spla.spsolve(a, np.ones(25))), 1e-10)
+
+
+class ReadmeSnippet(unittest.TestCase):
+    """The README's Python snippet runs and prints what the README shows (numbers aside)."""
+
+    def test_snippet(self):
+        readme = os.environ.get("WARPCHOL_README",
+                                os.path.join(os.path.dirname(__file__), "..", "README.md"))
+        with open(readme) as file:
+            text = file.read()
+        section = text[text.index("## From other programs"):]
+        snippet = re.search(r"```python\n(.*?)```", section, re.S).group(1)
+        shown = re.search(r"```python\n.*?```\n.*?```text\n(.*?)```", section, re.S).group(1)
+        printed = io.StringIO()
+        with contextlib.redirect_stdout(printed):
+            exec(compile(snippet, "README.md", "exec"), {})
+
+        def shape(output):
+            return re.sub(r"[0-9][0-9.e+-]*", "#", output).strip()
+
+        self.assertEqual(shape(printed.getvalue()), shape(shown))
+
+
+if __name__ == "__main__":
+    unittest.main(verbosity=2)

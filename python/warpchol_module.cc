@@ -1,0 +1,420 @@
+// The Python module warpchol: cholesky::SparseCholesky on SciPy sparse matrices (CSC or
+// CSR; both triangles of a symmetric matrix stored, or one) and NumPy arrays.
+//
+//   solver = warpchol.SparseCholesky()          # supernodal, METIS
+//   solver.analyze(A); solver.factorize(A)      # or solver.factorize(A) alone
+//   x = solver.solve(b)
+//   solver.refactorize(A, changed_columns)      # A: the same pattern, new values
+//
+// The matrix's arrays are read where SciPy keeps them: at analyze() its pattern becomes
+// the solver's CSC form; afterwards each call compares the pattern with the analyzed one
+// (memcmp) and the solver reads the values from SciPy's array, without a copy, where their
+// order is the solver's (SciPy's indices sorted and no triangle to swap, the common case;
+// else they are copied once, into the CSC form). Solves write into a new array, without a
+// copy of the right-hand side when it is float64 and contiguous (column-major for several).
+
+#include <warpchol/base/exceptions.h>
+#include <warpchol/cholesky/ordering.h>
+#include <warpchol/cholesky/sparse_cholesky.h>
+#include <warpchol/sparse/csc_matrix.h>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include <algorithm>
+#include <cstdint>
+#include <cstring>
+#include <numeric>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace py = pybind11;
+
+namespace warpchol::python
+{
+  namespace
+  {
+    /**
+     * The arrays of a SciPy matrix in CSC or CSR format. Read as CSC, a CSR matrix's arrays
+     * are those of its transpose: for a symmetric matrix the matrix itself, for one stored
+     * triangle the other triangle.
+     */
+    struct SciPyArrays
+    {
+      std::string format;
+      Index       n_rows = 0;
+      Index       n_cols = 0;
+      py::array   indptr;
+      py::array   indices;
+      py::array   data;
+    };
+
+    SciPyArrays arrays_of(const py::object &matrix)
+    {
+      const auto not_csc_or_csr = [&](const std::string &what) {
+        return py::type_error("warpchol: expected a SciPy sparse matrix in CSC or CSR format, got " + what);
+      };
+      if (!py::hasattr(matrix, "format"))
+        throw not_csc_or_csr(py::str(py::type::of(matrix).attr("__name__")));
+      SciPyArrays arrays;
+      arrays.format = py::str(matrix.attr("format"));
+      if (arrays.format != "csc" && arrays.format != "csr")
+        throw not_csc_or_csr("one in " + arrays.format + " format (convert it with .tocsc())");
+      for (const char *attribute : {"shape", "indptr", "indices", "data"})
+        if (!py::hasattr(matrix, attribute))
+          throw not_csc_or_csr("an object without " + std::string(attribute));
+      const auto shape = matrix.attr("shape").cast<std::pair<Index, Index>>();
+      arrays.n_rows    = shape.first;
+      arrays.n_cols    = shape.second;
+      arrays.indptr    = py::array::ensure(matrix.attr("indptr"), py::array::c_style);
+      arrays.indices   = py::array::ensure(matrix.attr("indices"), py::array::c_style);
+      arrays.data      = matrix.attr("data");
+      return arrays;
+    }
+
+    /** Call @p visit with the data of the integer array @p array (int32 or int64, as SciPy uses). */
+    template <typename Visit>
+    decltype(auto) visit_indices(const py::array &array, const Visit &visit)
+    {
+      if (array.ndim() == 1 && py::isinstance<py::array_t<std::int32_t>>(array))
+        return visit(static_cast<const std::int32_t *>(array.data()));
+      if (array.ndim() == 1 && py::isinstance<py::array_t<std::int64_t>>(array))
+        return visit(static_cast<const std::int64_t *>(array.data()));
+      throw py::type_error("warpchol: the matrix's index arrays are " +
+                           std::string(py::str(array.dtype())) + ", expected int32 or int64");
+    }
+
+    /** Whether the index arrays @p a and @p b hold the same values (each int32 or int64). */
+    bool same_indices(const py::array &a, const py::array &b)
+    {
+      if (a.size() != b.size())
+        return false;
+      if (a.itemsize() == b.itemsize())
+        return std::memcmp(a.data(), b.data(), a.nbytes()) == 0;
+      return visit_indices(a, [&](const auto *a_values) {
+        return visit_indices(b, [&](const auto *b_values) { return std::equal(a_values, a_values + a.size(), b_values); });
+      });
+    }
+
+    /** The stored values as float64 (a copy only if they are another type). */
+    py::array_t<double, py::array::c_style> float64_values(const py::array &data)
+    {
+      if (data.dtype().kind() == 'c')
+        throw py::type_error("warpchol: the matrix is complex; SparseCholesky factors real matrices");
+      return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(data);
+    }
+
+    std::string size_text(const Index n_rows, const Index n_cols, const Index n_entries)
+    {
+      return std::to_string(n_rows) + "x" + std::to_string(n_cols) + ", " + std::to_string(n_entries) + " entries";
+    }
+  } // namespace
+
+  /**
+   * cholesky::SparseCholesky on SciPy matrices: the pattern given to analyze() (in the
+   * user's storage), the solver's CSC form of it, and where each stored value goes there.
+   */
+  class SciPyCholesky
+  {
+  public:
+    SciPyCholesky(const std::string &method, const std::string &ordering, const unsigned int n_threads)
+      : solver(settings(method, ordering, n_threads))
+    {}
+
+    /** Ordering and symbolic analysis of the pattern of @p matrix. */
+    void analyze(const py::object &matrix)
+    {
+      analyzed = false;
+      read_pattern(arrays_of(matrix));
+      const py::gil_scoped_release unlocked;
+      solver.analyze(csc);
+      analyzed = true;
+    }
+
+    /** Numeric factorization of @p matrix (analyzed first if it was not). */
+    void factorize(const py::object &matrix)
+    {
+      if (!analyzed)
+        analyze(matrix);
+      const Values                 values = values_of(matrix);
+      const py::gil_scoped_release unlocked;
+      solver.factorize(csc, values.data);
+    }
+
+    /** Partial refactorization after the entries of @p changed_columns changed. */
+    void refactorize(const py::object &matrix, const py::object &changed_columns)
+    {
+      if (!analyzed)
+        throw Error("refactorize() called before analyze()");
+      const auto columns = py::array_t<Index, py::array::c_style | py::array::forcecast>::ensure(changed_columns);
+      if (!columns || columns.ndim() != 1)
+        throw py::type_error("warpchol: changed_columns must be a sequence of column indices");
+      const std::vector<Index>     changed(columns.data(), columns.data() + columns.size());
+      const Values                 values = values_of(matrix);
+      const py::gil_scoped_release unlocked;
+      solver.refactorize(csc, values.data, changed);
+    }
+
+    /** x with A x = b, for b of shape (n,) or (n, k). */
+    py::array solve(const py::array &b) const
+    {
+      if (!solver.factor_is_exact())
+        throw Error("solve() called without a valid factorization");
+      const Index n = solver.statistics().n;
+      if (b.ndim() == 1 || b.ndim() == 2)
+        if (b.shape(0) == n)
+          {
+            const Index n_rhs = b.ndim() == 2 ? b.shape(1) : 1;
+            // Several right-hand sides column by column, as the solver takes them.
+            const auto rhs = py::array_t<double, py::array::f_style | py::array::forcecast>::ensure(b);
+            py::array_t<double, py::array::f_style> x(b.ndim() == 2 ? std::vector<py::ssize_t>{n, n_rhs} :
+                                                                       std::vector<py::ssize_t>{n});
+            const double *rhs_values = rhs.data();
+            double       *x_values   = x.mutable_data();
+            const py::gil_scoped_release unlocked;
+            solver.solve(rhs_values, x_values, n_rhs);
+            return std::move(x);
+          }
+      std::string shape;
+      for (py::ssize_t d = 0; d < b.ndim(); ++d)
+        shape += (d > 0 ? ", " : "") + std::to_string(b.shape(d));
+      throw py::value_error("warpchol: the right-hand side has shape (" + shape + "), expected (" +
+                            std::to_string(n) + ",) or (" + std::to_string(n) + ", k)");
+    }
+
+    const cholesky::SparseCholesky::Statistics &statistics() const
+    {
+      return solver.statistics();
+    }
+
+    std::string storage() const
+    {
+      return csc.storage == sparse::Storage::full ? "full" : "lower";
+    }
+
+  private:
+    static cholesky::SparseCholesky::Settings settings(const std::string &method, const std::string &ordering,
+                                                       const unsigned int n_threads)
+    {
+      cholesky::SparseCholesky::Settings settings;
+      settings.method          = cholesky::parse_factorization_method(method);
+      settings.ordering.method = cholesky::parse_ordering_method(ordering);
+      settings.n_threads       = std::max(1u, n_threads);
+      return settings;
+    }
+
+    /**
+     * Keep the pattern of @p arrays and build the solver's CSC form of it: the arrays as
+     * they are where their indices are sorted and unique and the stored triangle (if one)
+     * is the lower one; otherwise sorted, or transposed from the upper triangle, with
+     * the place of each value recorded.
+     */
+    void read_pattern(const SciPyArrays &arrays)
+    {
+      if (arrays.n_rows != arrays.n_cols)
+        throw MatrixError("matrix is not square: " + std::to_string(arrays.n_rows) + "x" +
+                          std::to_string(arrays.n_cols));
+      const Index n = arrays.n_cols, nnz = arrays.indices.size();
+      if (arrays.indptr.size() != n + 1)
+        throw MatrixError("the matrix's indptr has " + std::to_string(arrays.indptr.size()) + " entries, expected " +
+                          std::to_string(n + 1));
+      // The pattern as the solver takes it, unless it has to be sorted or transposed below.
+      std::vector<Index> &column_start = csc.column_start, &row_index = csc.row_index;
+      column_start.resize(n + 1);
+      row_index.resize(nnz);
+      visit_indices(arrays.indptr, [&](const auto *values) { std::copy(values, values + n + 1, column_start.begin()); });
+      visit_indices(arrays.indices, [&](const auto *values) { std::copy(values, values + nnz, row_index.begin()); });
+      if (column_start[0] != 0 || column_start[n] != nnz)
+        throw MatrixError("the matrix's indptr runs from " + std::to_string(column_start[0]) + " to " +
+                          std::to_string(column_start[n]) + ", expected 0 to " + std::to_string(nnz));
+
+      bool  sorted = true;
+      Index n_above = 0, n_below = 0;
+      for (Index j = 0; j < n; ++j)
+        {
+          if (column_start[j + 1] < column_start[j])
+            throw MatrixError("the matrix's indptr decreases at " + std::to_string(j + 1));
+          for (Index k = column_start[j]; k < column_start[j + 1]; ++k)
+            {
+              const Index i = row_index[k];
+              if (i < 0 || i >= n)
+                throw MatrixError("the matrix has an index " + std::to_string(i) + " out of range [0, " +
+                                  std::to_string(n) + ")");
+              if (k > column_start[j] && i <= row_index[k - 1])
+                sorted = false;
+              n_above += i < j;
+              n_below += i > j;
+            }
+        }
+      // One triangle stored, upper as read (a lower triangle in CSR, an upper one in CSC):
+      // its transpose is the lower triangle.
+      const bool transpose = n_below == 0 && n_above > 0;
+      csc.n_rows = csc.n_cols = n;
+      csc.storage             = n_above > 0 && n_below > 0 ? sparse::Storage::full : sparse::Storage::lower;
+      csc.values.assign(nnz, 0.);
+      // Copies of the user's index arrays as they are, which later matrices' are compared with.
+      analyzed_indptr  = arrays.indptr.attr("copy")();
+      analyzed_indices = arrays.indices.attr("copy")();
+      source.clear();
+      if (sorted && !transpose)
+        return;
+
+      // Bucket the entries by their column in the solver's form (a counting sort), then sort
+      // each column's rows, carrying the entries' places in the user's arrays along.
+      const std::vector<Index> input_start = std::move(column_start), input_row = std::move(row_index);
+      column_start.assign(n + 1, 0);
+      for (Index j = 0; j < n; ++j)
+        for (Index k = input_start[j]; k < input_start[j + 1]; ++k)
+          ++column_start[(transpose ? input_row[k] : j) + 1];
+      std::partial_sum(column_start.begin(), column_start.end(), column_start.begin());
+      std::vector<std::pair<Index, Index>> entries(nnz); // (row, place in the user's arrays)
+      std::vector<Index>                   next(column_start.begin(), column_start.end() - 1);
+      for (Index j = 0; j < n; ++j)
+        for (Index k = input_start[j]; k < input_start[j + 1]; ++k)
+          entries[next[transpose ? input_row[k] : j]++] = {transpose ? j : input_row[k], k};
+      row_index.resize(nnz);
+      source.resize(nnz);
+      for (Index j = 0; j < n; ++j)
+        {
+          std::sort(entries.begin() + column_start[j], entries.begin() + column_start[j + 1]);
+          for (Index p = column_start[j]; p < column_start[j + 1]; ++p)
+            {
+              const auto [i, k] = entries[p];
+              if (p > column_start[j] && entries[p - 1].first == i)
+                throw MatrixError("the matrix stores entry (" + std::to_string(i) + "," + std::to_string(j) +
+                                  ") twice; add the duplicates first (A.sum_duplicates())");
+              row_index[p] = i;
+              source[p]    = k;
+            }
+        }
+    }
+
+    /** Where a matrix's values are, for the solver: in SciPy's array (kept alive here) or in csc. */
+    struct Values
+    {
+      py::array_t<double, py::array::c_style> array;
+      const double                           *data = nullptr;
+    };
+
+    /**
+     * The values of @p matrix, after checking that its arrays hold the analyzed pattern, in
+     * the order of the solver's CSC form: SciPy's own array where that order is the user's
+     * (no copy), else copied into the CSC form's.
+     */
+    Values values_of(const py::object &matrix)
+    {
+      const SciPyArrays arrays = arrays_of(matrix);
+      const Index       n = csc.n_cols, nnz = csc.n_nonzeros();
+      const bool        same_pattern = arrays.n_rows == n && arrays.n_cols == n &&
+                                same_indices(arrays.indptr, analyzed_indptr) &&
+                                same_indices(arrays.indices, analyzed_indices);
+      if (!same_pattern)
+        throw MatrixError("matrix pattern differs from the analyzed one (" +
+                          size_text(arrays.n_rows, arrays.n_cols, arrays.indices.size()) + "; analyzed " +
+                          size_text(n, n, nnz) + ")");
+      Values values{float64_values(arrays.data)};
+      if (values.array.ndim() != 1 || values.array.size() != nnz)
+        throw MatrixError("the matrix has " + std::to_string(values.array.size()) + " values for " +
+                          std::to_string(nnz) + " entries");
+      values.data = values.array.data();
+      if (!source.empty())
+        {
+          for (Index p = 0; p < nnz; ++p)
+            csc.values[p] = values.data[source[p]];
+          values.data = csc.values.data();
+        }
+      return values;
+    }
+
+    cholesky::SparseCholesky solver;
+    bool                     analyzed = false;
+    /**
+     * The analyzed pattern as the user's arrays hold it (indptr, indices), read as CSC: CSR
+     * arrays too, which for a symmetric matrix describe the same matrix.
+     */
+    py::array analyzed_indptr;
+    py::array analyzed_indices;
+    /** The solver's form of the matrix: full storage, or the lower triangle. */
+    sparse::CSCMatrix csc;
+    /** source[p]: the place in the user's values of csc.values[p]; empty where it is p. */
+    std::vector<Index> source;
+  };
+} // namespace warpchol::python
+
+PYBIND11_MODULE(warpchol, module)
+{
+  using warpchol::python::SciPyCholesky;
+  module.doc() = "warpchol: a sparse Cholesky solver that refactorizes in part, on SciPy sparse matrices";
+
+  // The solver's errors, one line each, as Python exceptions of the same names.
+  auto &error = py::register_exception<warpchol::Error>(module, "Error", PyExc_RuntimeError);
+  py::register_exception<warpchol::InputError>(module, "InputError", error.ptr());
+  auto &matrix_error = py::register_exception<warpchol::MatrixError>(module, "MatrixError", error.ptr());
+  py::register_exception<warpchol::NotPositiveDefinite>(module, "NotPositiveDefinite", matrix_error.ptr());
+
+  py::class_<SciPyCholesky>(module, "SparseCholesky", R"(A sparse Cholesky solver, A = P L L^T P^T, that refactorizes in part.
+
+A is a symmetric positive definite SciPy sparse matrix in CSC or CSR format, with both
+triangles stored or one. After analyze(A) and factorize(A), refactorize(A, changed_columns)
+takes A with the same pattern and new values in the listed columns (and, by symmetry,
+rows), and recomputes only the columns of L that depend on them.
+
+method: "supernodal" (default), "left" or "up"; ordering: "metis" (default), "amd" or
+"natural"; threads: threads of the supernodal factorization and solves.)")
+    .def(py::init<const std::string &, const std::string &, unsigned int>(), py::arg("method") = "supernodal",
+         py::arg("ordering") = "metis", py::arg("threads") = 1)
+    .def("analyze", &SciPyCholesky::analyze, py::arg("A"),
+         "Fill-reducing ordering and symbolic analysis of the pattern of A.")
+    .def("factorize", &SciPyCholesky::factorize, py::arg("A"),
+         "Numeric factorization of A (analyzing its pattern first if analyze() was not called).")
+    .def("refactorize", &SciPyCholesky::refactorize, py::arg("A"), py::arg("changed_columns"),
+         "Partial refactorization: A has the analyzed pattern and new values in changed_columns (and the same "
+         "rows); a column that changed without being listed is found and recomputed as well.")
+    .def("solve", &SciPyCholesky::solve, py::arg("b"), "x with A x = b, for b of shape (n,) or (n, k).")
+    .def_property_readonly("n", [](const SciPyCholesky &self) { return self.statistics().n; })
+    .def_property_readonly("storage", &SciPyCholesky::storage,
+                           "How the analyzed matrix stores its entries: \"full\" or \"lower\".")
+    .def_property_readonly(
+      "flops", [](const SciPyCholesky &self) { return self.statistics().method_flops; },
+      "Flops of a full factorization by the chosen method.")
+    .def_property_readonly(
+      "flops_recomputed", [](const SciPyCholesky &self) { return self.statistics().flops_recomputed; },
+      "Flops of the last factorize() or refactorize().")
+    .def_property_readonly(
+      "columns_recomputed", [](const SciPyCholesky &self) { return self.statistics().columns_recomputed; },
+      "Columns of L the last factorize() or refactorize() computed.")
+    .def_property_readonly(
+      "timings",
+      [](const SciPyCholesky &self) {
+        const auto &stats = self.statistics();
+        py::dict    timings;
+        timings["analyze"]     = stats.analyze_seconds;
+        timings["factorize"]   = stats.factorize_seconds;
+        timings["refactorize"] = stats.refactorize_seconds;
+        timings["solve"]       = stats.solve_seconds;
+        return timings;
+      },
+      "Seconds of the last call of each kind, inside the solver (the C++ call).")
+    .def_property_readonly(
+      "statistics",
+      [](const SciPyCholesky &self) {
+        const auto &stats = self.statistics();
+        py::dict    statistics;
+        statistics["n"]                     = stats.n;
+        statistics["nnz_a"]                 = stats.nnz_a;
+        statistics["nnz_l"]                 = stats.nnz_l;
+        statistics["fill"]                  = stats.fill();
+        statistics["flops"]                 = stats.method_flops;
+        statistics["exact_flops"]           = stats.flops;
+        statistics["n_supernodes"]          = stats.n_supernodes;
+        statistics["columns_recomputed"]    = stats.columns_recomputed;
+        statistics["supernodes_recomputed"] = stats.supernodes_recomputed;
+        statistics["flops_recomputed"]      = stats.flops_recomputed;
+        statistics["n_factorizations"]      = stats.n_factorizations;
+        statistics["n_refactorizations"]    = stats.n_refactorizations;
+        statistics["factor_bytes"]          = stats.factor_bytes;
+        return statistics;
+      },
+      "Sizes, fill, flops and counts of the factorization (see SparseCholesky::Statistics).");
+}
