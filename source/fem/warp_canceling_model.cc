@@ -158,7 +158,7 @@ namespace warpchol::fem
 
   void WarpCancelingModel::give_up_target()
   {
-    strategy.kind          = StepStrategy::Kind::automatic;
+    strategy.kind          = StepStrategy::Kind::preconditioned;
     strategy.iterate_on    = StepStrategy::Target::corotational;
     measure_velocity_error = false;
     last_velocity_error    = -1;
@@ -319,22 +319,25 @@ namespace warpchol::fem
                                 std::clamp(std::pow(goal / last_velocity_error, 0.7), 0.125, 2.0) :
                                 2.0;
         adapted_threshold = std::clamp(adapted_threshold * factor, 1e-6, 100.0);
-        // A threshold that updates a quarter of the elements or more, step after step, and
-        // still misses the goal cannot hold the target (thin bodies in bending: the error
-        // of the few elements left accumulates over the steps): the partial
-        // refactorization then costs nearly a full one. The steps iterate on the exact
-        // corotational matrix instead (the automatic strategy), exact to the CG tolerance.
+        // A threshold driven a hundred times below where it started, updating a quarter of
+        // the elements or more step after step and still missing the goal, cannot hold the
+        // target (thin bodies in bending: the error of the few elements left accumulates
+        // over the steps): the partial refactorization then costs nearly a full one. The
+        // steps iterate on the exact corotational matrix instead (the preconditioned
+        // strategy: the same updates and refactorizations, CG to its tolerance).
         constexpr double weight = 0.3;
         recent_update_fraction  = (1 - weight) * recent_update_fraction +
                                  weight * static_cast<double>(std::count(record.updated.begin(), record.updated.end(), 1)) /
                                    body.n_elements();
         recent_error_ratio = (1 - weight) * recent_error_ratio + weight * last_velocity_error / goal;
-        if (step_count >= 3 && recent_update_fraction > 0.25 && recent_error_ratio > 1)
+        if (adapted_threshold < threshold / 100 && recent_update_fraction > 0.25 && recent_error_ratio > 1)
           {
             given_up = "target error " + format_number(target) + " given up at step " +
-                       std::to_string(step_count + 1) + ": " + format_number(100 * recent_update_fraction, 2) +
-                       " % of the elements updated per step and still " + format_number(recent_error_ratio, 2) +
-                       " times the step error aimed at; the steps iterate on the corotational matrix (auto)";
+                       std::to_string(step_count + 1) + ": the threshold " + format_number(adapted_threshold, 2) +
+                       " updates " + format_number(100 * recent_update_fraction, 2) +
+                       " % of the elements per step and the step error is still " +
+                       format_number(recent_error_ratio, 2) +
+                       " times the goal; the steps iterate on the corotational matrix (preconditioned)";
             give_up_target();
           }
       }

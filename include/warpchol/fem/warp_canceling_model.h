@@ -174,7 +174,7 @@ namespace warpchol::fem
      */
     void prepare_factor(const std::vector<Vector3> &velocities, StepStatistics &statistics);
 
-    /** Leave the target error: iterate on the corotational matrix (auto) from now on. */
+    /** Leave the target error: iterate on the corotational matrix (preconditioned) from now on. */
     void give_up_target();
 
     /** Update every element to the current rotations, assemble A and factor it in full. */
