@@ -9,6 +9,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <limits>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -241,6 +242,64 @@ namespace warpchol::app
     };
 
     /**
+     * Subsection "Cut": a scalpel. Its edge, the segment from Blade start to Blade end,
+     * moves with Velocity from Start time for Duration; every tetrahedron the area it sweeps
+     * in a step crosses is cut (its stiffness and mass leave A) at that step.
+     */
+    struct Cut
+    {
+      fem::Vector3 blade_start{0, 0, 0};
+      fem::Vector3 blade_end{0, 0, 0};
+      fem::Vector3 velocity{0, 0, 0};
+      double       start_time = 0;
+      double       duration   = 0;
+
+      /** Whether there is a cut: a blade that moves for some time. */
+      bool active() const;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /**
+     * Subsection "Grasp": a grasping instrument's jaws, a sphere that moves with Velocity
+     * (from the grasp until Duration after it); at Grasp time the free vertices within it
+     * are tied to it by stiff springs, at Release time they are let go.
+     */
+    struct Grasp
+    {
+      fem::Vector3 sphere_center{0, 0, 0};
+      double       sphere_radius = 0;
+      fem::Vector3 velocity{0, 0, 0};
+      double       duration     = 0;
+      double       grasp_time   = 0;
+      double       release_time = std::numeric_limits<double>::infinity();
+      /** N/m; 0: a penalty spring 1e6 times each vertex's mass over dt^2. */
+      double       spring_stiffness = 0;
+
+      /** Whether there is a grasp (a sphere of positive radius). */
+      bool active() const;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /**
+     * Subsection "Material change": at Time the Young's modulus of the elements whose
+     * vertices all lie in Region is multiplied by Stiffness factor (cauterized tissue
+     * stiffens, torn tissue softens).
+     */
+    struct MaterialChange
+    {
+      RegionParameters region;
+      double           time             = 0;
+      double           stiffness_factor = 1;
+
+      static void declare_parameters(dealii::ParameterHandler &prm);
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+    };
+
+    /**
      * Subsection "Bodies": copies of the mesh side by side, each with its own model and
      * update threshold, each solved on its own (the report's side-by-side stability
      * figures: three tori with no update, a moderate threshold and exact corotation). Every
@@ -316,6 +375,9 @@ namespace warpchol::app
     parameters::Gravity       gravity;
     parameters::RegionForce   region_force;
     parameters::Tool          tool;
+    parameters::Cut           cut;
+    parameters::Grasp         grasp;
+    parameters::MaterialChange material_change;
     parameters::Bodies        bodies;
     parameters::Output        output;
     parameters::Distributed   distributed;
