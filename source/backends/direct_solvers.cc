@@ -37,6 +37,11 @@ namespace warpchol::backends
     return to_string(Backend::cholmod);
   }
 
+  void CholmodSolver::topology_changed()
+  {
+    analyzed = false;
+  }
+
   void CholmodSolver::factorize(const dealii::SparseMatrix<double> &, const sparse::CSCMatrix &csc)
   {
     if (!analyzed)

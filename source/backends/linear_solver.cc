@@ -78,6 +78,9 @@ namespace warpchol::backends
     return backend == Backend::trilinos_amg_cg || backend == Backend::warp_preconditioned_cg;
   }
 
+  void LinearSolver::topology_changed()
+  {}
+
   bool LinearSolver::is_iterative() const
   {
     return false;

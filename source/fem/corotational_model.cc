@@ -35,4 +35,14 @@ namespace warpchol::fem
     factorize(statistics);
   }
 
+  ElementFrames CorotationalModel::contribution_frames() const
+  {
+    return elastic_state.element_rotations.empty() ? ElementFrames::rest() :
+                                                     ElementFrames::rotated(elastic_state.element_rotations);
+  }
+
+  bool CorotationalModel::assembles_every_step() const
+  {
+    return true;
+  }
 } // namespace warpchol::fem

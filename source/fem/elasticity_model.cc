@@ -42,10 +42,15 @@ namespace warpchol::fem
     return stages.seconds(stage::cg_iterations);
   }
 
+  bool SystemChange::empty() const
+  {
+    return elements.empty() && vertices.empty();
+  }
+
   double StepStatistics::strategy_seconds() const
   {
     double seconds = 0;
-    for (const char *name : {stage::error_estimate, stage::assembly, stage::refresh_choice, stage::factorization,
+    for (const char *name : {stage::change, stage::error_estimate, stage::assembly, stage::refresh_choice, stage::factorization,
                              stage::background_refresh, stage::solve, stage::cg_iterations})
       seconds += stages.seconds(name);
     return seconds;
@@ -199,6 +204,62 @@ namespace warpchol::fem
     return true;
   }
 
+  ElementFrames ElasticityModel::contribution_frames() const
+  {
+    return ElementFrames::rest();
+  }
+
+  bool ElasticityModel::assembles_every_step() const
+  {
+    return false;
+  }
+
+  void ElasticityModel::apply_change(const SystemChange &change, StepStatistics &statistics)
+  {
+    if (change.empty())
+      return;
+    StageTimer timer(statistics.stages, stage::change);
+    if (change.vertex_diagonal.size() != change.vertices.size())
+      throw Error("apply_change(): one diagonal value per vertex is needed");
+    if (coefficients.vertex_diagonal.empty())
+      coefficients.vertex_diagonal.assign(body.n_vertices(), 0.);
+    for (std::size_t k = 0; k < change.vertices.size(); ++k)
+      {
+        coefficients.vertex_diagonal[change.vertices[k]] = change.vertex_diagonal[k];
+        system.set_vertex_diagonal(change.vertices[k], change.vertex_diagonal[k]);
+      }
+    std::vector<unsigned int> vertices = change.vertices;
+    for (const unsigned int e : change.elements)
+      for (const unsigned int v : body.element_vertices(e))
+        vertices.push_back(v);
+    // The columns the change touches; a model that assembles all of A in its next step
+    // only needs them counted.
+    std::vector<Index> columns;
+    for (const unsigned int v : vertices)
+      if (body.first_unknown(v) >= 0)
+        for (Index c = 0; c < 3; ++c)
+          columns.push_back(body.first_unknown(v) + c);
+    std::sort(columns.begin(), columns.end());
+    columns.erase(std::unique(columns.begin(), columns.end()), columns.end());
+    statistics.change_columns += static_cast<Index>(columns.size());
+    if (peer_solver)
+      {
+        if (change.topology)
+          peer_solver->topology_changed();
+        if (!assembles_every_step())
+          {
+            system.reassemble_vertices(vertices, contribution_frames());
+            peer_factor_stale = true;
+          }
+        return;
+      }
+    statistics.change_flops += cholesky_solver.predicted_flops(columns, cholesky::Refresh::all);
+    if (assembles_every_step())
+      return;
+    system.reassemble_vertices(vertices, contribution_frames());
+    checked([&]() { cholesky_solver.refactorize(system.lower(), columns, cholesky::Refresh::none); });
+  }
+
   bool ElasticityModel::factor_solves_target() const
   {
     return false;
@@ -252,6 +313,7 @@ namespace warpchol::fem
 
   void ElasticityModel::factorize_with_peer(StepStatistics &statistics)
   {
+    peer_factor_stale = false;
     // warpchol's solver analyzes A only: the flops of a full factorization, the unit of the
     // statistics, without a numeric factor beside the peer's.
     if (cholesky_solver.statistics().n == 0)
@@ -303,6 +365,12 @@ namespace warpchol::fem
     last_cg_seconds    = 0;
     if (peer_solver)
       {
+        // A change since the peer's last factorization: it factors A again first.
+        if (peer_factor_stale)
+          {
+            StageTimer timer(statistics.stages, stage::factorization);
+            factorize_with_peer(statistics);
+          }
         // An iterating peer's iterations and preconditioner all count as its solve.
         StageTimer timer(statistics.stages, stage::solve);
         peer_solver->solve(rotated, solution);
@@ -311,6 +379,9 @@ namespace warpchol::fem
       }
     else if (!strategy.iterates() || factor_solves_target())
       {
+        // A direct solve needs the exact factor: changes still pending are taken first.
+        if (!cholesky_solver.factor_is_exact())
+          refactorize({}, statistics, cholesky::Refresh::all);
         StageTimer timer(statistics.stages, stage::solve);
         cholesky_solver.solve(rotated, solution);
       }

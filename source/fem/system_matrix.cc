@@ -490,7 +490,31 @@ namespace warpchol::fem
   std::vector<Index> SystemMatrix::reassemble(const std::vector<unsigned int> &changed_elements,
                                               const ElementFrames             &frames)
   {
-    const std::vector<Index> touched = touched_free_vertices(changed_elements);
+    return reassemble_free_vertices(touched_free_vertices(changed_elements), frames);
+  }
+
+  std::vector<Index> SystemMatrix::reassemble_vertices(const std::vector<unsigned int> &vertices,
+                                                       const ElementFrames             &frames)
+  {
+    std::vector<Index> touched;
+    for (const unsigned int v : vertices)
+      if (free_index(v) >= 0)
+        touched.push_back(free_index(v));
+    std::sort(touched.begin(), touched.end());
+    touched.erase(std::unique(touched.begin(), touched.end()), touched.end());
+    return reassemble_free_vertices(touched, frames);
+  }
+
+  void SystemMatrix::set_vertex_diagonal(const unsigned int vertex, const double value)
+  {
+    if (coefficients.vertex_diagonal.empty())
+      coefficients.vertex_diagonal.assign(body.n_vertices(), 0.);
+    coefficients.vertex_diagonal.at(vertex) = value;
+  }
+
+  std::vector<Index> SystemMatrix::reassemble_free_vertices(const std::vector<Index> &touched,
+                                                            const ElementFrames      &frames)
+  {
     if (touched.empty())
       return {};
     if (static_cast<double>(touched.size()) > reassembly_limit * static_cast<double>(body.n_unknowns() / 3))

@@ -227,6 +227,25 @@ namespace warpchol::fem
     return (threshold > 0 && !std::isinf(threshold)) || background;
   }
 
+  ElementFrames WarpCancelingModel::contribution_frames() const
+  {
+    return ElementFrames::warped(stored_frames);
+  }
+
+  void WarpCancelingModel::apply_change(const SystemChange &change, StepStatistics &statistics)
+  {
+    if (change.empty())
+      return;
+    if (background && background->in_flight())
+      {
+        StageTimer timer(statistics.stages, stage::background_refresh);
+        const unsigned int started = background->started_step();
+        checked([&]() { background->take(system, stored_frames, cholesky_solver); });
+        factor_step = started;
+      }
+    ElasticityModel::apply_change(change, statistics);
+  }
+
   bool WarpCancelingModel::factor_solves_target() const
   {
     return exact_this_step && cholesky_solver.factor_is_exact();

@@ -23,6 +23,8 @@ namespace warpchol::backends
   public:
     CholmodSolver();
     std::string name() const override;
+    /** The next factorize() analyzes anew (ordering and symbolic factorization). */
+    void        topology_changed() override;
     void        factorize(const dealii::SparseMatrix<double> &matrix, const sparse::CSCMatrix &csc) override;
     void        solve(const std::vector<double> &b, std::vector<double> &x) override;
     std::size_t memory_bytes() const override;

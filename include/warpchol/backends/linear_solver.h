@@ -101,6 +101,13 @@ namespace warpchol::backends
      */
     virtual void solve(const std::vector<double> &b, std::vector<double> &x) = 0;
 
+    /**
+     * The mesh's topology changed (elements were cut): a solver that keeps an analysis of
+     * the pattern makes it anew at the next factorize(), as SOFA's solvers do on a
+     * topological change. Nothing by default.
+     */
+    virtual void topology_changed();
+
     /** Whether solve() iterates from the guess it is given (false: a direct solver). */
     virtual bool is_iterative() const;
 

@@ -25,6 +25,11 @@ namespace warpchol::fem
     void prepare_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
                       StepStatistics &statistics) override;
 
+  protected:
+    /** R_e K_e R_e^T: every element in its own rotation of the last step. */
+    ElementFrames contribution_frames() const override;
+    /** Every step assembles and factors A in full. */
+    bool assembles_every_step() const override;
 
   };
 } // namespace warpchol::fem

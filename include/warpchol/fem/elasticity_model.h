@@ -56,6 +56,11 @@ namespace warpchol::fem
     constexpr const char *cg_iterations = "CG iterations";
     /** WCC with a target error: the step's velocity error against exact corotation. */
     constexpr const char *velocity_error = "velocity error";
+    /**
+     * A change of the system between steps (a cut, a grasp, a material change): the
+     * re-assembly of the columns it touches and their loading as pending changes.
+     */
+    constexpr const char *change = "change";
     /** Strategy = background: copying the rotations to a refresh and waiting for one to finish. */
     constexpr const char *background_refresh = "background refresh";
     /** x += dt v, with the check that the velocities are finite. */
@@ -105,6 +110,18 @@ namespace warpchol::fem
      * v_i*| / max_i |v_i| (measured by WCC with a target error); negative if not measured.
      */
     double velocity_error = -1;
+    /**
+     * The step's changes of the system (ElasticityModel::apply_change()): elements cut,
+     * vertices grasped or released, elements whose material changed; the columns of A they
+     * changed and the flops a refactorization of those columns alone costs.
+     */
+    unsigned int elements_cut      = 0;
+    unsigned int vertices_grasped  = 0;
+    unsigned int vertices_released = 0;
+    unsigned int elements_changed  = 0;
+    Index        change_columns    = 0;
+    double       change_flops      = 0;
+
     /** The WCC update threshold of the step (negative for the other models). */
     double update_threshold = -1;
     /**
@@ -123,6 +140,24 @@ namespace warpchol::fem
 
     /** Add the stage times of @p step to these: totals over steps. */
     void add_phase_times(const StepStatistics &step);
+  };
+
+  /**
+   * What changed in the system between two steps, besides the rotations: the elements whose
+   * contribution changed (cut, or their material scaled; ElasticBody holds the new state)
+   * and the vertices whose diagonal did (a spring tied or untied, an orphaned vertex's
+   * mass), with their new diagonal values.
+   */
+  struct SystemChange
+  {
+    std::vector<unsigned int> elements;
+    std::vector<unsigned int> vertices;
+    /** The value added to each of @p vertices' 3 diagonal entries from now on. */
+    std::vector<double>       vertex_diagonal;
+    /** Whether elements were cut (the topology changed: a peer that analyzes anew does). */
+    bool                      topology = false;
+
+    bool empty() const;
   };
 
   /** Per element: how up to date its contribution to A is (for output). */
@@ -171,6 +206,17 @@ namespace warpchol::fem
     virtual void prepare_step(const std::vector<Vector3> &positions,
                               const std::vector<Vector3> &velocities,
                               StepStatistics             &statistics) = 0;
+
+    /**
+     * Take in @p change before the next prepare_step(): re-assemble the columns of A it
+     * touches (with the frames the model's contributions are made in) and load them into
+     * the factor as pending changes, which the step's refactorization takes with its own:
+     * the partial refactorization recomputes the columns that depend on them, a direct
+     * solve never runs on a factor that misses them, a strategy that iterates weighs them
+     * as any other. A peer that replaces the factor factors in full anyway (and, after a
+     * cut, analyzes anew, as SOFA's solvers do on a topological change).
+     */
+    virtual void apply_change(const SystemChange &change, StepStatistics &statistics);
 
     /**
      * forces += the elastic forces at @p positions, which were given to the last
@@ -247,6 +293,14 @@ namespace warpchol::fem
     virtual bool refresh_after_failed_solve(StepStatistics &statistics);
 
     /**
+     * The frames A's element contributions are made in now: at rest by default (the linear
+     * model, stiffness warping).
+     */
+    virtual ElementFrames contribution_frames() const;
+    /** Whether prepare_step() assembles every element anyway (corotation): false by default. */
+    virtual bool assembles_every_step() const;
+
+    /**
      * Whether the factor of A is, this step, the exact factor of the matrix an iterating
      * strategy would iterate on: solve() then solves directly. False by default.
      */
@@ -300,7 +354,8 @@ namespace warpchol::fem
     const std::vector<Matrix3> *solve_frame = nullptr;
 
     const ElasticBody       &body;
-    const SystemCoefficients coefficients;
+    /** A's coefficients; the vertex diagonal changes with apply_change(). */
+    SystemCoefficients       coefficients;
     SystemMatrix             system;
     cholesky::SparseCholesky cholesky_solver;
     ElementUpdateRecord      record;
@@ -324,6 +379,8 @@ namespace warpchol::fem
     double                   last_velocity_error    = -1;
     /** How much of the factor the last refactorize() refreshed. */
     cholesky::Refresh        last_refresh = cholesky::Refresh::all;
+    /** Whether A changed (apply_change()) since the peer last factored it. */
+    bool                     peer_factor_stale = false;
     /** The peer that replaces cholesky_solver (Solver/Backend); null: warpchol's own. */
     std::unique_ptr<backends::LinearSolver> peer_solver;
 

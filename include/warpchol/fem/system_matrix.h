@@ -131,6 +131,22 @@ namespace warpchol::fem
                                   const ElementFrames             &frames);
 
     /**
+     * Re-assemble the columns of @p vertices (those that are free; in any order) from the
+     * contributions in @p frames and the vertex diagonal: what a change of a vertex's
+     * diagonal (set_vertex_diagonal(): a grasp) or of an element's material (a cut, a
+     * material change: then the columns of all its vertices) needs. Returns the unknowns
+     * (sorted) of those columns.
+     */
+    std::vector<Index> reassemble_vertices(const std::vector<unsigned int> &vertices, const ElementFrames &frames);
+
+    /**
+     * From now on add @p value to the 3 diagonal entries of @p vertex (a spring that ties it
+     * to an instrument, a free particle's mass): A changes where its columns are next
+     * assembled (reassemble_vertices()).
+     */
+    void set_vertex_diagonal(unsigned int vertex, double value);
+
+    /**
      * The same with any element matrix (the reference path: dense 12x12 matrices from a
      * function, one element at a time, the blocks of the lower triangle scattered alike).
      * @p element_matrix must be symmetric.
@@ -199,6 +215,8 @@ namespace warpchol::fem
 
     /** The free vertices (free index, sorted) of @p changed_elements. */
     std::vector<Index> touched_free_vertices(const std::vector<unsigned int> &changed_elements) const;
+    /** Re-assemble the columns of the free vertices @p touched (free index, sorted, unique). */
+    std::vector<Index> reassemble_free_vertices(const std::vector<Index> &touched, const ElementFrames &frames);
     /** The unknowns of @p free_vertices. */
     static std::vector<Index> columns_of(const std::vector<Index> &free_vertices);
 

@@ -105,6 +105,12 @@ namespace warpchol::fem
     void prepare_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
                       StepStatistics &statistics) override;
 
+    /**
+     * A refresh in flight beside the steps is taken first (it read the body as it was), then
+     * the change is applied as ElasticityModel::apply_change() does.
+     */
+    void apply_change(const SystemChange &change, StepStatistics &statistics) override;
+
 
     /** The threshold the model was given (with a target error: the one it started from). */
     double update_threshold() const;
@@ -134,6 +140,8 @@ namespace warpchol::fem
     bool refresh_after_failed_solve(StepStatistics &statistics) override;
     /** After a step that updated every element: A is the exact corotational matrix. */
     bool factor_solves_target() const override;
+    /** Every element in the frames it was last updated with. */
+    ElementFrames contribution_frames() const override;
     /** The stored frames, the adapted threshold and what the strategy measured. */
     void save_model_state(BinaryWriter &writer) const override;
     void load_model_state(BinaryReader &reader) override;
