@@ -4,6 +4,7 @@
 
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/lac/vector.h>
+#include <deal.II/fe/fe_simplex_p.h>
 #include <deal.II/numerics/data_out.h>
 
 #include <zlib.h>
@@ -126,6 +127,29 @@ namespace warpchol::app
         data_out.add_data_vector(error_estimate, "error_estimate", dealii::DataOut<3>::type_cell_data);
       if (n_bodies > 1)
         data_out.add_data_vector(body_index, "body", dealii::DataOut<3>::type_cell_data);
+      // Cuts and grasps. DataOut keeps references: the vectors, and the scalar dofs that
+      // number "grasped" vertex by vertex, must live until build_patches().
+      dealii::Vector<double>      removed, cut_step, grasped;
+      dealii::FE_SimplexP<3>      scalar_element(1);
+      dealii::DoFHandler<3>       scalar_dofs(body.triangulation());
+      if (!snapshot.cut_steps.empty())
+        {
+          removed.reinit(n_cells);
+          cut_step.reinit(n_cells);
+          for (unsigned int e = 0; e < n_cells; ++e)
+            {
+              cut_step[e] = snapshot.cut_steps[e];
+              removed[e]  = snapshot.cut_steps[e] >= 0 ? 1 : 0;
+            }
+          data_out.add_data_vector(removed, "removed", dealii::DataOut<3>::type_cell_data);
+          data_out.add_data_vector(cut_step, "cut_step", dealii::DataOut<3>::type_cell_data);
+          scalar_dofs.distribute_dofs(scalar_element);
+          grasped.reinit(scalar_dofs.n_dofs());
+          for (const auto &cell : scalar_dofs.active_cell_iterators())
+            for (unsigned int a = 0; a < 4; ++a)
+              grasped[cell->vertex_dof_index(a, 0)] = snapshot.grasped[cell->vertex_index(a)];
+          data_out.add_data_vector(scalar_dofs, grasped, "grasped");
+        }
       data_out.build_patches(body.mapping());
     }
   } // namespace
@@ -184,7 +208,8 @@ namespace warpchol::app
                            const bool with_error_estimate)
     {
       std::vector<double>        points, displacements, velocities;
-      std::vector<double>        updated, steps_since_update, error_estimate, body_index;
+      std::vector<double>        updated, steps_since_update, error_estimate, body_index, removed, cut_step, grasped;
+      const bool                 with_surgery = !bodies[0].cut_steps.empty();
       std::vector<std::int64_t>  connectivity, offsets;
       std::vector<std::uint8_t>  types;
       for (unsigned int i = 0; i < bodies.size(); ++i)
@@ -200,6 +225,9 @@ namespace warpchol::app
                 displacements.push_back(snapshot.displacements[v][c]);
                 velocities.push_back(snapshot.velocities[v][c]);
               }
+          if (with_surgery)
+            for (unsigned int v = 0; v < body.n_vertices(); ++v)
+              grasped.push_back(snapshot.grasped[v]);
           const auto &record = snapshot.record;
           for (unsigned int e = 0; e < body.n_elements(); ++e)
             {
@@ -211,6 +239,11 @@ namespace warpchol::app
               steps_since_update.push_back(record.steps_since_update[e]);
               error_estimate.push_back(record.error_estimate.empty() ? 0.0 : record.error_estimate[e]);
               body_index.push_back(i);
+              if (with_surgery)
+                {
+                  cut_step.push_back(snapshot.cut_steps[e]);
+                  removed.push_back(snapshot.cut_steps[e] >= 0 ? 1 : 0);
+                }
             }
         }
 #if defined(__BYTE_ORDER__) && __BYTE_ORDER__ == __ORDER_BIG_ENDIAN__
@@ -231,6 +264,8 @@ namespace warpchol::app
       out << "</Cells>\n<PointData Vectors=\"displacement\">\n";
       write_data_array(out, "type=\"Float64\" Name=\"displacement\" NumberOfComponents=\"3\"", displacements);
       write_data_array(out, "type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\"", velocities);
+      if (with_surgery)
+        write_data_array(out, "type=\"Float64\" Name=\"grasped\"", grasped);
       out << "</PointData>\n<CellData>\n";
       write_data_array(out, "type=\"Float64\" Name=\"updated\"", updated);
       write_data_array(out, "type=\"Float64\" Name=\"steps_since_update\"", steps_since_update);
@@ -238,6 +273,11 @@ namespace warpchol::app
         write_data_array(out, "type=\"Float64\" Name=\"error_estimate\"", error_estimate);
       if (bodies.size() > 1)
         write_data_array(out, "type=\"Float64\" Name=\"body\"", body_index);
+      if (with_surgery)
+        {
+          write_data_array(out, "type=\"Float64\" Name=\"removed\"", removed);
+          write_data_array(out, "type=\"Float64\" Name=\"cut_step\"", cut_step);
+        }
       out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
     }
   } // namespace
@@ -330,7 +370,8 @@ namespace warpchol::app
              "flops_recomputed_pct,refresh,cg_iterations,t_rotations,t_error_estimate,t_assembly,"
              "t_factor,t_solve,t_iterations,t_step,kinetic_energy,elastic_energy,potential_energy,"
              "tool_energy,total_energy,external_work,tool_work_on_body,energy_ratio,update_threshold,"
-             "velocity_error,choice,t_predicted,t_strategy,factor_lag") +
+             "velocity_error,choice,t_predicted,t_strategy,factor_lag,elements_cut,vertices_grasped,"
+             "vertices_released,elements_changed,change_columns_pct,change_flops_pct,t_change") +
            (with_error ? ",error_vs_corotational,rms_error_vs_corotational" : "");
   }
 
@@ -364,6 +405,10 @@ namespace warpchol::app
     line << "," << s.strategy_seconds() << ",";
     if (s.factor_lag >= 0)
       line << s.factor_lag;
+    // A cut, grasp or material change: what it did and what its columns cost.
+    line << "," << s.elements_cut << "," << s.vertices_grasped << "," << s.vertices_released << ","
+         << s.elements_changed << "," << percent(s.change_columns, s.n_columns) << ","
+         << percent(s.change_flops, s.flops_full) << "," << s.stages.seconds(fem::stage::change);
     if (with_error)
       line << "," << std::setprecision(6) << row.error_vs_corotational << ","
            << row.rms_error_vs_corotational;

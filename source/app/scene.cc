@@ -9,6 +9,8 @@
 #include <warpchol/fem/warp_canceling_model.h>
 
 #include <deal.II/base/multithread_info.h>
+
+#include <algorithm>
 #include <deal.II/grid/grid_tools.h>
 
 #include <cmath>
@@ -119,12 +121,43 @@ namespace warpchol::app
       *elastic_body, all.time_stepping.time_step, all.time_stepping.rayleigh_mass,
       all.time_stepping.rayleigh_stiffness, scene_loads);
     elasticity_model = create_model(all.model, *elastic_body, coefficients, all.solver);
-    time_integrator  = std::make_unique<fem::ImplicitEuler>(*elastic_body, *elasticity_model,
-                                                           scene_loads, all.time_stepping.time_step);
+    time_integrator  = std::make_unique<fem::ImplicitEuler>(*elastic_body, *elasticity_model, scene_loads,
+                                                           all.time_stepping.time_step, surgery());
     const auto &initial = all.initial_state;
     if (initial.linear_velocity.norm() > 0 || initial.angular_velocity.norm() > 0)
       time_integrator->set_initial_velocities(fem::rigid_body_velocities(
         *elastic_body, initial.linear_velocity, initial.angular_velocity));
+  }
+
+  fem::Surgery Scene::surgery() const
+  {
+    std::optional<fem::Blade> blade;
+    if (all.cut.active())
+      blade = fem::Blade{all.cut.blade_start, all.cut.blade_end, all.cut.velocity, all.cut.start_time,
+                         all.cut.duration};
+    std::optional<fem::Grasp> grasp;
+    if (all.grasp.active())
+      grasp = fem::Grasp{all.grasp.sphere_center, all.grasp.sphere_radius, all.grasp.velocity, all.grasp.duration,
+                         all.grasp.grasp_time,    all.grasp.release_time,  all.grasp.spring_stiffness};
+    std::optional<fem::MaterialChange> material_change;
+    if (all.material_change.region.kind != "none")
+      {
+        // The elements whose vertices all lie in the region.
+        std::vector<bool> inside(elastic_body->n_vertices(), false);
+        for (const unsigned int v : select_vertices(all.material_change.region, "Material change"))
+          inside[v] = true;
+        material_change = fem::MaterialChange{{}, all.material_change.time, all.material_change.stiffness_factor};
+        for (unsigned int e = 0; e < elastic_body->n_elements(); ++e)
+          {
+            const auto &vertices = elastic_body->element_vertices(e);
+            if (std::all_of(vertices.begin(), vertices.end(), [&](const unsigned int v) { return inside[v]; }))
+              material_change->elements.push_back(e);
+          }
+        if (material_change->elements.empty())
+          throw InputError(all.file.where("Material change", "Region") +
+                           ": the region holds no whole element (every vertex of one) whose material could change");
+      }
+    return fem::Surgery(blade, grasp, material_change);
   }
 
   const AllParameters &Scene::parameters() const

@@ -85,6 +85,13 @@ namespace warpchol::app
       io(totals.error_vs_corotational);
       io(totals.factor_lag_sum);
       io(totals.factor_lag_steps);
+      io(totals.elements_cut);
+      io(totals.elements_changed);
+      io(totals.vertices_grasped);
+      io(totals.vertices_released);
+      io(totals.change_steps);
+      io(totals.change_columns_pct);
+      io(totals.change_flops_pct);
     }
 
     void save_totals(BinaryWriter &writer, const RunTotals &totals)
@@ -208,7 +215,15 @@ namespace warpchol::app
       {
         const auto &integrator = simulated.scene->integrator();
         snapshots.push_back({&simulated.scene->body(), simulated.offset, integrator.displacements(),
-                             integrator.velocities(), simulated.scene->model().update_record()});
+                             integrator.velocities(), simulated.scene->model().update_record(), {}, {}});
+        const fem::Surgery &surgery = integrator.surgery();
+        if (surgery.active())
+          {
+            const auto &body             = simulated.scene->body();
+            snapshots.back().cut_steps = surgery.cut_steps();
+            snapshots.back().cut_steps.resize(body.n_elements(), -1);
+            snapshots.back().grasped = surgery.grasped_vertices(body.n_vertices());
+          }
       }
     vtu_series->write(step, bodies[0].scene->integrator().time(), std::move(snapshots));
     add_vtu_seconds(stopwatch.seconds(), 1);
@@ -265,6 +280,17 @@ namespace warpchol::app
       {
         t.factor_lag_sum += statistics.factor_lag;
         ++t.factor_lag_steps;
+      }
+    t.elements_cut += statistics.elements_cut;
+    t.elements_changed += statistics.elements_changed;
+    t.vertices_grasped += statistics.vertices_grasped;
+    t.vertices_released += statistics.vertices_released;
+    if (statistics.change_columns > 0)
+      {
+        ++t.change_steps;
+        t.change_columns_pct += 100.0 * statistics.change_columns / statistics.n_columns;
+        if (statistics.flops_full > 0)
+          t.change_flops_pct += 100.0 * statistics.change_flops / statistics.flops_full;
       }
     t.step_seconds += step_seconds;
     if (!simulated.scene->loads().tool.vertices.empty())
@@ -713,6 +739,16 @@ namespace warpchol::app
               }
             if (t.factor_lag_steps > 0)
               out << "; factor age mean " << n(t.factor_lag_sum / t.factor_lag_steps) << " steps";
+            out << "\n";
+          }
+        if (integrator.surgery().active())
+          {
+            out << "  surgery: " << t.elements_cut << " elements cut, " << t.vertices_grasped << " vertices grasped, "
+                << t.vertices_released << " released, " << t.elements_changed << " elements of changed material";
+            if (t.change_steps > 0)
+              out << "; " << t.change_steps << " steps with a change, each touching " << n(t.change_columns_pct / t.change_steps)
+                  << " % of the columns and " << n(t.change_flops_pct / t.change_steps)
+                  << " % of a full factorization's flops (mean)";
             out << "\n";
           }
         if (!scene.loads().tool.vertices.empty() && t.elements_updated > 0)

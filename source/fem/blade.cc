@@ -1,5 +1,7 @@
 #include <warpchol/fem/blade.h>
 
+#include <Eigen/Geometry>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>

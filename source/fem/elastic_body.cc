@@ -110,6 +110,92 @@ namespace warpchol::fem
         }
 
     compute_element_matrices();
+    rest_volumes = volumes;
+    stiffness_scale.assign(n_elements(), 1.0);
+    cut.assign(n_elements(), false);
+    particle_mass.assign(n_vertices(), 0.0);
+    live_elements.resize(n_vertices());
+    for (unsigned int v = 0; v < n_vertices(); ++v)
+      live_elements[v] = elements_around_vertex[v].size();
+  }
+
+  std::vector<unsigned int> ElasticBody::cut_element(const unsigned int e)
+  {
+    std::vector<unsigned int> orphans;
+    if (cut.at(e))
+      return orphans;
+    cut[e]             = true;
+    stiffness_scale[e] = 0;
+    volumes[e]         = 0;
+    const Eigen::Vector4d row_sums = mass[e].rowwise().sum();
+    mass[e].setZero();
+    for (unsigned int a = 0; a < 4; ++a)
+      {
+        const unsigned int v = vertices_of_element[e][a];
+        if (--live_elements[v] == 0)
+          {
+            // Its last element: the vertex keeps the mass it has, as a free particle.
+            particle_mass[v] = lumped_mass[v];
+            orphans.push_back(v);
+          }
+        else
+          lumped_mass[v] -= row_sums[a];
+      }
+    return orphans;
+  }
+
+  void ElasticBody::scale_element_stiffness(const unsigned int e, const double factor)
+  {
+    if (!(factor > 0) || !std::isfinite(factor))
+      throw InputError("cell " + std::to_string(e) + ": a stiffness factor must be > 0, got " + format_number(factor));
+    if (cut.at(e))
+      return;
+    stiffness_scale[e] *= factor;
+    volumes[e] = rest_volumes[e] * stiffness_scale[e];
+  }
+
+  void ElasticBody::save_changes(BinaryWriter &writer) const
+  {
+    writer.section("body changes");
+    writer.write(cut);
+    writer.write(stiffness_scale);
+    writer.write(lumped_mass);
+    writer.write(particle_mass);
+    writer.write(live_elements);
+  }
+
+  void ElasticBody::load_changes(BinaryReader &reader)
+  {
+    reader.expect_section("body changes");
+    reader.read(cut);
+    reader.read(stiffness_scale);
+    reader.read(lumped_mass);
+    reader.read(particle_mass);
+    reader.read(live_elements);
+    if (cut.size() != n_elements() || stiffness_scale.size() != n_elements() || lumped_mass.size() != n_vertices() ||
+        particle_mass.size() != n_vertices() || live_elements.size() != n_vertices())
+      reader.fail("the body's changes were written for another mesh");
+    for (unsigned int e = 0; e < n_elements(); ++e)
+      {
+        volumes[e] = rest_volumes[e] * stiffness_scale[e];
+        if (cut[e])
+          mass[e].setZero();
+      }
+  }
+
+  bool ElasticBody::element_is_cut(const unsigned int e) const
+  {
+    return cut[e];
+  }
+
+  double ElasticBody::element_stiffness_scale(const unsigned int e) const
+  {
+    return stiffness_scale[e];
+  }
+
+  double ElasticBody::free_particle_mass(const unsigned int v) const
+  {
+    return particle_mass[v];
   }
 
   void ElasticBody::compute_element_matrices()
@@ -254,13 +340,13 @@ namespace warpchol::fem
 
   double ElasticBody::element_volume(const unsigned int e) const
   {
-    return volumes[e];
+    return rest_volumes[e];
   }
 
   double ElasticBody::total_volume() const
   {
     double sum = 0;
-    for (const double volume : volumes)
+    for (const double volume : rest_volumes)
       sum += volume;
     return sum;
   }
@@ -628,6 +714,10 @@ namespace warpchol::fem
           for (unsigned int b = 0; b < 4; ++b)
             out[v[a]] += mass[e](a, b) * velocities[v[b]];
       }
+    // Free particles (their elements all cut) keep their mass.
+    for (unsigned int v = 0; v < n_vertices(); ++v)
+      if (particle_mass[v] > 0)
+        out[v] += particle_mass[v] * velocities[v];
   }
 
   double ElasticBody::kinetic_energy(const std::vector<Vector3> &velocities) const

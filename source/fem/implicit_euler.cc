@@ -69,11 +69,12 @@ namespace warpchol::fem
     return result;
   }
 
-  ImplicitEuler::ImplicitEuler(const ElasticBody &body, ElasticityModel &model,
-                               const Loads &loads, const double time_step)
+  ImplicitEuler::ImplicitEuler(ElasticBody &body, ElasticityModel &model, const Loads &loads,
+                               const double time_step, Surgery surgery)
     : body(body)
     , model(model)
     , loads(loads)
+    , operations(std::move(surgery))
     , time_step(time_step)
     , x(body.rest_positions())
     , v(body.n_vertices(), Vector3::Zero())
@@ -85,11 +86,26 @@ namespace warpchol::fem
       throw InputError("vertex forces: " + std::to_string(loads.vertex_forces.size()) +
                        " given for " + std::to_string(body.n_vertices()) + " vertices");
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      constant_forces[i] = constant_force(i);
+    if (!loads.tool.vertices.empty() && loads.tool.stiffness > 0)
       {
-        constant_forces[i] = body.vertex_mass(i) * loads.gravity;
-        if (!loads.vertex_forces.empty())
-          constant_forces[i] += loads.vertex_forces[i];
+        tool_diagonal.assign(body.n_vertices(), 0.);
+        for (const unsigned int i : loads.tool.vertices)
+          tool_diagonal[i] = time_step * time_step * loads.tool.stiffness;
       }
+  }
+
+  Vector3 ImplicitEuler::constant_force(const unsigned int i) const
+  {
+    Vector3 force = body.vertex_mass(i) * loads.gravity;
+    if (!loads.vertex_forces.empty())
+      force += loads.vertex_forces[i];
+    return force;
+  }
+
+  const Surgery &ImplicitEuler::surgery() const
+  {
+    return operations;
   }
 
   void ImplicitEuler::check_initial_field(const std::string &what, const std::size_t size) const
@@ -124,6 +140,19 @@ namespace warpchol::fem
     const double       new_time = current_time + time_step;
     try
       {
+        // What happens to the body in this step (a cut, a grasp, a material change), told
+        // to the model before it prepares the step: the change's columns of A are then
+        // refactorized with the step's own.
+        if (operations.active())
+          {
+            const SystemChange change =
+              operations.changes_of_step(body, x, step, current_time, time_step, tool_diagonal, statistics);
+            model.apply_change(change, statistics);
+            // A cut moves mass: gravity follows it.
+            for (const unsigned int e : change.elements)
+              for (const unsigned int i : body.element_vertices(e))
+                constant_forces[i] = constant_force(i);
+          }
         model.prepare_step(x, v, statistics);
       }
     catch (const MatrixError &error)
@@ -148,6 +177,7 @@ namespace warpchol::fem
       model.add_elastic_forces(x, forces);
       for (std::size_t k = 0; k < tool_forces.size(); ++k)
         forces[loads.tool.vertices[k]] += tool_forces[k];
+      operations.add_spring_forces(x, new_time, forces);
       body.add_mass_times(v, right_hand_side);
       for (unsigned int i = 0; i < body.n_vertices(); ++i)
         right_hand_side[i] += time_step * forces[i];
@@ -196,10 +226,15 @@ namespace warpchol::fem
           }
       }
 
+    tool_work += operations.spring_work(x, current_time, new_time);
+
     previous_v = std::move(v);
     v          = std::move(new_velocities);
+    const std::vector<Vector3> old_x = operations.active() ? x : std::vector<Vector3>();
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
       x[i] += time_step * v[i];
+    if (operations.active())
+      tool_work_on_body_sum += operations.spring_work_on_body(old_x, x, new_time);
     // The work of the springs on the body: the implicit force k (target(t+dt) - x(t+dt))
     // the step applied, times the displacement.
     if (!loads.tool.vertices.empty())
@@ -282,7 +317,7 @@ namespace warpchol::fem
     for (const unsigned int i : loads.tool.vertices)
       energy += 0.5 * loads.tool.stiffness *
                 (body.rest_positions()[i] + offset - x[i]).squaredNorm();
-    return energy;
+    return energy + operations.spring_energy(x, current_time);
   }
 
   double ImplicitEuler::total_energy() const
@@ -315,6 +350,12 @@ namespace warpchol::fem
     writer.write(start_energy);
     writer.write(tool_work);
     writer.write(tool_work_on_body_sum);
+    writer.write(operations.active());
+    if (operations.active())
+      {
+        body.save_changes(writer);
+        operations.save(writer);
+      }
     model.save_state(writer);
   }
 
@@ -333,6 +374,15 @@ namespace warpchol::fem
     reader.read(start_energy);
     reader.read(tool_work);
     reader.read(tool_work_on_body_sum);
+    if (reader.get<bool>() != operations.active())
+      reader.fail("was written by a run with other cuts, grasps or material changes");
+    if (operations.active())
+      {
+        body.load_changes(reader);
+        operations.load(reader);
+        for (unsigned int i = 0; i < body.n_vertices(); ++i)
+          constant_forces[i] = constant_force(i);
+      }
     cached_elastic_step = static_cast<unsigned int>(-1);
     model.load_state(reader);
   }

@@ -25,7 +25,7 @@ namespace warpchol::fem
   ElementMatrix rest_element_matrix(const ElasticBody &body, const unsigned int e,
                                     const SystemCoefficients &coefficients)
   {
-    ElementMatrix result = coefficients.stiffness * body.rest_stiffness(e);
+    ElementMatrix result = (coefficients.stiffness * body.element_stiffness_scale(e)) * body.rest_stiffness(e);
     const auto   &mass   = body.element_mass(e);
     for (unsigned int a = 0; a < 4; ++a)
       for (unsigned int b = 0; b < 4; ++b)
@@ -51,9 +51,9 @@ namespace warpchol::fem
       right.middleCols<3>(3 * b).noalias() =
         stiffness.middleCols<3>(3 * b) * to_vertex_frame[b].transpose();
     ElementMatrix result;
+    const double stiffness_factor = coefficients.stiffness * body.element_stiffness_scale(e);
     for (unsigned int a = 0; a < 4; ++a)
-      result.middleRows<3>(3 * a).noalias() =
-        coefficients.stiffness * (to_vertex_frame[a] * right.middleRows<3>(3 * a));
+      result.middleRows<3>(3 * a).noalias() = stiffness_factor * (to_vertex_frame[a] * right.middleRows<3>(3 * a));
 
     const auto &mass = body.element_mass(e);
     for (unsigned int a = 0; a < 4; ++a)
@@ -138,7 +138,8 @@ namespace warpchol::fem
           for (unsigned int a = 1; a < 4; ++a)
             for (unsigned int i = 0; i < 3; ++i)
               in.g[a][i][l] = gradients(a - 1, i);
-          const double volume  = body.element_volume(e);
+          // A cut element has no stiffness (and no mass: body.element_mass() is zero).
+          const double volume  = body.element_volume(e) * body.element_stiffness_scale(e);
           in.lambda_volume[l] = lambda * volume;
           in.mu_volume[l]     = mu * volume;
           const auto &m       = body.element_mass(e);
@@ -398,16 +399,19 @@ namespace warpchol::fem
           }
       }
 
-    // The tool's springs, after the elements: a column's value is the same sum whoever
-    // assembles it. The first entry of each column is its diagonal.
-    if (!coefficients.vertex_diagonal.empty())
-      for (Index j = range.first_vertex; j < range.end_vertex; ++j)
-        if (selected(j))
-          {
-            const double extra = coefficients.vertex_diagonal[body.vertex_of_unknown(3 * j)];
+    // The tools' springs and the free particles' masses, after the elements: a column's
+    // value is the same sum whoever assembles it. The first entry of each column is its
+    // diagonal.
+    for (Index j = range.first_vertex; j < range.end_vertex; ++j)
+      if (selected(j))
+        {
+          const unsigned int vertex = body.vertex_of_unknown(3 * j);
+          const double       extra  = (coefficients.vertex_diagonal.empty() ? 0. : coefficients.vertex_diagonal[vertex]) +
+                                 coefficients.mass * body.free_particle_mass(vertex);
+          if (extra != 0)
             for (Index c = 0; c < 3; ++c)
               values[lower_matrix.column_start[3 * j + c]] += extra;
-          }
+        }
     full_current   = false;
     dealii_current = false;
   }

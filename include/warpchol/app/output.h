@@ -39,6 +39,12 @@ namespace warpchol::app
     std::vector<fem::Vector3> displacements;
     std::vector<fem::Vector3> velocities;
     fem::ElementUpdateRecord  record;
+    /**
+     * With cuts, grasps or material changes (empty otherwise): per element the step it was
+     * cut at (-1: not cut), per vertex 1 while it is grasped.
+     */
+    std::vector<int>          cut_steps;
+    std::vector<char>         grasped;
   };
 
   /**
@@ -46,7 +52,9 @@ namespace warpchol::app
    * whether the element was updated in the step, its error estimate (WCC) and the steps
    * since its last update; SCENE.pvd lists them with their times. A scene of several
    * bodies writes them all into each file, shifted side by side, with the cell field
-   * "body" (0, 1, ...) telling them apart.
+   * "body" (0, 1, ...) telling them apart. A scene with cuts or grasps adds the cell fields
+   * "removed" (1 for a cut element: ParaView's Threshold filter on removed < 0.5 hides them)
+   * and "cut_step" (the step it was cut at, -1 if not), and the vertex field "grasped".
    */
   class VtuSeries
   {

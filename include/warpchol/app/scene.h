@@ -49,6 +49,9 @@ namespace warpchol::app
     /** "torus (12 toroidal cells, 0 refinements)" or the mesh file's name. */
     const std::string &mesh_description() const;
 
+    /** The cuts, grasps and material changes of the parameters, for the time integrator. */
+    fem::Surgery surgery() const;
+
     /**
      * The vertices of a region (sorted): in a box or sphere of rest positions, or by ids in
      * the mesh file's numbering. Throws InputError naming @p subsection's entries when the

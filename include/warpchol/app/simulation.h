@@ -68,6 +68,14 @@ namespace warpchol::app
     std::map<std::string, unsigned int> refreshes;
     /** Steps per choice of the automatic strategy ("exact", "all", ...; fem::StepStatistics::choice). */
     std::map<std::string, unsigned int> choices;
+    /**
+     * Cuts, grasps, material changes: elements cut and changed, vertices grasped and
+     * released, the steps with a change and, summed over them, the share of the columns and
+     * of a full factorization's flops the change touched.
+     */
+    unsigned int elements_cut = 0, elements_changed = 0, vertices_grasped = 0, vertices_released = 0;
+    unsigned int change_steps = 0;
+    double       change_columns_pct = 0, change_flops_pct = 0;
     /** The age of the factor in steps (background refreshes), summed over the steps that report it. */
     double       factor_lag_sum   = 0;
     unsigned int factor_lag_steps = 0;

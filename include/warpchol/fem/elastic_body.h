@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/binary_io.h>
 #include <warpchol/base/types.h>
 #include <warpchol/fem/small_dense.h>
 
@@ -109,8 +110,36 @@ namespace warpchol::fem
     const ElementMatrix &rest_stiffness(unsigned int e) const;
     /** m_ab: the scalar mass matrix of element @p e (consistent, or lumped: diagonal). */
     const Eigen::Matrix4d &element_mass(unsigned int e) const;
-    /** The lumped mass of vertex @p v (the row sum of the consistent mass matrix). */
+    /**
+     * The lumped mass of vertex @p v (the row sum of the consistent mass matrix over its
+     * elements; a free particle's, see cut_element()).
+     */
     double vertex_mass(unsigned int v) const;
+
+    /**
+     * @name Changes of the body (surgery)
+     * A cut element leaves the body: its stiffness and its mass (the test: the body then
+     * moves as a mesh built without it). A vertex that a cut leaves in no element keeps the
+     * mass it had as a free particle: it falls freely, A keeps its rank, and the pattern of
+     * A and the structure of its factor stay (an entry that becomes zero stays stored).
+     * The models read the new state where they assemble or apply the elements; they must be
+     * told which elements changed (ElasticityModel::apply_change()).
+     */
+    /** @{ */
+    /** Cut element @p e (once); returns the vertices it leaves in no element. */
+    std::vector<unsigned int> cut_element(unsigned int e);
+    /** Multiply the stiffness (Young's modulus) of element @p e by @p factor > 0. */
+    void scale_element_stiffness(unsigned int e, double factor);
+    bool   element_is_cut(unsigned int e) const;
+    /** The factor of element @p e's stiffness: 1 as built, 0 once cut. */
+    double element_stiffness_scale(unsigned int e) const;
+    /** The mass vertex @p v holds as a free particle (in no element any more); 0 otherwise. */
+    double free_particle_mass(unsigned int v) const;
+    /** Write the changes to a checkpoint (cuts, stiffness scales, the masses they moved). */
+    void save_changes(BinaryWriter &writer) const;
+    /** Read what save_changes() wrote, into a body built from the same mesh. */
+    void load_changes(BinaryReader &reader);
+    /** @} */
 
     /** F = Ds Dm^-1 of element @p e: deformed edge vectors times inverse rest edge vectors. */
     Matrix3 deformation_gradient(unsigned int e, const std::vector<Vector3> &positions) const;
@@ -261,7 +290,18 @@ namespace warpchol::fem
     std::vector<unsigned int>                free_vertices;
     Index                                    unknown_count = 0;
     std::vector<Vector3>                     rest;
+    /**
+     * Per element, its volume times its stiffness scale: the weight of its stiffness in
+     * every kernel (forces, products, estimates) and of its rotation in the nodal ones.
+     */
     std::vector<double>                      volumes;
+    /** Per element, its volume as built. */
+    std::vector<double>                      rest_volumes;
+    std::vector<double>                      stiffness_scale;
+    std::vector<bool>                        cut;
+    /** Per vertex, its elements that are not cut. */
+    std::vector<unsigned int>                live_elements;
+    std::vector<double>                      particle_mass;
     std::vector<Matrix3>                     inverse_rest_edges;
     std::vector<ElementMatrix>               stiffness;
     std::vector<Eigen::Matrix4d>             mass;

@@ -3,6 +3,7 @@
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/elasticity_model.h>
 #include <warpchol/fem/small_dense.h>
+#include <warpchol/fem/surgery.h>
 #include <warpchol/fem/system_matrix.h>
 
 #include <string>
@@ -77,9 +78,13 @@ namespace warpchol::fem
                                            double rayleigh_mass, double rayleigh_stiffness,
                                            const Loads &loads);
 
-    /** Start at rest in the rest configuration at time 0. */
-    ImplicitEuler(const ElasticBody &body, ElasticityModel &model, const Loads &loads,
-                  double time_step);
+    /**
+     * Start at rest in the rest configuration at time 0; @p surgery changes @p body (cuts,
+     * material) and the boundary conditions (grasps) as the steps go: before each step
+     * what happens in it is applied to the body and told to the model.
+     */
+    ImplicitEuler(ElasticBody &body, ElasticityModel &model, const Loads &loads, double time_step,
+                  Surgery surgery = Surgery());
 
     /**
      * Start from @p velocities (one per vertex) instead of rest; the fixed vertices keep
@@ -133,7 +138,10 @@ namespace warpchol::fem
      * -sum_i f_i . (x_i - X_i); minus it is the work they have done.
      */
     double potential_energy() const;
-    /** Energy of the tool's springs: sum over its vertices of 1/2 k |target - x_i|^2. */
+    /**
+     * Energy of the tool's springs and of the grasp's: sum over their vertices of
+     * 1/2 k |target - x_i|^2.
+     */
     double tool_energy() const;
     /** kinetic + elastic + potential + tool energy. */
     double total_energy() const;
@@ -157,6 +165,9 @@ namespace warpchol::fem
     double tool_work_on_body() const;
     /** @} */
 
+    /** The cuts, grasps and material changes of the run, and what they did so far. */
+    const Surgery &surgery() const;
+
     /**
      * Write the state of the run to a checkpoint: time, step, positions, velocities (and
      * those of the step before, CG's extrapolated guess), the energy accounts; then the
@@ -176,9 +187,15 @@ namespace warpchol::fem
      */
     void check_initial_field(const std::string &what, std::size_t size) const;
 
-    const ElasticBody   &body;
+    /** m_i g + the constant forces of vertex @p i. */
+    Vector3 constant_force(unsigned int i) const;
+
+    ElasticBody         &body;
     ElasticityModel     &model;
     const Loads          loads;
+    Surgery              operations;
+    /** dt^2 k of the tool's springs per vertex (empty without a tool). */
+    std::vector<double>  tool_diagonal;
     const double         time_step;
     double               current_time = 0;
     unsigned int         steps_done   = 0;

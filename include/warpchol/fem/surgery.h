@@ -1,0 +1,117 @@
+#pragma once
+
+#include <warpchol/base/binary_io.h>
+#include <warpchol/fem/blade.h>
+#include <warpchol/fem/elastic_body.h>
+#include <warpchol/fem/elasticity_model.h>
+#include <warpchol/fem/small_dense.h>
+
+#include <limits>
+#include <optional>
+#include <vector>
+
+/**
+ * @file
+ * Local changes of the body and of its boundary conditions during a run: cuts, grasps and
+ * changes of the material (issue 19), each marking the elements or vertices whose columns
+ * of A change.
+ */
+namespace warpchol::fem
+{
+  /**
+   * A grasping instrument: its jaws, a sphere of @p radius around @p centre, close at
+   * @p grasp_time on the free vertices within them (at their positions then), move with
+   * @p velocity for @p duration and open at @p release_time. Each grasped vertex is tied to
+   * its place in the jaws by a spring of @p stiffness (N/m), or, for 0, a penalty spring of
+   * 1e6 m_v / dt^2 (m_v its mass), which holds it there within a millionth of the motion:
+   * the grasp changes the diagonal of A at the grasped vertices only (a constraint would
+   * remove unknowns or change the columns of their neighbours too).
+   */
+  struct Grasp
+  {
+    Vector3 centre       = Vector3::Zero();
+    double  radius       = 0;
+    Vector3 velocity     = Vector3::Zero();
+    double  duration     = 0;
+    double  grasp_time   = 0;
+    double  release_time = std::numeric_limits<double>::infinity();
+    double  stiffness    = 0;
+
+    /** How far the jaws have moved at time @p time since they closed. */
+    Vector3 offset(double time) const;
+  };
+
+  /** At @p time the stiffness of @p elements is multiplied by @p factor (> 0). */
+  struct MaterialChange
+  {
+    std::vector<unsigned int> elements;
+    double                    time   = 0;
+    double                    factor = 1;
+  };
+
+  /**
+   * What happens to the body during a run besides the loads: a blade that cuts, a grasp,
+   * a change of the material. Before each step, changes_of_step() applies to the body
+   * what happens in the step and returns what changed in A for the model
+   * (ElasticityModel::apply_change()); the springs of the grasp act through
+   * add_spring_forces() and spring_diagonal() as the tool's do.
+   */
+  class Surgery
+  {
+  public:
+    Surgery() = default;
+    Surgery(std::optional<Blade> blade, std::optional<Grasp> grasp, std::optional<MaterialChange> material_change);
+
+    /** Whether anything happens at all. */
+    bool active() const;
+
+    /**
+     * Apply to @p body what happens during the step from @p time to @p time + @p time_step
+     * (step number @p step), with the body at @p positions: the elements the blade crosses
+     * are cut, the jaws close or open, the material changes. @p tool_diagonal is what the
+     * tool's springs add to each vertex's diagonal (dt^2 k; empty for none). Counts what it
+     * did in @p statistics (elements_cut, vertices_grasped, vertices_released,
+     * elements_changed). Throws InputError when the jaws close on no free vertex.
+     */
+    SystemChange changes_of_step(ElasticBody &body, const std::vector<Vector3> &positions, unsigned int step,
+                                 double time, double time_step, const std::vector<double> &tool_diagonal,
+                                 StepStatistics &statistics);
+
+    /** forces[v] += k (target(@p time) - x_v) for each grasped vertex v. */
+    void add_spring_forces(const std::vector<Vector3> &positions, double time, std::vector<Vector3> &forces) const;
+    /** The grasp springs' energy at @p positions and @p time: sum of 1/2 k |target - x|^2. */
+    double spring_energy(const std::vector<Vector3> &positions, double time) const;
+    /**
+     * The energy the moving jaws put into the springs between @p from and @p to at
+     * @p positions, and the springs' work on the body over the step that moved it from
+     * @p old_positions to @p new_positions (as ImplicitEuler counts the tool's).
+     */
+    double spring_work(const std::vector<Vector3> &positions, double from, double to) const;
+    double spring_work_on_body(const std::vector<Vector3> &old_positions, const std::vector<Vector3> &new_positions,
+                               double time) const;
+
+    /** Per element, the step it was cut at; -1 if it is not. */
+    const std::vector<int> &cut_steps() const;
+    /** Per vertex, 1 while it is grasped. */
+    std::vector<char> grasped_vertices(unsigned int n_vertices) const;
+    /** Elements cut so far. */
+    unsigned int n_cut() const;
+
+    /** Write what happened so far (the body's own state is ElasticBody's to write). */
+    void save(BinaryWriter &writer) const;
+    void load(BinaryReader &reader);
+
+  private:
+    std::optional<Blade>          blade;
+    std::optional<Grasp>          grasp;
+    std::optional<MaterialChange> material_change;
+    bool                          material_changed = false;
+    std::vector<int>              cut_step;
+    /** The grasped vertices, their places in the jaws when they closed, their springs (N/m). */
+    std::vector<unsigned int>     held;
+    std::vector<Vector3>          anchors;
+    std::vector<double>           stiffness;
+    bool                          closed   = false;
+    bool                          released = false;
+  };
+} // namespace warpchol::fem
