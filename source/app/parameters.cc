@@ -369,6 +369,9 @@ namespace warpchol::app
                         "folder of the parameter file that sets it (an included one's own)");
       prm.declare_entry("Scale", "1", Patterns::Double(0),
                         "Source = file: factor applied to the file's coordinates");
+      prm.declare_entry("Refinements", "0", Patterns::Integer(0, 4),
+                        "Source = file: global refinements of the mesh read (deal.II's: each "
+                        "tetrahedron into 8); a vertex id of the file keeps its vertex");
       prm.declare_entry("Torus major radius", "0.3", Patterns::Double(0),
                         "Radius of the torus' centre line (m); the torus turns around the y axis");
       prm.declare_entry("Torus minor radius", "0.1", Patterns::Double(0),
@@ -421,6 +424,7 @@ namespace warpchol::app
       source    = prm.get("Source");
       file_name = prm.get("File");
       scale     = prm.get_double("Scale");
+      refinements = prm.get_integer("Refinements");
       if (source == "file" && file_name.empty())
         file.fail(prm, "Mesh", "File", "Source = file needs a mesh file");
       require_positive(prm, file, "Mesh", "Scale");

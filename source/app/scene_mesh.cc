@@ -49,7 +49,11 @@ namespace warpchol::app
         numbering = fem::read_mesh(all.mesh_file_path(), tria);
         if (mesh.scale != 1)
           dealii::GridTools::scale(mesh.scale, tria);
+        // The file's vertices keep their numbers (deal.II numbers new vertices after them).
+        tria.refine_global(mesh.refinements);
         text = mesh.file_name;
+        if (mesh.refinements > 0)
+          text += ", refined " + std::to_string(mesh.refinements) + " times";
       }
     if (numbering.vertex_of_file_vertex.empty())
       for (unsigned int v = 0; v < tria.n_vertices(); ++v)

@@ -102,16 +102,28 @@ namespace warpchol::fem
     last_iterations = iterations;
   }
 
-  void StepCostModel::record_exact_step(const double seconds)
+  void StepCostModel::record_exact_step(const double seconds, const unsigned int cycle_length)
   {
     blend(exact_seconds, seconds);
+    // The steps past the cycle's end were not seen this time: what was measured there may
+    // be old (a step after a cut iterates more). Relax it toward the last one seen, so that
+    // a later cycle goes further and measures it again.
+    const unsigned int last = std::min(cycle_length, longest_staleness);
+    if (last == 0 || iterations_at[last - 1] < 0)
+      return;
+    for (unsigned int s = last + 1; s <= longest_staleness; ++s)
+      if (iterations_at[s - 1] > iterations_at[last - 1])
+        blend(iterations_at[s - 1], iterations_at[last - 1]);
   }
 
-  void StepCostModel::record_iterating_step(const unsigned int staleness, const double seconds)
+  void StepCostModel::record_iterating_step(const unsigned int staleness, const double seconds,
+                                            const unsigned int iterations)
   {
     if (staleness == 0)
       return;
-    blend(iterating_seconds[std::min(staleness, longest_staleness) - 1], seconds);
+    blend(iterations_at[std::min(staleness, longest_staleness) - 1], iterations);
+    if (seconds_per_iteration > 0)
+      blend(iterating_overhead, std::max(seconds - iterations * seconds_per_iteration, 1e-9));
   }
 
   bool StepCostModel::calibrated() const
@@ -126,10 +138,12 @@ namespace warpchol::fem
 
   double StepCostModel::predicted_iterating_seconds(const unsigned int staleness) const
   {
+    if (iterating_overhead < 0 || !(seconds_per_iteration > 0))
+      return -1;
     // The last staleness measured at or before this one stands for it.
     for (unsigned int s = std::min(std::max(staleness, 1u), longest_staleness); s >= 1; --s)
-      if (iterating_seconds[s - 1] >= 0)
-        return iterating_seconds[s - 1];
+      if (iterations_at[s - 1] >= 0)
+        return iterating_overhead + iterations_at[s - 1] * seconds_per_iteration;
     return -1;
   }
 
@@ -140,8 +154,8 @@ namespace warpchol::fem
     if (predicted_iterating_seconds(staleness) < 0)
       return false;
     // The rule holds for costs that do not fall with the staleness; the measured ones may
-    // (a step right after an exact one that needed an iteration more than its successors,
-    // noise): the rule reads their running maximum, or it could refresh forever.
+    // (a step right after an exact one that needed an iteration more than its successors):
+    // the rule reads their running maximum, or it could refresh forever.
     std::vector<double> cost(longest_staleness, 0.);
     double              largest = 0;
     for (unsigned int s = 1; s <= longest_staleness; ++s)
@@ -159,18 +173,18 @@ namespace warpchol::fem
   void StepCostModel::save(BinaryWriter &writer) const
   {
     for (const double value : {flop_rate, seconds_per_iteration, iterations_after_all,
-                               iterations_after_top, last_iterations, exact_seconds})
+                               iterations_after_top, last_iterations, exact_seconds, iterating_overhead})
       writer.write(value);
-    writer.write(iterating_seconds);
+    writer.write(iterations_at);
   }
 
   void StepCostModel::load(BinaryReader &reader)
   {
     for (double *value : {&flop_rate, &seconds_per_iteration, &iterations_after_all,
-                          &iterations_after_top, &last_iterations, &exact_seconds})
+                          &iterations_after_top, &last_iterations, &exact_seconds, &iterating_overhead})
       reader.read(*value);
-    reader.read(iterating_seconds);
-    if (iterating_seconds.size() != longest_staleness)
+    reader.read(iterations_at);
+    if (iterations_at.size() != longest_staleness)
       reader.fail("the cost model's step costs have the wrong length (corrupt)");
   }
 

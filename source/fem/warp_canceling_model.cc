@@ -272,6 +272,7 @@ namespace warpchol::fem
     writer.write(last_prepare_seconds);
     writer.write(last_step_exact);
     writer.write(last_staleness);
+    writer.write(cycle_length);
     writer.write(recent_update_fraction);
     writer.write(recent_error_ratio);
     writer.write(given_up);
@@ -294,6 +295,7 @@ namespace warpchol::fem
     reader.read(last_prepare_seconds);
     reader.read(last_step_exact);
     reader.read(last_staleness);
+    reader.read(cycle_length);
     reader.read(recent_update_fraction);
     reader.read(recent_error_ratio);
     reader.read(given_up);
@@ -319,9 +321,9 @@ namespace warpchol::fem
       {
         const double last_seconds = last_prepare_seconds + last_solve_seconds;
         if (last_step_exact)
-          cost_model.record_exact_step(last_seconds);
+          cost_model.record_exact_step(last_seconds, cycle_length);
         else
-          cost_model.record_iterating_step(last_staleness, last_seconds);
+          cost_model.record_iterating_step(last_staleness, last_seconds, last_cg_iterations);
       }
     if (last_cg_iterations > 0)
       cost_model.record_iterations(last_refresh, last_cg_iterations, last_cg_seconds);
@@ -369,6 +371,8 @@ namespace warpchol::fem
     const Stopwatch stopwatch;
     prepare_factor(velocities, statistics);
     last_prepare_seconds = stopwatch.seconds();
+    // The cycle an exact step ends: how stale the factor had grown before it.
+    cycle_length         = exact_this_step ? last_staleness : cycle_length;
     last_step_exact      = exact_this_step;
     last_staleness       = step_count - factor_step;
     if (background)
@@ -432,18 +436,15 @@ namespace warpchol::fem
       }
     if (automatic)
       statistics.predicted_seconds = cost_model.predicted_iterating_seconds(staleness);
-    if (std::isinf(threshold))
+    // Nothing is ever updated at an infinite threshold: stiffness warping, or the automatic
+    // strategy's factor between its exact steps; only changes of the system (a cut, a
+    // grasp) may be pending.
+    std::vector<unsigned int> update;
+    if (!std::isinf(threshold))
       {
-        // Nothing is ever updated: stiffness warping, or the automatic strategy's factor
-        // between its exact steps.
-        statistics.choice = automatic ? "none" : "";
-        record_updates(false);
-        return;
+        StageTimer estimate_timer(statistics.stages, stage::error_estimate);
+        update = elements_to_update(velocities);
       }
-
-    StageTimer estimate_timer(statistics.stages, stage::error_estimate);
-    const std::vector<unsigned int> update = elements_to_update(velocities);
-    estimate_timer.stop();
     record_updates(update);
     statistics.elements_updated = update.size();
 

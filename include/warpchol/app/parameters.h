@@ -120,6 +120,8 @@ namespace warpchol::app
       /** The mesh file as written in the parameter file. */
       std::string           file_name;
       double                scale = 1;
+      /** Global refinements of a mesh read from a file (each tetrahedron into 8). */
+      unsigned int          refinements = 0;
       fem::TorusGeometry    torus;
       fem::BoxGeometry      box;
       fem::CylinderGeometry cylinder;

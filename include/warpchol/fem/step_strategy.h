@@ -112,8 +112,12 @@ namespace warpchol::fem
    *   a(P) = (C + c(1) + ... + c(P - 1)) / P,
    * least at some P*; the exact step is due as soon as the next step would cost more than
    * that least average, c(s + 1) > a(P*) (the rule of renewal: replace when the marginal
-   * cost passes the least average cost). c(s) is measured per staleness s; where it was not
-   * measured yet, the last measured one stands for it, and the rule reads the running
+   * cost passes the least average cost). c(s) = o + i(s) t: the iterations i(s) are
+   * measured per staleness s (counts: steadier than a step's seconds on a busy machine),
+   * t is the seconds of one iteration and o the rest of an iterating step, both averaged
+   * over every step; where i(s) was not measured yet, the last measured one stands for
+   * it; an i(s) past the cycles of late is relaxed toward the last one seen at each exact
+   * step (it may date from a cut), so that cycles grow again; and the rule reads the running
    * maximum of c over s (it assumes costs that do not fall as the factor ages: a cheaper
    * step later in the cycle, or noise, would otherwise make it refresh every step). When
    * c(s + 1) exceeds C the rule runs the exact step: never slower than exact, as far as
@@ -126,10 +130,17 @@ namespace warpchol::fem
     void record_factorization(double flops, double seconds);
     /** A solve after @p refresh took @p iterations iterations in @p seconds. */
     void record_iterations(cholesky::Refresh refresh, unsigned int iterations, double seconds);
-    /** An exact step cost @p seconds (assembly, factorization and solve). */
-    void record_exact_step(double seconds);
-    /** An iterating step @p staleness steps after the last exact factor cost @p seconds. */
-    void record_iterating_step(unsigned int staleness, double seconds);
+    /**
+     * An exact step cost @p seconds (assembly, factorization and solve); it ended a cycle
+     * of @p cycle_length steps since the exact step before (what the last iterating step's
+     * staleness was).
+     */
+    void record_exact_step(double seconds, unsigned int cycle_length);
+    /**
+     * An iterating step @p staleness steps after the last exact factor cost @p seconds
+     * and @p iterations of CG.
+     */
+    void record_iterating_step(unsigned int staleness, double seconds, unsigned int iterations);
 
     /** The predicted seconds of a step that refreshes with @p refresh at @p flops, then iterates. */
     double predicted_seconds(cholesky::Refresh refresh, double flops) const;
@@ -163,7 +174,9 @@ namespace warpchol::fem
     double iterations_after_top  = -1;
     double last_iterations       = 0;
     double exact_seconds         = -1;
-    /** c(s) for s = 1 .. longest_staleness at [s - 1]; negative where not measured. */
-    std::vector<double> iterating_seconds = std::vector<double>(longest_staleness, -1.);
+    /** o: the seconds of an iterating step but its CG iterations. */
+    double iterating_overhead    = -1;
+    /** i(s) for s = 1 .. longest_staleness at [s - 1]; negative where not measured. */
+    std::vector<double> iterations_at = std::vector<double>(longest_staleness, -1.);
   };
 } // namespace warpchol::fem

@@ -215,6 +215,8 @@ namespace warpchol::fem
     double       last_prepare_seconds = 0;
     bool         last_step_exact      = false;
     unsigned int last_staleness       = 0;
+    /** The staleness the factor had reached when the last exact step came. */
+    unsigned int cycle_length         = 0;
 
     /** delayed_top: steps since the top was last refreshed. */
     unsigned int     steps_since_top_refresh = 0;
