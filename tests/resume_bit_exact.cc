@@ -197,6 +197,15 @@ int main()
   // A checkpoint at step 10 while the refresh started at step 9 is in flight (taken at 12).
   check_scene("background",
               "  set Type = warp_canceling\n  set Strategy = background\n  set Background lag = 3\n", "");
+  // A checkpoint at step 10 between two cuts (the blade cuts from step 6 to step 15), and
+  // a grasp that closes before it and opens after it.
+  check_scene("cut",
+              "  set Type = warp_canceling\n  set Update threshold = 0.3\n",
+              "subsection Cut\n  set Blade start = 0.31, -0.2, -0.15\n  set Blade end = 0.31, 0.2, -0.15\n"
+              "  set Velocity = 0, 0, 3\n  set Start time = 0.05\n  set Duration = 0.1\nend\n"
+              "subsection Grasp\n  set Sphere center = -0.3, 0, 0\n  set Sphere radius = 0.1\n"
+              "  set Velocity = 0, 0.5, 0\n  set Duration = 0.2\n  set Grasp time = 0.03\n"
+              "  set Release time = 0.25\nend\n");
   check_scene("target_error",
               "  set Type = warp_canceling\n  set Update threshold = 0.3\n  set Target error = 0.01\n", "");
   check_scene("two_bodies", "  set Type = warp_canceling\n",

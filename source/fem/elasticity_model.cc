@@ -141,6 +141,8 @@ namespace warpchol::fem
   void ElasticityModel::save_state(BinaryWriter &writer) const
   {
     writer.section("model " + name());
+    // The vertex diagonal changes with grasps (apply_change()).
+    writer.write(coefficients.vertex_diagonal);
     writer.write(matrix_carries_over());
     if (matrix_carries_over())
       {
@@ -163,6 +165,11 @@ namespace warpchol::fem
   void ElasticityModel::load_state(BinaryReader &reader)
   {
     reader.expect_section("model " + name());
+    reader.read(coefficients.vertex_diagonal);
+    if (!coefficients.vertex_diagonal.empty() && coefficients.vertex_diagonal.size() != body.n_vertices())
+      reader.fail("the vertex diagonal does not have one value per vertex");
+    for (std::size_t v = 0; v < coefficients.vertex_diagonal.size(); ++v)
+      system.set_vertex_diagonal(v, coefficients.vertex_diagonal[v]);
     if (reader.get<bool>() != matrix_carries_over())
       reader.fail("was written by a model whose matrix carries over differently");
     if (matrix_carries_over())
