@@ -743,8 +743,11 @@ namespace warpchol::app
           }
         if (integrator.surgery().active())
           {
-            out << "  surgery: " << t.elements_cut << " elements cut, " << t.vertices_grasped << " vertices grasped, "
-                << t.vertices_released << " released, " << t.elements_changed << " elements of changed material";
+            out << "  surgery: " << t.elements_cut << " elements cut";
+            if (t.elements_cut == 0 && scene.parameters().cut.active())
+              out << " (the blade crossed no element)";
+            out << ", " << t.vertices_grasped << " vertices grasped, " << t.vertices_released << " released, "
+                << t.elements_changed << " elements of changed material";
             if (t.change_steps > 0)
               out << "; " << t.change_steps << " steps with a change, each touching " << n(t.change_columns_pct / t.change_steps)
                   << " % of the columns and " << n(t.change_flops_pct / t.change_steps)
