@@ -244,6 +244,7 @@ namespace warpchol::fem
         factor_step = started;
       }
     ElasticityModel::apply_change(change, statistics);
+    change_pending = true;
   }
 
   bool WarpCancelingModel::factor_solves_target() const
@@ -370,6 +371,7 @@ namespace warpchol::fem
     record_no_refactorization(statistics);
     const Stopwatch stopwatch;
     prepare_factor(velocities, statistics);
+    change_pending = false;
     last_prepare_seconds = stopwatch.seconds();
     // The cycle an exact step ends: how stale the factor had grown before it.
     cycle_length         = exact_this_step ? last_staleness : cycle_length;
@@ -522,6 +524,11 @@ namespace warpchol::fem
             double  least_seconds = std::numeric_limits<double>::infinity();
             for (const Refresh refresh : {Refresh::all, Refresh::below_top, Refresh::none})
               {
+                // A change of the system (a cut) left out of the factor makes CG iterate
+                // far more than the last steps foretell: it is refreshed, at least below
+                // the top, in the step it comes.
+                if (refresh == Refresh::none && change_pending)
+                  continue;
                 const double seconds = cost_model.predicted_seconds(
                   refresh, cholesky_solver.predicted_flops(changed_columns, refresh));
                 if (seconds < least_seconds)

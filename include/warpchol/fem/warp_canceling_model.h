@@ -209,6 +209,9 @@ namespace warpchol::fem
     double      recent_error_ratio     = 0;
     std::string given_up;
 
+    /** Whether a change of the system came before this step (apply_change()). */
+    bool change_pending = false;
+
     /** Whether A is the exact corotational matrix of this step's rotations, factored. */
     bool exact_this_step = false;
     /** What the last step measured for the cost model: its own seconds, whether it was exact, its staleness. */
