@@ -61,24 +61,11 @@ namespace
       {
         const std::string argument = command_line.next();
         if (argument == "--repeat")
-          {
-            const std::string text = command_line.value_of(argument);
-            if (text.empty() || text.find_first_not_of("0123456789") != std::string::npos || std::stoul(text) < 1 ||
-                std::stoul(text) > 100)
-              throw InputError("--repeat: '" + text + "' is not a count in [1, 100]");
-            options.repeat = std::stoul(text);
-          }
+          options.repeat = command_line.integer_of(argument, 1, 100);
         else if (argument == "--csv")
           options.csv_file = command_line.value_of(argument);
-        else if (argument == "--help" || argument == "-h")
-          {
-            std::cout << usage << std::endl;
-            std::exit(0);
-          }
-        else if (!argument.empty() && argument[0] != '-' && options.parameter_file.empty())
-          options.parameter_file = argument;
         else
-          throw InputError("unexpected argument '" + argument + "' (see --help)");
+          command_line.read_help_or_input_file(argument, usage, options.parameter_file);
       }
     if (options.parameter_file.empty())
       throw InputError("no parameter file given (see --help)");
