@@ -163,8 +163,8 @@ int main()
   {
     dealii::Triangulation<3> triangulation;
     fem::create_box(triangulation, fem::BoxGeometry());
-    const fem::ElasticBody body(triangulation, fem::Material(), fem::MassMatrix::lumped,
-                                std::vector<bool>(triangulation.n_vertices(), false));
+    fem::ElasticBody body(triangulation, fem::Material(), fem::MassMatrix::lumped,
+                          std::vector<bool>(triangulation.n_vertices(), false));
     const fem::SystemCoefficients coefficients = fem::SystemCoefficients::implicit_euler(0.01, 0, 0);
     fem::SystemCoefficients negative = coefficients;
     negative.mass                    = -1;
