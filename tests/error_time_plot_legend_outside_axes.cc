@@ -72,15 +72,17 @@ int main()
   std::smatch size;
   if (!std::regex_search(script, size, std::regex("set terminal pngcairo size ([0-9]+),([0-9]+)")))
     throw std::runtime_error("the script sets no pngcairo terminal");
+  // The sizes are copied before the script they point into is replaced.
+  const std::string width_text = size[1].str(), height_text = size[2].str();
   script = std::regex_replace(script, std::regex("set terminal png[^\n]*"),
-                              "set terminal svg size " + size[1].str() + "," + size[2].str() + " font \"Arial,14.67\"");
+                              "set terminal svg size " + width_text + "," + height_text + " font \"Arial,14.67\"");
   // Where the right panel's axes end (pixels from the left), as gnuplot drew them.
   script += "set print \"right_axis.txt\"\nprint GPVAL_TERM_XMAX\n";
   std::ofstream("plot_svg.gp") << script;
   if (std::system("gnuplot plot_svg.gp") != 0)
     throw std::runtime_error("gnuplot failed on plot_svg.gp");
   const double      right_axis = std::stod(tests::read_file("right_axis.txt"));
-  const double      width      = std::stod(size[1].str());
+  const double      width      = std::stod(width_text);
   const std::vector<Text> texts = texts_of(tests::read_file("plot.svg"));
 
   std::vector<std::string> titles = groups;
