@@ -739,6 +739,11 @@ namespace warpchol::app
               }
             if (t.factor_lag_steps > 0)
               out << "; factor age mean " << n(t.factor_lag_sum / t.factor_lag_steps) << " steps";
+            const auto &placement = wcc->refresh_placement();
+            const auto  beside    = placement.steps_in(fem::RefreshPlacement::Where::beside_the_steps);
+            if (strategy.kind == fem::StepStrategy::Kind::automatic && beside > 0)
+              out << "; refreshes beside the steps (one thread less for them) in " << beside << " of "
+                  << beside + placement.steps_in(fem::RefreshPlacement::Where::in_the_steps) << " steps";
             out << "\n";
           }
         if (integrator.surgery().active())

@@ -102,6 +102,11 @@ namespace warpchol::fem
     return true;
   }
 
+  unsigned int ElasticityModel::step_threads() const
+  {
+    return 0;
+  }
+
   void ElasticityModel::checked(const std::function<void()> &factor)
   {
     try

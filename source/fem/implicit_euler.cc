@@ -3,6 +3,7 @@
 #include <warpchol/fem/implicit_euler.h>
 
 #include <Eigen/Geometry>
+#include <tbb/task_arena.h>
 
 #include <algorithm>
 #include <cmath>
@@ -135,6 +136,21 @@ namespace warpchol::fem
   }
 
   void ImplicitEuler::advance(StepStatistics &statistics)
+  {
+    const unsigned int threads = model.step_threads();
+    if (threads == 0)
+      {
+        advance_step(statistics);
+        return;
+      }
+    // Every parallel loop of the step (deal.II's, TBB's) runs in this arena: no more
+    // threads than the model allows.
+    if (!step_arena || step_arena->max_concurrency() != static_cast<int>(threads))
+      step_arena = std::make_shared<tbb::task_arena>(static_cast<int>(threads));
+    step_arena->execute([&] { advance_step(statistics); });
+  }
+
+  void ImplicitEuler::advance_step(StepStatistics &statistics)
   {
     const unsigned int step     = steps_done + 1;
     const double       new_time = current_time + time_step;

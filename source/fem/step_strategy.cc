@@ -2,6 +2,8 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/fem/step_strategy.h>
 
+#include <algorithm>
+
 namespace warpchol::fem
 {
   bool StepStrategy::iterates() const
@@ -186,6 +188,83 @@ namespace warpchol::fem
     reader.read(iterations_at);
     if (iterations_at.size() != longest_staleness)
       reader.fail("the cost model's step costs have the wrong length (corrupt)");
+  }
+
+  RefreshPlacement::Where RefreshPlacement::current() const
+  {
+    return where;
+  }
+
+  unsigned int RefreshPlacement::steps_in(const Where place) const
+  {
+    return counts[static_cast<int>(place)];
+  }
+
+  void RefreshPlacement::record_step(const double seconds)
+  {
+    ++counts[static_cast<int>(where)];
+    if (++steps < first_counted_step)
+      return;
+    phase_seconds += seconds;
+    const unsigned int length = trial ? window : stretch;
+    if (++phase_steps < length)
+      return;
+    // The phase is over: its mean is what this place costs now.
+    const int here = static_cast<int>(where), other = 1 - here;
+    mean_seconds[here] = phase_seconds / phase_steps;
+    phase_seconds      = 0;
+    phase_steps        = 0;
+    if (mean_seconds[other] < 0)
+      {
+        // The other place was never tried: try it.
+        where = static_cast<Where>(other);
+        trial = true;
+        return;
+      }
+    if (trial)
+      {
+        // A trial against the place that ran before: the cheaper runs the next stretch,
+        // longer if the trial lost (the incumbent holds), the shortest if it won.
+        const bool trial_won = mean_seconds[here] < mean_seconds[other];
+        stretch              = trial_won ? shortest_stretch : std::min(2 * stretch, longest_stretch);
+        where                = static_cast<Where>(trial_won ? here : other);
+        trial                = false;
+        return;
+      }
+    // A stretch is over: try the other place again.
+    where = static_cast<Where>(other);
+    trial = true;
+  }
+
+  void RefreshPlacement::save(BinaryWriter &writer) const
+  {
+    writer.write(static_cast<int>(where));
+    writer.write(steps);
+    writer.write(phase_steps);
+    writer.write(phase_seconds);
+    writer.write(trial);
+    writer.write(stretch);
+    for (const double mean : mean_seconds)
+      writer.write(mean);
+    for (const unsigned int count : counts)
+      writer.write(count);
+  }
+
+  void RefreshPlacement::load(BinaryReader &reader)
+  {
+    const int place = reader.get<int>();
+    if (place != 0 && place != 1)
+      reader.fail("the refresh placement is neither 0 nor 1 (corrupt)");
+    where = static_cast<Where>(place);
+    reader.read(steps);
+    reader.read(phase_steps);
+    reader.read(phase_seconds);
+    reader.read(trial);
+    reader.read(stretch);
+    for (double &mean : mean_seconds)
+      reader.read(mean);
+    for (unsigned int &count : counts)
+      reader.read(count);
   }
 
   double StepCostModel::predicted_seconds(const cholesky::Refresh refresh, const double flops) const

@@ -89,6 +89,8 @@ namespace warpchol::fem
     , threshold(update_threshold)
     , target(target_error)
     , adapted_threshold(update_threshold)
+    , given_threads(std::max(1u, solver_settings.n_threads))
+    , step_thread_count(given_threads)
   {
     strategy = step_strategy;
     if (strategy.kind == StepStrategy::Kind::delayed_top || strategy.kind == StepStrategy::Kind::automatic)
@@ -134,6 +136,16 @@ namespace warpchol::fem
   std::string WarpCancelingModel::name() const
   {
     return "warp_canceling";
+  }
+
+  unsigned int WarpCancelingModel::step_threads() const
+  {
+    return background && background->in_flight() && given_threads > 1 ? given_threads - 1 : 0;
+  }
+
+  const RefreshPlacement &WarpCancelingModel::refresh_placement() const
+  {
+    return placement;
   }
 
   double WarpCancelingModel::update_threshold() const
@@ -277,6 +289,7 @@ namespace warpchol::fem
     writer.write(recent_update_fraction);
     writer.write(recent_error_ratio);
     writer.write(given_up);
+    placement.save(writer);
     if (background)
       background->save(writer);
   }
@@ -302,6 +315,7 @@ namespace warpchol::fem
     reader.read(given_up);
     if (!given_up.empty())
       give_up_target();
+    placement.load(reader);
     if (background)
       background->load(reader);
   }
@@ -317,8 +331,11 @@ namespace warpchol::fem
                                         const std::vector<Vector3> &velocities,
                                         StepStatistics             &statistics)
   {
-    // What the last step measured calibrates the cost model.
-    if (step_count > 0)
+    const Stopwatch whole_step;
+    // What the last step measured calibrates the cost model, unless it ran beside a
+    // refresh, on fewer threads than the steps in which the model's refreshes run.
+    const bool last_beside_refresh = step_thread_count < given_threads;
+    if (step_count > 0 && !last_beside_refresh)
       {
         const double last_seconds = last_prepare_seconds + last_solve_seconds;
         if (last_step_exact)
@@ -326,8 +343,15 @@ namespace warpchol::fem
         else
           cost_model.record_iterating_step(last_staleness, last_seconds, last_cg_iterations);
       }
-    if (last_cg_iterations > 0)
+    if (last_cg_iterations > 0 && !last_beside_refresh)
       cost_model.record_iterations(last_refresh, last_cg_iterations, last_cg_seconds);
+    // auto with a refresh beside the steps: where its refreshes go is measured on whole steps.
+    if (step_count > 0 && background && strategy.kind == StepStrategy::Kind::automatic)
+      placement.record_step(last_step_prepare_seconds + last_solve_seconds);
+    // The step runs on the threads the integrator gave it: so do the solver and the assembly.
+    step_thread_count = step_threads() > 0 ? step_threads() : given_threads;
+    cholesky_solver.set_thread_count(step_thread_count);
+    system.set_thread_count(step_thread_count);
     last_refresh = cholesky::Refresh::none;
     if (target > 0 && last_velocity_error >= 0)
       {
@@ -379,6 +403,7 @@ namespace warpchol::fem
     last_staleness       = step_count - factor_step;
     if (background)
       statistics.factor_lag = static_cast<int>(last_staleness);
+    last_step_prepare_seconds = whole_step.seconds();
   }
 
   void WarpCancelingModel::exact_step(StepStatistics &statistics)
@@ -417,6 +442,9 @@ namespace warpchol::fem
             return;
           }
       }
+    // auto's refreshes beside the steps: the factor is made exact there, never here.
+    const bool refreshes_beside =
+      background && placement.current() == RefreshPlacement::Where::beside_the_steps;
 
     if (threshold == 0)
       {
@@ -427,7 +455,7 @@ namespace warpchol::fem
     // Exact steps change A to the corotational matrix: only where CG iterates on that one
     // (on the WCC matrix they would change the system being solved).
     const unsigned int staleness = step_count - factor_step;
-    if (automatic && strategy.iterate_on == StepStrategy::Target::corotational &&
+    if (automatic && strategy.iterate_on == StepStrategy::Target::corotational && !refreshes_beside &&
         cost_model.exact_step_is_due(staleness))
       {
         // Iterating on would cost more than the least average of a cycle that starts now.
@@ -489,7 +517,10 @@ namespace warpchol::fem
         record_updates(true);
         statistics.elements_updated = body.n_elements();
       }
-    if (!background->in_flight())
+    // Strategy = background refreshes all the time; auto where it measured it pays.
+    const bool refreshes_beside = strategy.kind == StepStrategy::Kind::background ||
+                                  placement.current() == RefreshPlacement::Where::beside_the_steps;
+    if (!background->in_flight() && refreshes_beside)
       background->start(step_count, elastic_state.element_rotations, elastic_state.nodal_rotations);
     return due;
   }

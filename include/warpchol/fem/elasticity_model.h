@@ -248,6 +248,14 @@ namespace warpchol::fem
     virtual bool uses_rotations() const;
 
     /**
+     * How many threads the next step's own work may use: 0 for all that deal.II allows;
+     * fewer while a thread of the model's works beside the steps (WarpCancelingModel's
+     * background refresh), so that it keeps a core to itself instead of slowing every
+     * parallel loop of the step. 0 by default.
+     */
+    virtual unsigned int step_threads() const;
+
+    /**
      * The elastic energy at the positions of the last prepare_step() (the start of the
      * last step), which its element pass computed anyway.
      */

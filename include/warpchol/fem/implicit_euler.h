@@ -6,6 +6,9 @@
 #include <warpchol/fem/surgery.h>
 #include <warpchol/fem/system_matrix.h>
 
+#include <tbb/task_arena.h>
+
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -100,9 +103,10 @@ namespace warpchol::fem
     void set_initial_positions(const std::vector<Vector3> &positions);
 
     /**
-     * Advance by one time step. Throws MatrixError "step N: ..." if the factorization
-     * fails or a velocity is not finite, or so large that its square overflows (the
-     * simulation diverged).
+     * Advance by one time step, on as many threads as the model allows it
+     * (ElasticityModel::step_threads()). Throws MatrixError "step N: ..." if the
+     * factorization fails or a velocity is not finite, or so large that its square
+     * overflows (the simulation diverged).
      */
     void advance(StepStatistics &statistics);
 
@@ -190,6 +194,9 @@ namespace warpchol::fem
     /** m_i g + the constant forces of vertex @p i. */
     Vector3 constant_force(unsigned int i) const;
 
+    /** The step itself: advance() runs it on the threads the model allows. */
+    void advance_step(StepStatistics &statistics);
+
     ElasticBody         &body;
     ElasticityModel     &model;
     const Loads          loads;
@@ -211,5 +218,7 @@ namespace warpchol::fem
     /** elastic_energy() costs a pass over the elements: kept for the step it was computed at. */
     mutable double       cached_elastic_energy = 0;
     mutable unsigned int cached_elastic_step   = static_cast<unsigned int>(-1);
+    /** The threads of the steps while the model limits them (shared: the integrator is copied). */
+    std::shared_ptr<tbb::task_arena> step_arena;
   };
 } // namespace warpchol::fem

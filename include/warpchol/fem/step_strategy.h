@@ -179,4 +179,60 @@ namespace warpchol::fem
     /** i(s) for s = 1 .. longest_staleness at [s - 1]; negative where not measured. */
     std::vector<double> iterations_at = std::vector<double>(longest_staleness, -1.);
   };
+
+  /**
+   * Where the automatic strategy refreshes its factor when it has two threads or more:
+   * in the steps, which then have every thread (the rule of renewal of StepCostModel),
+   * or on a core of its own beside the steps (BackgroundRefresh), which then run on one
+   * thread less. Neither wins everywhere. Beside the steps a refresh costs them a core:
+   * it pays where CG iterates the more the staler the factor (thin bodies in bending),
+   * and is a loss where the stale factor preconditions well anyway (the torus: about one
+   * iteration a step) or where the steps' factorizations gain much from the second
+   * thread. The two are not modelled but measured: each in turn for a window of steps,
+   * then the one whose steps cost less on average for a stretch, after which the other
+   * is tried again; the stretch doubles each time the other loses (the trials cost
+   * little), and starts short again when it wins (the run has changed).
+   */
+  class RefreshPlacement
+  {
+  public:
+    enum class Where
+    {
+      in_the_steps,
+      beside_the_steps
+    };
+
+    /** Where the next steps' refreshes go. */
+    Where current() const;
+
+    /**
+     * A step that ran with its refreshes where current() said cost @p seconds (its whole
+     * work: element pass, refresh, solve); after it, current() may say otherwise.
+     */
+    void record_step(double seconds);
+
+    /** Steps run so far with the refreshes in the steps and beside them. */
+    unsigned int steps_in(Where where) const;
+
+    void save(BinaryWriter &writer) const;
+    void load(BinaryReader &reader);
+
+  private:
+    /** Steps of a trial; the first steps of a run (set-up, calibration) are not counted. */
+    static constexpr unsigned int window = 8, first_counted_step = 3;
+    /** The stretch after a trial, at first and at the most. */
+    static constexpr unsigned int shortest_stretch = 48, longest_stretch = 768;
+
+    Where        where          = Where::in_the_steps;
+    /** Steps recorded, counted ones in the current phase and their seconds. */
+    unsigned int steps          = 0;
+    unsigned int phase_steps    = 0;
+    double       phase_seconds  = 0;
+    /** Whether the current phase is a trial (window steps) or a stretch of the winner. */
+    bool         trial          = true;
+    unsigned int stretch        = shortest_stretch;
+    /** The mean seconds per step last measured in each place (negative: not yet). */
+    double       mean_seconds[2] = {-1., -1.};
+    unsigned int counts[2]       = {0, 0};
+  };
 } // namespace warpchol::fem

@@ -127,6 +127,15 @@ namespace warpchol::fem
      */
     const std::string &target_note() const;
 
+    /**
+     * One thread less than the solver was given while a background refresh is in flight
+     * (it has a core to itself), 0 (all of them) otherwise.
+     */
+    unsigned int step_threads() const override;
+
+    /** auto with a background refresh: where it placed the refreshes (steps run each way). */
+    const RefreshPlacement &refresh_placement() const;
+
   protected:
     /**
      * At a threshold strictly between 0 and inf, A is re-assembled in part and its factor
@@ -195,8 +204,16 @@ namespace warpchol::fem
      */
     bool take_background_refresh(StepStatistics &statistics);
 
-    /** Strategy = background: the refresh that runs beside the steps. */
+    /** Strategy = background, or auto with two threads or more: the refresh beside the steps. */
     std::unique_ptr<BackgroundRefresh> background;
+    /** The threads the solver was given: the steps' when no refresh runs beside them. */
+    const unsigned int given_threads;
+    /** The threads of the step being prepared (step_threads(), or all). */
+    unsigned int step_thread_count;
+    /** auto with a background refresh: in the steps or beside them, as measured. */
+    RefreshPlacement placement;
+    /** The whole of the last prepare_step() (element pass included), in seconds. */
+    double last_step_prepare_seconds = 0;
     /** The steps prepared so far (the step being prepared is step_count). */
     unsigned int step_count = 0;
     /** The step whose rotations A and its factor were made with (0: at rest). */
