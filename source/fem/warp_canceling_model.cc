@@ -289,6 +289,7 @@ namespace warpchol::fem
     writer.write(recent_update_fraction);
     writer.write(recent_error_ratio);
     writer.write(given_up);
+    writer.write(last_step_changed);
     placement.save(writer);
     if (background)
       background->save(writer);
@@ -315,6 +316,7 @@ namespace warpchol::fem
     reader.read(given_up);
     if (!given_up.empty())
       give_up_target();
+    reader.read(last_step_changed);
     placement.load(reader);
     if (background)
       background->load(reader);
@@ -340,7 +342,10 @@ namespace warpchol::fem
         const double last_seconds = last_prepare_seconds + last_solve_seconds;
         if (last_step_exact)
           cost_model.record_exact_step(last_seconds, cycle_length);
-        else
+        else if (!last_step_changed)
+          // A step that refreshed a cut's columns paid for the cut, not for the staleness
+          // of its factor: counted, it would make exact steps look due in the middle of
+          // an incision, where they do not spare the next cut's refresh.
           cost_model.record_iterating_step(last_staleness, last_seconds, last_cg_iterations);
       }
     if (last_cg_iterations > 0 && !last_beside_refresh)
@@ -395,7 +400,8 @@ namespace warpchol::fem
     record_no_refactorization(statistics);
     const Stopwatch stopwatch;
     prepare_factor(velocities, statistics);
-    change_pending = false;
+    last_step_changed = change_pending;
+    change_pending    = false;
     last_prepare_seconds = stopwatch.seconds();
     // The cycle an exact step ends: how stale the factor had grown before it.
     cycle_length         = exact_this_step ? last_staleness : cycle_length;

@@ -228,6 +228,8 @@ namespace warpchol::fem
 
     /** Whether a change of the system came before this step (apply_change()). */
     bool change_pending = false;
+    /** Whether the last step took in a change of the system (a cut, a grasp). */
+    bool last_step_changed = false;
 
     /** Whether A is the exact corotational matrix of this step's rotations, factored. */
     bool exact_this_step = false;
