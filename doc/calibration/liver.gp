@@ -6,27 +6,29 @@
 
 # WCC partial
 $group0 << EOD
-0.000361486 0.0151035 0.00677565 "0.1" "0.1"
-0.000167734 0.0261565 0.0117701 "0.3" "0.3"
-0.000153313 0.0406232 0.0183263 "1" "1"
+0.000164499 0.0151035 0.00677565 "0.1" "0.1"
+0.000143472 0.0261565 0.0117701 "0.3" "0.3"
+0.000132139 0.0406232 0.0183263 "1" "1"
 EOD
 # WCC target error
 $group1 << EOD
-0.000973155 0.00268097 0.00152406 "0.3%" "0.3%"
-0.000403483 0.00947801 0.00524934 "1%" "1%"
-0.000383199 0.0257485 0.01338 "3%" "3%"
+0.000263402 0.00249401 0.00152406 "0.3%" "0.3%"
+0.000226982 0.00947801 0.00524934 "1%" "1%"
+0.000194005 0.0257485 0.01338 "3%" "3%"
 EOD
 $front_max << EOD
-0.000153313 0.0406232
-0.000167734 0.0261565
-0.000361486 0.0151035
-0.000403483 0.00947801
+0.000132139 0.0406232
+0.000143472 0.0261565
+0.000164499 0.0151035
+0.000226982 0.00947801
+0.000263402 0.00249401
 EOD
 $front_rms << EOD
-0.000153313 0.0183263
-0.000167734 0.0117701
-0.000361486 0.00677565
-0.000403483 0.00524934
+0.000132139 0.0183263
+0.000143472 0.0117701
+0.000164499 0.00677565
+0.000226982 0.00524934
+0.000263402 0.00152406
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -42,20 +44,20 @@ set format y "%.0e"
 set grid
 set key at screen 0.8737, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.00105101]
-set arrow 1 from 0.000897895, graph 0 to 0.000897895, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.000897895, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.000287026]
+set arrow 1 from 0.000265765, graph 0 to 0.000265765, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.000265765, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
-     $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
-     $group0 using 1:2:4 with labels left offset 0.8, 0.7 textcolor lt 1 notitle, \
-     $group1 using 1:2 with points pointtype 7 pointsize 1.6 linecolor 2 title "WCC target error", \
-     $group1 using 1:2:4 with labels left offset 0.8, -0.7 textcolor lt 2 notitle
+     $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
+     $group0 using 1:2:4 with labels left offset 0.8, 0.7 textcolor rgb "#9400d3" notitle, \
+     $group1 using 1:2 with points pointtype 7 pointsize 1.6 linecolor rgb "#009e73" title "WCC target error", \
+     $group1 using 1:2:4 with labels left offset 0.8, -0.7 textcolor rgb "#009e73" notitle
 unset key
 set ylabel "RMS error over the largest displacement (max over steps)"
 plot $front_rms using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
-     $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
-     $group0 using 1:3:5 with labels left offset 0.8, 0.7 textcolor lt 1 notitle, \
-     $group1 using 1:3 with points pointtype 7 pointsize 1.6 linecolor 2 title "WCC target error", \
-     $group1 using 1:3:5 with labels left offset 0.8, -0.7 textcolor lt 2 notitle
+     $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
+     $group0 using 1:3:5 with labels left offset 0.8, 0.7 textcolor rgb "#9400d3" notitle, \
+     $group1 using 1:3 with points pointtype 7 pointsize 1.6 linecolor rgb "#009e73" title "WCC target error", \
+     $group1 using 1:3:5 with labels left offset 0.8, -0.7 textcolor rgb "#009e73" notitle
 unset multiplot

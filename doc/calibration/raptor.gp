@@ -6,29 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0977807 0.00663497 0.00203811 "0.1" "0.1"
-0.0749501 0.0250535 0.00842061 "0.3" "0.3"
-0.0573515 0.0964949 0.0376662 "1" "1"
+0.0286338 0.00663497 0.00203811 "0.1" "0.1"
+0.0264755 0.0250535 0.00842061 "0.3" "0.3"
+0.0237556 0.0964949 0.0376662 "1" "1"
 EOD
 # WCC target error
 $group1 << EOD
-0.106865 0.00385513 0.00125564 "0.3%" "0.3%"
-0.0843417 0.0137218 0.00441158 "1%" "1%"
-0.0725204 0.0469032 0.0163957 "3%" "3%"
+0.0334593 0.00364868 0.00121804 "0.3%" "0.3%"
+0.0318857 0.0137218 0.00441158 "1%" "1%"
+0.0285213 0.0469032 0.0163957 "3%" "3%"
 EOD
 $front_max << EOD
-0.0573515 0.0964949
-0.0725204 0.0469032
-0.0749501 0.0250535
-0.0843417 0.0137218
-0.0977807 0.00663497
+0.0237556 0.0964949
+0.0264755 0.0250535
 EOD
 $front_rms << EOD
-0.0573515 0.0376662
-0.0725204 0.0163957
-0.0749501 0.00842061
-0.0843417 0.00441158
-0.0977807 0.00203811
+0.0237556 0.0376662
+0.0264755 0.00842061
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -44,20 +38,20 @@ set format y "%.0e"
 set grid
 set key at screen 0.8737, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.115414]
-set arrow 1 from 0.101502, graph 0 to 0.101502, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.101502, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0361361]
+set arrow 1 from 0.0265451, graph 0 to 0.0265451, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0265451, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
-     $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
-     $group0 using 1:2:4 with labels left offset 0.8, 0.7 textcolor lt 1 notitle, \
-     $group1 using 1:2 with points pointtype 7 pointsize 1.6 linecolor 2 title "WCC target error", \
-     $group1 using 1:2:4 with labels left offset 0.8, -0.7 textcolor lt 2 notitle
+     $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
+     $group0 using 1:2:4 with labels left offset 0.8, 0.7 textcolor rgb "#9400d3" notitle, \
+     $group1 using 1:2 with points pointtype 7 pointsize 1.6 linecolor rgb "#009e73" title "WCC target error", \
+     $group1 using 1:2:4 with labels left offset 0.8, -0.7 textcolor rgb "#009e73" notitle
 unset key
 set ylabel "RMS error over the largest displacement (max over steps)"
 plot $front_rms using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
-     $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
-     $group0 using 1:3:5 with labels left offset 0.8, 0.7 textcolor lt 1 notitle, \
-     $group1 using 1:3 with points pointtype 7 pointsize 1.6 linecolor 2 title "WCC target error", \
-     $group1 using 1:3:5 with labels left offset 0.8, -0.7 textcolor lt 2 notitle
+     $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
+     $group0 using 1:3:5 with labels left offset 0.8, 0.7 textcolor rgb "#9400d3" notitle, \
+     $group1 using 1:3 with points pointtype 7 pointsize 1.6 linecolor rgb "#009e73" title "WCC target error", \
+     $group1 using 1:3:5 with labels left offset 0.8, -0.7 textcolor rgb "#009e73" notitle
 unset multiplot

@@ -6,25 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.0508741 0.00450525 0.00283519 "0.1" "0.1"
-0.0378222 0.0161133 0.00868627 "0.3" "0.3"
-0.0317225 0.0633659 0.0348156 "1" "1"
+0.019463 0.00450525 0.00283519 "0.1" "0.1"
+0.018063 0.0161133 0.00868627 "0.3" "0.3"
+0.0135802 0.0633659 0.0348156 "1" "1"
 EOD
 # WCC target error
 $group1 << EOD
-0.067327 0.0016588 0.000994027 "0.3%" "0.3%"
-0.058337 0.00542029 0.00352566 "1%" "1%"
-0.0470259 0.0230799 0.0136745 "3%" "3%"
+0.0227919 0.00168874 0.000999199 "0.3%" "0.3%"
+0.0230616 0.00542029 0.00352566 "1%" "1%"
+0.0203955 0.0230799 0.0136745 "3%" "3%"
 EOD
 $front_max << EOD
-0.0317225 0.0633659
-0.0378222 0.0161133
-0.0508741 0.00450525
+0.0135802 0.0633659
+0.018063 0.0161133
+0.019463 0.00450525
 EOD
 $front_rms << EOD
-0.0317225 0.0348156
-0.0378222 0.00868627
-0.0508741 0.00283519
+0.0135802 0.0348156
+0.018063 0.00868627
+0.019463 0.00283519
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -40,20 +40,20 @@ set format y "%.0e"
 set grid
 set key at screen 0.8737, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0727131]
-set arrow 1 from 0.0622419, graph 0 to 0.0622419, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0622419, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0249065]
+set arrow 1 from 0.0208451, graph 0 to 0.0208451, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0208451, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
-     $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
-     $group0 using 1:2:4 with labels left offset 0.8, 0.7 textcolor lt 1 notitle, \
-     $group1 using 1:2 with points pointtype 7 pointsize 1.6 linecolor 2 title "WCC target error", \
-     $group1 using 1:2:4 with labels left offset 0.8, -0.7 textcolor lt 2 notitle
+     $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
+     $group0 using 1:2:4 with labels left offset 0.8, 0.7 textcolor rgb "#9400d3" notitle, \
+     $group1 using 1:2 with points pointtype 7 pointsize 1.6 linecolor rgb "#009e73" title "WCC target error", \
+     $group1 using 1:2:4 with labels left offset 0.8, -0.7 textcolor rgb "#009e73" notitle
 unset key
 set ylabel "RMS error over the largest displacement (max over steps)"
 plot $front_rms using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
-     $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
-     $group0 using 1:3:5 with labels left offset 0.8, 0.7 textcolor lt 1 notitle, \
-     $group1 using 1:3 with points pointtype 7 pointsize 1.6 linecolor 2 title "WCC target error", \
-     $group1 using 1:3:5 with labels left offset 0.8, -0.7 textcolor lt 2 notitle
+     $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
+     $group0 using 1:3:5 with labels left offset 0.8, 0.7 textcolor rgb "#9400d3" notitle, \
+     $group1 using 1:3 with points pointtype 7 pointsize 1.6 linecolor rgb "#009e73" title "WCC target error", \
+     $group1 using 1:3:5 with labels left offset 0.8, -0.7 textcolor rgb "#009e73" notitle
 unset multiplot

@@ -6,23 +6,21 @@
 
 # WCC partial
 $group0 << EOD
-0.0807647 0.0176013 0.00879185 "0.1" "0.1"
-0.0679205 0.098095 0.0501287 "0.3" "0.3"
-0.0457895 0.423156 0.251612 "1" "1"
+0.0247189 0.0176013 0.00879185 "0.1" "0.1"
+0.0233098 0.098095 0.0501287 "0.3" "0.3"
+0.019459 0.423156 0.251612 "1" "1"
 EOD
 # WCC target error
 $group1 << EOD
-0.112781 0.00271414 0.000682074 "0.3%" "0.3%"
-0.0918989 0.00743204 0.00344969 "1%" "1%"
-0.0796768 0.0438228 0.0209244 "3%" "3%"
+0.0266251 0.00271414 0.000682074 "0.3%" "0.3%"
+0.0269143 0.00632074 0.00236975 "1%" "1%"
+0.0260755 0.0407865 0.0192345 "3%" "3%"
 EOD
 $front_max << EOD
-0.0457895 0.423156
-0.0679205 0.098095
+0.019459 0.423156
 EOD
 $front_rms << EOD
-0.0457895 0.251612
-0.0679205 0.0501287
+0.019459 0.251612
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -38,20 +36,20 @@ set format y "%.0e"
 set grid
 set key at screen 0.8737, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.121804]
-set arrow 1 from 0.0775295, graph 0 to 0.0775295, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0775295, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0290674]
+set arrow 1 from 0.0214536, graph 0 to 0.0214536, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0214536, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
-     $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
-     $group0 using 1:2:4 with labels left offset 0.8, 0.7 textcolor lt 1 notitle, \
-     $group1 using 1:2 with points pointtype 7 pointsize 1.6 linecolor 2 title "WCC target error", \
-     $group1 using 1:2:4 with labels left offset 0.8, -0.7 textcolor lt 2 notitle
+     $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
+     $group0 using 1:2:4 with labels left offset 0.8, 0.7 textcolor rgb "#9400d3" notitle, \
+     $group1 using 1:2 with points pointtype 7 pointsize 1.6 linecolor rgb "#009e73" title "WCC target error", \
+     $group1 using 1:2:4 with labels left offset 0.8, -0.7 textcolor rgb "#009e73" notitle
 unset key
 set ylabel "RMS error over the largest displacement (max over steps)"
 plot $front_rms using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
-     $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor 1 title "WCC partial", \
-     $group0 using 1:3:5 with labels left offset 0.8, 0.7 textcolor lt 1 notitle, \
-     $group1 using 1:3 with points pointtype 7 pointsize 1.6 linecolor 2 title "WCC target error", \
-     $group1 using 1:3:5 with labels left offset 0.8, -0.7 textcolor lt 2 notitle
+     $group0 using 1:3 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
+     $group0 using 1:3:5 with labels left offset 0.8, 0.7 textcolor rgb "#9400d3" notitle, \
+     $group1 using 1:3 with points pointtype 7 pointsize 1.6 linecolor rgb "#009e73" title "WCC target error", \
+     $group1 using 1:3:5 with labels left offset 0.8, -0.7 textcolor rgb "#009e73" notitle
 unset multiplot

@@ -224,6 +224,8 @@ namespace warpchol::fem
      */
     double      recent_update_fraction = 0;
     double      recent_error_ratio     = 0;
+    /** Target error: bit k set if the step error of k + 1 steps ago was far over the goal. */
+    unsigned int far_over_goal = 0;
     std::string given_up;
 
     /** Whether a change of the system came before this step (apply_change()). */
