@@ -1,7 +1,9 @@
 // The fast polar decomposition (scaled Newton iteration, SVD fallback), one by one and in
 // SIMD batches, gives the rotation of the SVD-based one, with Irving's handling of inverted
 // elements, to 1e-12 on random, near-identity, near-singular and inverted deformation
-// gradients; every result is a proper rotation.
+// gradients; every result is a proper rotation. The batches say which path each matrix
+// took (the lanes, the scalar Newton iteration, the SVD), and a matrix gets the same bits
+// wherever it sits in a batch (the threads' ranges split the elements anywhere).
 
 #include "tests.h"
 
@@ -9,6 +11,9 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+
+#include <algorithm>
+#include <cmath>
 
 using namespace warpchol;
 
@@ -33,7 +38,17 @@ namespace
   void compare(const std::string &label, const std::vector<fem::Matrix3> &gradients)
   {
     std::vector<fem::Matrix3> batched(gradients.size());
-    fem::rotations_of(gradients.data(), batched.data(), gradients.size());
+    fem::RotationPaths        paths;
+    fem::rotations_of(gradients.data(), batched.data(), gradients.size(), &paths);
+    std::cout << label << ": " << gradients.size() << " matrices, lanes " << paths.lanes << ", scalar Newton "
+              << paths.newton << ", SVD " << paths.svd << std::endl;
+    // The same matrices one position later (another group of eight each, the last group
+    // padded): the same bits.
+    std::vector<fem::Matrix3> shifted(gradients.size() + 1, fem::Matrix3::Identity()), shifted_rotations(shifted.size());
+    std::copy(gradients.begin(), gradients.end(), shifted.begin() + 1);
+    fem::rotations_of(shifted.data(), shifted_rotations.data(), shifted.size());
+    tests::check(label + ": the same bits one position later in the batch",
+                 std::equal(batched.begin(), batched.end(), shifted_rotations.begin() + 1));
     double difference = 0, batch_difference = 0, not_rotation = 0;
     for (std::size_t k = 0; k < gradients.size(); ++k)
       {
@@ -88,6 +103,14 @@ int main()
   compare("near-singular (sigma_min 1e-4)", near_singular);
   compare("flat (sigma_min 1e-9)", flat);
   compare("inverted", mildly_inverted);
+  // Large strains (an overloaded body, a thin one bent far): the lanes take more steps
+  // before any leaves them for the scalar path.
+  std::vector<fem::Matrix3> large_strain;
+  for (unsigned int k = 0; k < n; ++k)
+    large_strain.push_back(with_singular_values(
+      random, fem::Vector3(std::pow(10., 2 * random.uniform() - 1), std::pow(10., 2 * random.uniform() - 1),
+                           std::pow(10., 2 * random.uniform() - 1))));
+  compare("large strain (stretches 0.1 to 10)", large_strain);
   // Batches that mix the easy lanes with those that need the scalar path.
   std::vector<fem::Matrix3> mixed;
   for (unsigned int k = 0; k < 1000; ++k)

@@ -92,6 +92,9 @@ namespace warpchol::app
       io(totals.change_steps);
       io(totals.change_columns_pct);
       io(totals.change_flops_pct);
+      io(totals.rotation_paths.lanes);
+      io(totals.rotation_paths.newton);
+      io(totals.rotation_paths.svd);
     }
 
     void save_totals(BinaryWriter &writer, const RunTotals &totals)
@@ -261,6 +264,7 @@ namespace warpchol::app
       }
     t.stages.add(statistics.stages);
     t.cg_iterations += statistics.cg_iterations;
+    t.rotation_paths += statistics.rotation_paths;
     if (statistics.update_threshold >= 0)
       {
         t.threshold_sum += statistics.update_threshold;
@@ -705,6 +709,12 @@ namespace warpchol::app
             << " %, max " << n(100 * t.max_elements_updated / n_elements) << " %; steps with "
             << "updates: " << t.steps_with_updates << ", without update at the end: "
             << t.trailing_steps_without_update << "\n";
+        // Where the batched polar decompositions left the SIMD lanes, and why.
+        const fem::RotationPaths &paths = t.rotation_paths;
+        if (paths.total() > 0)
+          out << "  rotations: " << paths.total() << " over the run; " << n(100.0 * paths.lanes / paths.total())
+              << " % in the SIMD lanes, " << paths.newton << " by the scalar Newton iteration (strain too large for the "
+              << "lanes' 12 steps), " << paths.svd << " by the SVD (inverted or flat)\n";
         out << "  refactorizations: " << t.refactorizations;
         if (timings && t.refactorizations > 0)
           out << ", columns recomputed mean " << n(t.columns_recomputed_pct / t.refactorizations)

@@ -11,6 +11,7 @@
 #include <Eigen/LU>
 
 #include <algorithm>
+#include <mutex>
 #include <cmath>
 
 namespace warpchol::fem
@@ -540,12 +541,15 @@ namespace warpchol::fem
     state.element_force_norms.resize(n_cells);
     state.element_forces.resize(n_cells);
     std::vector<double> energies(n_cells);
+    state.rotation_paths = RotationPaths();
+    std::mutex paths_mutex;
     // The fused element pass: F, R_e, G = R_e^T F - I, the local forces K_e u_e and the
     // world forces -R_e K_e u_e, the energy. Independent per element; the rotations of a
     // block of elements at once (rotations_of() interleaves them in SIMD lanes).
     dealii::parallel::apply_to_subranges(
       0u, n_cells,
       [&](const unsigned int begin, const unsigned int end) {
+        RotationPaths                       paths;
         std::array<Matrix3, rotation_block> gradients, block_rotations;
         for (unsigned int first = begin; first < end; first += rotation_block)
           {
@@ -554,7 +558,7 @@ namespace warpchol::fem
               gradients[k] = deformation_gradient(first + k, positions);
             if (rotate)
               {
-                rotations_of(gradients.data(), block_rotations.data(), count);
+                rotations_of(gradients.data(), block_rotations.data(), count, &paths);
                 std::copy(block_rotations.begin(), block_rotations.begin() + count,
                           state.element_rotations.begin() + first);
               }
@@ -565,6 +569,8 @@ namespace warpchol::fem
                                         block_rotations.data() + k, state.element_forces.data() + first + k,
                                         energies.data() + first + k, state.element_force_norms.data() + first + k);
           }
+        const std::lock_guard<std::mutex> lock(paths_mutex);
+        state.rotation_paths += paths;
       },
       512);
     state.elastic_energy = 0;

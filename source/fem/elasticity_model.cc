@@ -90,6 +90,7 @@ namespace warpchol::fem
     StageTimer timer(statistics.stages, rotations == ElasticBody::Rotations::none ? stage::elastic_forces :
                                                                                       stage::rotations);
     body.evaluate(positions, rotations, elastic_state);
+    statistics.rotation_paths += elastic_state.rotation_paths;
   }
 
   bool ElasticityModel::solves_iteratively() const

@@ -4,6 +4,7 @@
 #include <Eigen/LU>
 #include <Eigen/SVD>
 
+#include <algorithm>
 #include <cmath>
 
 namespace warpchol::fem
@@ -24,6 +25,12 @@ namespace warpchol::fem
 
   namespace
   {
+    /** Whether rotation_of() takes the SVD for a matrix of determinant @p determinant and squared norm @p size. */
+    inline bool inverted_or_flat(const double determinant, const double size)
+    {
+      return !(determinant > 1e-6 * size * std::sqrt(size));
+    }
+
     /** The cofactor matrix of @p x (det(x) x^-T) and the determinant. */
     inline Matrix3 cofactor(const Matrix3 &x, double &determinant)
     {
@@ -42,7 +49,7 @@ namespace warpchol::fem
     double       determinant;
     Matrix3      cof = cofactor(deformation_gradient, determinant);
     // Inverted, flat or zero (or NaN): the SVD and Irving's projection decide.
-    if (!(determinant > 1e-6 * size * std::sqrt(size)))
+    if (inverted_or_flat(determinant, size))
       return rotation_by_svd(deformation_gradient);
 
     Matrix3 x = deformation_gradient;
@@ -76,10 +83,13 @@ namespace warpchol::fem
 
     /**
      * Newton steps of the batched iteration, the first ones scaled: enough for strains of
-     * about 30 %; a lane that needs more takes the scalar path.
+     * about 30 %. Up to the most steps while a lane that can converge has not (scaled:
+     * such a lane is still far from orthogonal); a lane that needs more takes the scalar
+     * path.
      */
     constexpr unsigned int batched_newton_steps = 5;
     constexpr unsigned int batched_scaled_steps = 2;
+    constexpr unsigned int batched_most_steps   = 12;
 
     /**
      * One Newton step on every lane: x <- (gamma x + cof(x) / (gamma det x)) / 2, with
@@ -136,16 +146,36 @@ namespace warpchol::fem
     }
   } // namespace
 
-  void rotations_of(const Matrix3 *gradients, Matrix3 *rotations, const std::size_t count)
+  std::size_t RotationPaths::total() const
   {
-    std::size_t k = 0;
-    for (; k + lanes <= count; k += lanes)
+    return lanes + newton + svd;
+  }
+
+  RotationPaths &RotationPaths::operator+=(const RotationPaths &other)
+  {
+    lanes += other.lanes;
+    newton += other.newton;
+    svd += other.svd;
+    return *this;
+  }
+
+  void rotations_of(const Matrix3 *gradients, Matrix3 *rotations, const std::size_t count, RotationPaths *paths)
+  {
+    RotationPaths taken;
+    for (std::size_t k = 0; k < count; k += lanes)
       {
+        // A group of eight; the last one, if shorter, padded with the identity (which
+        // converges at once), so that every matrix takes the same path wherever the
+        // threads' ranges split the elements.
+        const std::size_t used = std::min(lanes, count - k);
         alignas(64) LaneMatrix x;
         alignas(64) LaneScalar determinant, change, size;
-        for (std::size_t l = 0; l < lanes; ++l)
+        for (std::size_t l = 0; l < used; ++l)
           for (unsigned int i = 0; i < 9; ++i)
             x[i][l] = gradients[k + l].data()[i];
+        for (std::size_t l = used; l < lanes; ++l)
+          for (unsigned int i = 0; i < 9; ++i)
+            x[i][l] = i % 4 == 0 ? 1. : 0.;
         for (std::size_t l = 0; l < lanes; ++l)
           {
             size[l] = 0;
@@ -159,18 +189,47 @@ namespace warpchol::fem
           initial_determinant[l] = determinant[l];
         for (unsigned int step = 1; step < batched_newton_steps; ++step)
           newton_step(x, determinant, change, step < batched_scaled_steps);
+        // More steps while a lane that can converge has not (an inverted or flat one
+        // cannot: its NaNs would keep the group iterating for nothing). A lane that has
+        // converged keeps its value: each rotation is then that of its own matrix after as
+        // many steps as it needed, whatever the other lanes of its group.
+        bool converged[lanes];
         for (std::size_t l = 0; l < lanes; ++l)
+          converged[l] = inverted_or_flat(initial_determinant[l], size[l]) || change[l] < 1e-18;
+        for (unsigned int step = batched_newton_steps;
+             step < batched_most_steps && std::find(converged, converged + lanes, false) != converged + lanes; ++step)
+          {
+            alignas(64) LaneMatrix before;
+            std::copy(&x[0][0], &x[0][0] + 9 * lanes, &before[0][0]);
+            newton_step(x, determinant, change, true);
+            for (std::size_t l = 0; l < lanes; ++l)
+              {
+                if (converged[l])
+                  for (unsigned int i = 0; i < 9; ++i)
+                    x[i][l] = before[i][l];
+                else
+                  converged[l] = change[l] < 1e-18;
+              }
+          }
+        for (std::size_t l = 0; l < used; ++l)
           {
             // Converged where the last change was below 1e-9 (error about 1e-18), as
             // rotation_of() requires; any other lane takes the scalar path.
-            if (initial_determinant[l] > 1e-6 * size[l] * std::sqrt(size[l]) && change[l] < 1e-18)
-              for (unsigned int i = 0; i < 9; ++i)
-                rotations[k + l].data()[i] = x[i][l];
+            const bool flat = inverted_or_flat(initial_determinant[l], size[l]);
+            if (!flat && converged[l])
+              {
+                for (unsigned int i = 0; i < 9; ++i)
+                  rotations[k + l].data()[i] = x[i][l];
+                ++taken.lanes;
+              }
             else
-              rotations[k + l] = rotation_of(gradients[k + l]);
+              {
+                rotations[k + l] = rotation_of(gradients[k + l]);
+                ++(flat ? taken.svd : taken.newton);
+              }
           }
       }
-    for (; k < count; ++k)
-      rotations[k] = rotation_of(gradients[k]);
+    if (paths != nullptr)
+      *paths += taken;
   }
 } // namespace warpchol::fem

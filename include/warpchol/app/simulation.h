@@ -76,6 +76,8 @@ namespace warpchol::app
     unsigned int elements_cut = 0, elements_changed = 0, vertices_grasped = 0, vertices_released = 0;
     unsigned int change_steps = 0;
     double       change_columns_pct = 0, change_flops_pct = 0;
+    /** The paths the element rotations took, over the steps. */
+    fem::RotationPaths rotation_paths;
     /** The age of the factor in steps (background refreshes), summed over the steps that report it. */
     double       factor_lag_sum   = 0;
     unsigned int factor_lag_steps = 0;

@@ -2,6 +2,7 @@
 
 #include <warpchol/base/binary_io.h>
 #include <warpchol/base/types.h>
+#include <warpchol/fem/rotations.h>
 #include <warpchol/fem/small_dense.h>
 
 #include <deal.II/dofs/dof_handler.h>
@@ -185,6 +186,8 @@ namespace warpchol::fem
       double elastic_energy = 0;
       /** Per element, its world-frame forces on vertices 1..3 (work array of the gather). */
       std::vector<Matrix3> element_forces;
+      /** The paths the element rotations took (rotations_of()). */
+      RotationPaths rotation_paths;
     };
 
     /**

@@ -105,6 +105,8 @@ namespace warpchol::fem
     std::string refresh;
     /** Iterations of preconditioned CG (0 for a direct solve). */
     unsigned int cg_iterations = 0;
+    /** The paths the element rotations of the step's element pass took (none without rotations). */
+    RotationPaths rotation_paths;
     /**
      * How far the step's velocities are from those of exact corotation, max_i |v_i -
      * v_i*| / max_i |v_i| (measured by WCC with a target error); negative if not measured.

@@ -40,13 +40,38 @@ namespace warpchol::fem
   Matrix3 rotation_of(const Matrix3 &deformation_gradient);
 
   /**
+   * Which path the rotations of rotations_of() took: the SIMD lanes, the scalar Newton
+   * iteration of rotation_of() (a lane that had not converged after the lanes' most steps:
+   * a very large strain), or the SVD (inverted or nearly flat: Irving's projection).
+   * Counts add up over calls.
+   */
+  struct RotationPaths
+  {
+    std::size_t lanes  = 0;
+    std::size_t newton = 0;
+    std::size_t svd    = 0;
+
+    std::size_t     total() const;
+    RotationPaths &operator+=(const RotationPaths &other);
+  };
+
+  /**
    * rotations[k] = rotation_of(gradients[k]) for k < @p count, the same results, faster:
    * eight matrices at a time, one per SIMD lane (their entries laid out lane by lane so
-   * that the compiler vectorizes every operation of the iteration across the eight), a
-   * fixed number of Newton steps without branches, then rotation_of() for any lane that
-   * needs more (a large strain) or its fallback (inverted, flat). One Newton step is a
-   * chain of dependent operations (cofactors, determinant, square roots, division): eight
-   * independent chains side by side keep the pipelines full.
+   * that the compiler vectorizes every operation of the iteration across the eight; a
+   * last group of fewer is padded with the identity). Five Newton steps without branches,
+   * then, while a lane that can converge has not, up to seven more on the group (a large
+   * strain: a thin body bent far, an overloaded one), a converged lane keeping its value,
+   * so that each result depends on its own matrix alone (not on the threads' ranges);
+   * then rotation_of() for any lane that still needs more, or its fallback (inverted,
+   * flat). One Newton step is a chain of dependent operations (cofactors, determinant,
+   * square roots, division): eight independent chains side by side keep the pipelines
+   * full. Where each rotation went is added to @p paths, if given.
+   *
+   * No warm start from the last step's rotation: the iteration's speed depends on the
+   * singular values of F alone (each Newton step maps sigma to (sigma + 1/sigma) / 2),
+   * which a rotation of F changes not at all.
    */
-  void rotations_of(const Matrix3 *gradients, Matrix3 *rotations, std::size_t count);
+  void rotations_of(const Matrix3 *gradients, Matrix3 *rotations, std::size_t count,
+                    RotationPaths *paths = nullptr);
 } // namespace warpchol::fem
