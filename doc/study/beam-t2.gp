@@ -6,49 +6,47 @@
 
 # WCC partial
 $group0 << EOD
-0.0116889 0.0385488 0.0195289 "0.03" "0.03"
-0.0108644 0.148757 0.0752793 "0.1" "0.1"
-0.00569737 0.481913 0.242526 "0.3" "0.3"
-0.00305501 0.506458 0.248093 "1" "1"
+0.0112967 0.0385489 0.019529 "0.03" "0.03"
+0.0103793 0.148757 0.0752791 "0.1" "0.1"
+0.00589701 0.481913 0.242526 "0.3" "0.3"
+0.00322033 0.506458 0.248093 "1" "1"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.00941802 0.000985045 0.000484353 "0.3" "0.3"
-0.00903722 0.0002071 0.000102831 "1" "1"
-0.00993114 0.000824821 0.000401887 "inf" "inf"
+0.00932286 0.00105103 0.000517545 "0.3" "0.3"
+0.00890541 0.00037101 0.000183987 "1" "1"
+0.00991373 0.000816555 0.000398468 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.0105134 0.00101491 0.00050691 "0.3" "0.3"
-0.00944376 0.000354922 0.000179544 "1" "1"
-0.00987445 0.000824821 0.000401887 "inf" "inf"
+0.0104098 0.00100966 0.000504283 "0.3" "0.3"
+0.00919273 0.000455494 0.000229903 "1" "1"
+0.00995236 0.000816555 0.000398468 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.00731726 0.000510946 0.000261575 "0.3" "0.3"
-0.006629 0.000943667 0.000475045 "1" "1"
-0.00556598 0.000479337 0.000246699 "inf" "inf"
+0.00678584 0.00159457 0.000800767 "0.3" "0.3"
+0.00644739 0.00035566 0.000168183 "1" "1"
+0.00517183 0.000748584 0.000379087 "inf" "inf"
 EOD
 # WCC background
 $group4 << EOD
-0.00694796 0.000450468 0.000222706 "" ""
+0.00687811 0.000360713 0.000172343 "" ""
 EOD
 # WCC target error
 $group5 << EOD
-0.0127123 0.0133891 0.0073801 "0.3%" "0.3%"
-0.0119192 0.026218 0.0112916 "1%" "1%"
+0.0124831 0.0133891 0.0073801 "0.3%" "0.3%"
+0.0117209 0.026218 0.0112916 "1%" "1%"
 EOD
 $front_max << EOD
-0.00305501 0.506458
-0.00556598 0.000479337
-0.00694796 0.000450468
-0.00903722 0.0002071
+0.00322033 0.506458
+0.00517183 0.000748584
+0.00644739 0.00035566
 EOD
 $front_rms << EOD
-0.00305501 0.248093
-0.00556598 0.000246699
-0.00694796 0.000222706
-0.00903722 0.000102831
+0.00322033 0.248093
+0.00517183 0.000379087
+0.00644739 0.000168183
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -64,9 +62,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8647, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0137293]
-set arrow 1 from 0.0107, graph 0 to 0.0107, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0107, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0134818]
+set arrow 1 from 0.00991034, graph 0 to 0.00991034, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.00991034, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,45 +6,45 @@
 
 # WCC partial
 $group0 << EOD
-0.0206942 0.0111626 0.00582473 "0.03" "0.03"
-0.0199075 0.076722 0.0241797 "0.1" "0.1"
-0.0190985 0.412973 0.236376 "0.3" "0.3"
-0.0106782 1 0.720837 "1 (diverged: 1.4)" "1"
+0.0201598 0.0127999 0.00625532 "0.03" "0.03"
+0.0195683 0.0796203 0.0251317 "0.1" "0.1"
+0.0182328 0.41456 0.236661 "0.3" "0.3"
+0.0101165 1 0.720854 "1 (diverged: 1.4)" "1"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.0193782 0.00437722 0.00163765 "0.3" "0.3"
-0.0184512 0.000844422 0.000351722 "1" "1"
-0.0130639 0.000484662 0.000178099 "inf" "inf"
+0.0188222 0.00440668 0.00164493 "0.3" "0.3"
+0.017805 0.000911804 0.000363541 "1" "1"
+0.0124923 0.000522816 0.000208533 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.022548 0.00265633 0.00128752 "0.3" "0.3"
-0.0213969 0.00104904 0.000354506 "1" "1"
-0.0134333 0.000484662 0.000178099 "inf" "inf"
+0.0228385 0.00265798 0.00128884 "0.3" "0.3"
+0.020514 0.00161125 0.000509687 "1" "1"
+0.0129529 0.000522816 0.000208533 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.0140636 0.00211618 0.000884239 "0.3" "0.3"
-0.0131335 0.00258425 0.0013965 "1" "1"
-0.00989926 0.00132674 0.000474464 "inf" "inf"
+0.0136245 0.00131109 0.000840649 "0.3" "0.3"
+0.0122396 0.00189775 0.00098672 "1" "1"
+0.00971815 0.000676046 0.000336941 "inf" "inf"
 EOD
 # WCC background
 $group4 << EOD
-0.0181267 0.00184922 0.000606096 "" ""
+0.0162832 0.0013274 0.000438698 "" ""
 EOD
 # WCC target error
 $group5 << EOD
-0.0229946 0.00282715 0.00145815 "0.3%" "0.3%"
-0.022709 0.0065085 0.00368278 "1%" "1%"
+0.0223937 0.00282715 0.00145815 "0.3%" "0.3%"
+0.0224345 0.0065085 0.00368278 "1%" "1%"
 EOD
 $front_max << EOD
-0.00989926 0.00132674
-0.0130639 0.000484662
+0.00971815 0.000676046
+0.0124923 0.000522816
 EOD
 $front_rms << EOD
-0.00989926 0.000474464
-0.0130639 0.000178099
+0.00971815 0.000336941
+0.0124923 0.000208533
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -60,10 +60,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8647, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0248342]
+set xrange [0:0.0246655]
 set yrange [*:2]
-set arrow 1 from 0.0165966, graph 0 to 0.0165966, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0165966, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0162369, graph 0 to 0.0162369, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0162369, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

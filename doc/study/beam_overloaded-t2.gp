@@ -6,46 +6,48 @@
 
 # WCC partial
 $group0 << EOD
-0.0136637 0.0104616 0.00580257 "0.03" "0.03"
-0.0131035 0.0836989 0.0278445 "0.1" "0.1"
-0.0122026 0.408523 0.234752 "0.3" "0.3"
-0.00661983 1 0.720889 "1 (diverged: 1.4)" "1"
+0.0137348 0.0121537 0.00633555 "0.03" "0.03"
+0.0133098 0.0814328 0.0274615 "0.1" "0.1"
+0.0122584 0.414515 0.237381 "0.3" "0.3"
+0.00694059 1 0.720888 "1 (diverged: 1.4)" "1"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.0129946 0.0044055 0.0016465 "0.3" "0.3"
-0.0126492 0.000934133 0.000404252 "1" "1"
-0.00952966 0.000477922 0.000172231 "inf" "inf"
+0.0131541 0.00437893 0.0016336 "0.3" "0.3"
+0.0125581 0.00070131 0.000376523 "1" "1"
+0.00944534 0.000500126 0.000200152 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.0149529 0.00265588 0.00128731 "0.3" "0.3"
-0.014119 0.00120974 0.000350402 "1" "1"
-0.00930433 0.000477922 0.000172231 "inf" "inf"
+0.0151627 0.00265734 0.00128852 "0.3" "0.3"
+0.0142292 0.00156969 0.000541983 "1" "1"
+0.00943562 0.000500126 0.000200152 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.0100374 0.00228209 0.000803259 "0.3" "0.3"
-0.00916485 0.00167863 0.0010345 "1" "1"
-0.00708751 0.00156752 0.000710085 "inf" "inf"
+0.00994811 0.00143595 0.000822647 "0.3" "0.3"
+0.00908044 0.000693395 0.000252086 "1" "1"
+0.0071097 0.00136105 0.000586116 "inf" "inf"
 EOD
 # WCC background
 $group4 << EOD
-0.00924883 0.00203084 0.000746204 "" ""
+0.00889643 0.00169442 0.000602429 "" ""
 EOD
 # WCC target error
 $group5 << EOD
-0.0152272 0.00282715 0.00145815 "0.3%" "0.3%"
-0.0150334 0.0065085 0.00368278 "1%" "1%"
+0.0150039 0.00282715 0.00145815 "0.3%" "0.3%"
+0.0149903 0.0065085 0.00368278 "1%" "1%"
 EOD
 $front_max << EOD
-0.00708751 0.00156752
-0.00930433 0.000477922
+0.0071097 0.00136105
+0.00908044 0.000693395
+0.00943562 0.000500126
 EOD
 $front_rms << EOD
-0.00661983 0.720889
-0.00708751 0.000710085
-0.00930433 0.000172231
+0.00694059 0.720888
+0.0071097 0.000586116
+0.00908044 0.000252086
+0.00943562 0.000200152
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -61,10 +63,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8647, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0164454]
+set xrange [0:0.0163757]
 set yrange [*:2]
-set arrow 1 from 0.0106576, graph 0 to 0.0106576, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0106576, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0106673, graph 0 to 0.0106673, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0106673, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

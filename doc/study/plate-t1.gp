@@ -6,44 +6,44 @@
 
 # WCC partial
 $group0 << EOD
-0.055566 0.0700484 0.0408487 "0.03" "0.03"
-0.0532809 0.249253 0.151011 "0.1" "0.1"
-0.0456222 0.965495 0.49765 "0.3" "0.3"
-0.0230486 1 0.938817 "1 (diverged: 1.8)" "1"
+0.0548668 0.0702811 0.0410044 "0.03" "0.03"
+0.0536444 0.250116 0.151348 "0.1" "0.1"
+0.0462645 0.965494 0.497648 "0.3" "0.3"
+0.023862 1 0.938817 "1 (diverged: 1.8)" "1"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.0609735 0.00238653 0.00118587 "0.3" "0.3"
-0.0644928 0.00519729 0.00256393 "1" "1"
-0.0896108 0.00200585 0.00101283 "inf" "inf"
+0.0609136 0.00280075 0.00139337 "0.3" "0.3"
+0.0593046 0.00475527 0.00231538 "1" "1"
+0.0715096 0.00176238 0.000902202 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.0649573 0.00423766 0.0022774 "0.3" "0.3"
-0.0679855 0.00351724 0.00166382 "1" "1"
-0.0868215 0.00200585 0.00101283 "inf" "inf"
+0.0609422 0.00332473 0.00179006 "0.3" "0.3"
+0.0593302 0.00387116 0.00183688 "1" "1"
+0.0722109 0.00176238 0.000902202 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.0386567 0.00185143 0.00106996 "0.3" "0.3"
-0.0350817 0.00251261 0.00122031 "1" "1"
-0.0314627 0.00125146 0.00054386 "inf" "inf"
+0.0387975 0.00325706 0.00148648 "0.3" "0.3"
+0.0348261 0.00283445 0.00167053 "1" "1"
+0.0322238 0.0012137 0.000662006 "inf" "inf"
 EOD
 # WCC background
 $group4 << EOD
-0.0513129 0.00208749 0.000942322 "" ""
+0.0488193 0.00387374 0.00228376 "" ""
 EOD
 # WCC target error
 $group5 << EOD
-0.060574 0.00320581 0.0019632 "0.3%" "0.3%"
-0.0613658 0.00684251 0.0041838 "1%" "1%"
+0.058818 0.00320581 0.0019632 "0.3%" "0.3%"
+0.0616665 0.00684251 0.0041838 "1%" "1%"
 EOD
 $front_max << EOD
-0.0314627 0.00125146
+0.0322238 0.0012137
 EOD
 $front_rms << EOD
-0.0230486 0.938817
-0.0314627 0.00054386
+0.023862 0.938817
+0.0322238 0.000662006
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -59,10 +59,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8647, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0967797]
+set xrange [0:0.0779878]
 set yrange [*:2]
-set arrow 1 from 0.0470478, graph 0 to 0.0470478, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0470478, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0459122, graph 0 to 0.0459122, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0459122, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,44 +6,47 @@
 
 # WCC partial
 $group0 << EOD
-0.0380789 0.0704223 0.0411077 "0.03" "0.03"
-0.03592 0.248981 0.150696 "0.1" "0.1"
-0.0276122 0.965723 0.497768 "0.3" "0.3"
-0.0135692 1 0.938817 "1 (diverged: 1.8)" "1"
+0.0340798 0.0704387 0.0411071 "0.03" "0.03"
+0.0326211 0.250285 0.151345 "0.1" "0.1"
+0.0273075 0.965798 0.497798 "0.3" "0.3"
+0.0137584 1 0.938817 "1 (diverged: 1.8)" "1"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.0333506 0.00358648 0.00182701 "0.3" "0.3"
-0.03791 0.0050184 0.00245958 "1" "1"
-0.0456353 0.00206702 0.00105486 "inf" "inf"
+0.0344363 0.00242805 0.001198 "0.3" "0.3"
+0.0359107 0.00390598 0.00192528 "1" "1"
+0.0443083 0.00121513 0.00065513 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.0382282 0.00336942 0.00182139 "0.3" "0.3"
-0.0373285 0.00421038 0.00197432 "1" "1"
-0.0449772 0.00206702 0.00105486 "inf" "inf"
+0.0379835 0.00361259 0.00197168 "0.3" "0.3"
+0.0371045 0.0040191 0.00190783 "1" "1"
+0.0423023 0.00121513 0.00065513 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.0236339 0.00143309 0.000717613 "0.3" "0.3"
-0.0245192 0.00407518 0.00225209 "1" "1"
-0.0196451 0.00122552 0.000564468 "inf" "inf"
+0.0223072 0.00112372 0.000502114 "0.3" "0.3"
+0.0205047 0.00213418 0.00116255 "1" "1"
+0.0186599 0.0027208 0.00112212 "inf" "inf"
 EOD
 # WCC background
 $group4 << EOD
-0.0336994 0.00247006 0.00114816 "" ""
+0.0296071 0.00281483 0.00133087 "" ""
 EOD
 # WCC target error
 $group5 << EOD
-0.0387154 0.00320581 0.0019632 "0.3%" "0.3%"
-0.0380862 0.00684251 0.0041838 "1%" "1%"
+0.0364659 0.00320581 0.0019632 "0.3%" "0.3%"
+0.0366672 0.00684251 0.0041838 "1%" "1%"
 EOD
 $front_max << EOD
-0.0196451 0.00122552
+0.0186599 0.0027208
+0.0205047 0.00213418
+0.0223072 0.00112372
 EOD
 $front_rms << EOD
-0.0135692 0.938817
-0.0196451 0.000564468
+0.0137584 0.938817
+0.0186599 0.00112212
+0.0223072 0.000502114
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -59,10 +62,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8647, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0492862]
+set xrange [0:0.047853]
 set yrange [*:2]
-set arrow 1 from 0.0304754, graph 0 to 0.0304754, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0304754, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.027434, graph 0 to 0.027434, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.027434, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

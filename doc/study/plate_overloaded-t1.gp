@@ -6,44 +6,44 @@
 
 # WCC partial
 $group0 << EOD
-0.0551646 0.01257 0.00585008 "0.03" "0.03"
-0.0535425 0.108663 0.051256 "0.1" "0.1"
-0.0508598 0.202251 0.10203 "0.3" "0.3"
-0.0240081 1 0.609487 "1 (diverged: 1.2)" "1"
+0.0556658 0.01257 0.00585008 "0.03" "0.03"
+0.0530826 0.108654 0.0512515 "0.1" "0.1"
+0.049721 0.202245 0.103397 "0.3" "0.3"
+0.0234248 1 0.609487 "1 (diverged: 1.2)" "1"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.0547864 0.00189594 0.00126509 "0.3" "0.3"
-0.0591874 0.00496116 0.00260977 "1" "1"
-0.0640664 0.00178197 0.00100738 "inf" "inf"
+0.0520282 0.00189744 0.00126496 "0.3" "0.3"
+0.0573341 0.00341477 0.00161657 "1" "1"
+0.0570582 0.00162088 0.000944575 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.0663165 0.00181512 0.000806363 "0.3" "0.3"
-0.0661471 0.00332932 0.00159948 "1" "1"
-0.0579907 0.00178197 0.00100738 "inf" "inf"
+0.0653328 0.0017701 0.000777962 "0.3" "0.3"
+0.0614201 0.00419884 0.00215393 "1" "1"
+0.0520495 0.00162088 0.000944575 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.0369318 0.00269797 0.00130741 "0.3" "0.3"
-0.0343833 0.00104185 0.000607802 "1" "1"
-0.0299358 0.000859106 0.000414027 "inf" "inf"
+0.0368144 0.00313821 0.00147209 "0.3" "0.3"
+0.0354014 0.0029101 0.00166507 "1" "1"
+0.0278816 0.000918449 0.000535749 "inf" "inf"
 EOD
 # WCC background
 $group4 << EOD
-0.0521373 0.00319393 0.00164931 "" ""
+0.0494418 0.00215225 0.000910639 "" ""
 EOD
 # WCC target error
 $group5 << EOD
-0.0612143 0.00299978 0.0015644 "0.3%" "0.3%"
-0.0613346 0.00641602 0.00392988 "1%" "1%"
+0.0582764 0.00299978 0.0015644 "0.3%" "0.3%"
+0.0608068 0.00641602 0.00392988 "1%" "1%"
 EOD
 $front_max << EOD
-0.0299358 0.000859106
+0.0278816 0.000918449
 EOD
 $front_rms << EOD
-0.0240081 0.609487
-0.0299358 0.000414027
+0.0234248 0.609487
+0.0278816 0.000535749
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -59,10 +59,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8647, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0716218]
+set xrange [0:0.0705595]
 set yrange [*:2]
-set arrow 1 from 0.0462106, graph 0 to 0.0462106, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0462106, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0466186, graph 0 to 0.0466186, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0466186, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,44 +6,48 @@
 
 # WCC partial
 $group0 << EOD
-0.0342927 0.01257 0.00585008 "0.03" "0.03"
-0.0327924 0.10864 0.0512383 "0.1" "0.1"
-0.0308225 0.202245 0.103365 "0.3" "0.3"
-0.0141953 1 0.609487 "1 (diverged: 1.2)" "1"
+0.0384572 0.01257 0.00585008 "0.03" "0.03"
+0.0371562 0.108654 0.0512441 "0.1" "0.1"
+0.0350512 0.202245 0.103516 "0.3" "0.3"
+0.0158482 1 0.609487 "1 (diverged: 1.2)" "1"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.0318946 0.00189756 0.00126648 "0.3" "0.3"
-0.0319164 0.00322629 0.0014546 "1" "1"
-0.0294534 0.00163897 0.00102415 "inf" "inf"
+0.0393585 0.00189621 0.00126601 "0.3" "0.3"
+0.0412337 0.00363914 0.00171673 "1" "1"
+0.0446309 0.00177443 0.000944158 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.0356685 0.00176426 0.000774566 "0.3" "0.3"
-0.0352345 0.00332457 0.00160268 "1" "1"
-0.0304655 0.00163897 0.00102415 "inf" "inf"
+0.0440603 0.00176945 0.000777627 "0.3" "0.3"
+0.0425886 0.00390813 0.00196286 "1" "1"
+0.045447 0.00177443 0.000944158 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.0253247 0.00197361 0.000690109 "0.3" "0.3"
-0.0226142 0.00495249 0.00167388 "1" "1"
-0.0186473 0.00188171 0.000548975 "inf" "inf"
+0.0295781 0.00183363 0.00101084 "0.3" "0.3"
+0.0274901 0.00222679 0.00122331 "1" "1"
+0.0232983 0.00355919 0.00154275 "inf" "inf"
 EOD
 # WCC background
 $group4 << EOD
-0.0290095 0.00299606 0.00151353 "" ""
+0.0326113 0.00337913 0.00135977 "" ""
 EOD
 # WCC target error
 $group5 << EOD
-0.0362635 0.00299978 0.0015644 "0.3%" "0.3%"
-0.0357142 0.00641602 0.00392988 "1%" "1%"
+0.0439428 0.00299978 0.0015644 "0.3%" "0.3%"
+0.0432408 0.00641602 0.00392988 "1%" "1%"
 EOD
 $front_max << EOD
-0.0186473 0.00188171
+0.0232983 0.00355919
+0.0274901 0.00222679
+0.0295781 0.00183363
 EOD
 $front_rms << EOD
-0.0141953 0.609487
-0.0186473 0.000548975
+0.0158482 0.609487
+0.0232983 0.00154275
+0.0274901 0.00122331
+0.0295781 0.00101084
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -59,10 +63,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8647, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0391645]
+set xrange [0:0.0490828]
 set yrange [*:2]
-set arrow 1 from 0.0270952, graph 0 to 0.0270952, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0270952, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0312651, graph 0 to 0.0312651, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0312651, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,47 +6,47 @@
 
 # WCC partial
 $group0 << EOD
-0.0153281 0.00121876 0.00067165 "0.03" "0.03"
-0.0136263 0.00450525 0.00283519 "0.1" "0.1"
-0.0118926 0.0161133 0.00868627 "0.3" "0.3"
-0.00873418 0.0633659 0.0348156 "1" "1"
-0.00171681 0.110339 0.0583573 "inf" "inf"
+0.0179916 0.00121876 0.00067165 "0.03" "0.03"
+0.0134951 0.00450525 0.00283519 "0.1" "0.1"
+0.0113976 0.0161133 0.00868627 "0.3" "0.3"
+0.00874503 0.0633659 0.0348156 "1" "1"
+0.00165723 0.110339 0.0583573 "inf" "inf"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.00945202 0.000705587 0.000306944 "0.3" "0.3"
-0.00776175 0.000752632 0.000320605 "1" "1"
-0.00251896 0.000501095 0.000205999 "inf" "inf"
+0.00899015 0.000705587 0.000306944 "0.3" "0.3"
+0.00681504 0.000752632 0.000320605 "1" "1"
+0.00226632 0.000501095 0.000205999 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.0124852 0.000703097 0.000305437 "0.3" "0.3"
-0.0096185 0.00073673 0.000322758 "1" "1"
-0.00234571 0.000501095 0.000205999 "inf" "inf"
+0.0124224 0.000703097 0.000305437 "0.3" "0.3"
+0.00934653 0.00073673 0.000322758 "1" "1"
+0.00222592 0.000501095 0.000205999 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.00768117 0.000636536 0.000321915 "0.3" "0.3"
-0.00556911 0.000675898 0.000333752 "1" "1"
-0.00296973 0.000560731 0.000269486 "inf" "inf"
+0.00607698 0.000676728 0.000334676 "0.3" "0.3"
+0.00478285 0.000680091 0.00033503 "1" "1"
+0.00252703 0.000691508 0.000338963 "inf" "inf"
 EOD
 # WCC background
 $group4 << EOD
-0.00495126 0.000473558 0.000241214 "" ""
+0.00391178 0.000489511 0.000245468 "" ""
 EOD
 # WCC target error
 $group5 << EOD
-0.0170586 0.00168874 0.000999199 "0.3%" "0.3%"
-0.0159738 0.00542029 0.00352566 "1%" "1%"
+0.015385 0.00168874 0.000999199 "0.3%" "0.3%"
+0.0143638 0.00542029 0.00352566 "1%" "1%"
 EOD
 $front_max << EOD
-0.00171681 0.110339
-0.00234571 0.000501095
-0.00495126 0.000473558
+0.00165723 0.110339
+0.00222592 0.000501095
+0.00391178 0.000489511
 EOD
 $front_rms << EOD
-0.00171681 0.0583573
-0.00234571 0.000205999
+0.00165723 0.0583573
+0.00222592 0.000205999
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -62,9 +62,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8647, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0184233]
-set arrow 1 from 0.0141631, graph 0 to 0.0141631, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0141631, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0194309]
+set arrow 1 from 0.0164429, graph 0 to 0.0164429, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0164429, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,43 +6,45 @@
 
 # WCC partial
 $group0 << EOD
-0.0112515 0.00123786 0.000513485 "0.03" "0.03"
-0.0103907 0.00691733 0.00276903 "0.1" "0.1"
-0.00935629 0.0241361 0.00956516 "0.3" "0.3"
-0.00806355 0.0522001 0.0210923 "1" "1"
+0.0114997 0.00123786 0.000513485 "0.03" "0.03"
+0.0117508 0.00691733 0.00276903 "0.1" "0.1"
+0.0102933 0.0241361 0.00956516 "0.3" "0.3"
+0.00859756 0.0522001 0.0210923 "1" "1"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.012909 0.00127969 0.000437253 "0.3" "0.3"
-0.0142371 0.000929604 0.00041153 "1" "1"
-0.0125217 0.00043182 0.000189465 "inf" "inf"
+0.0136916 0.00127969 0.000437254 "0.3" "0.3"
+0.0150492 0.000929611 0.000411532 "1" "1"
+0.0128027 0.00043182 0.000189465 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.0146059 0.000742525 0.000271667 "0.3" "0.3"
-0.0157664 0.000707829 0.000308312 "1" "1"
-0.0125886 0.00043182 0.000189465 "inf" "inf"
+0.0145459 0.00074253 0.000271669 "0.3" "0.3"
+0.0155321 0.000707829 0.00030831 "1" "1"
+0.0124836 0.00043182 0.000189465 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.00826696 0.000558249 0.00022947 "0.3" "0.3"
-0.00807195 0.000926638 0.000364478 "1" "1"
-0.00525835 0.000431788 0.000189452 "inf" "inf"
+0.00805166 0.000266936 0.00011775 "0.3" "0.3"
+0.00788941 0.000220615 8.7726e-05 "1" "1"
+0.00519561 0.00043182 0.000189465 "inf" "inf"
 EOD
 # WCC background
 $group4 << EOD
-0.00950543 0.00109959 0.000414235 "" ""
+0.00992422 0.000668984 0.000251594 "" ""
 EOD
 # WCC target error
 $group5 << EOD
-0.0140484 0.00591475 0.00234935 "0.3%" "0.3%"
-0.0131549 0.00790518 0.00351767 "1%" "1%"
+0.0138756 0.00591475 0.00234935 "0.3%" "0.3%"
+0.0139924 0.00790518 0.00351767 "1%" "1%"
 EOD
 $front_max << EOD
-0.00525835 0.000431788
+0.00519561 0.00043182
+0.00788941 0.000220615
 EOD
 $front_rms << EOD
-0.00525835 0.000189452
+0.00519561 0.000189465
+0.00788941 8.7726e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -58,9 +60,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8647, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0170277]
-set arrow 1 from 0.01555, graph 0 to 0.01555, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.01555, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0169655]
+set arrow 1 from 0.0157088, graph 0 to 0.0157088, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0157088, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

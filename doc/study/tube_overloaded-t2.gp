@@ -6,47 +6,45 @@
 
 # WCC partial
 $group0 << EOD
-0.0073274 0.00123786 0.000513485 "0.03" "0.03"
-0.00655249 0.00691733 0.00276903 "0.1" "0.1"
-0.00584499 0.0241361 0.00956516 "0.3" "0.3"
-0.00494373 0.0522001 0.0210923 "1" "1"
+0.00721772 0.00123786 0.000513485 "0.03" "0.03"
+0.00678077 0.00691733 0.00276903 "0.1" "0.1"
+0.00605268 0.0241361 0.00956516 "0.3" "0.3"
+0.00525003 0.0522001 0.0210923 "1" "1"
 EOD
 # WCC delayed_top
 $group1 << EOD
-0.00918725 0.00127969 0.000437253 "0.3" "0.3"
-0.0105233 0.000929604 0.00041153 "1" "1"
-0.00976221 0.00043182 0.000189465 "inf" "inf"
+0.00904745 0.00127969 0.000437254 "0.3" "0.3"
+0.00996657 0.000929611 0.000411532 "1" "1"
+0.00907017 0.00043182 0.000189465 "inf" "inf"
 EOD
 # WCC preconditioned
 $group2 << EOD
-0.0100693 0.000742525 0.000271667 "0.3" "0.3"
-0.0114658 0.000707829 0.000308312 "1" "1"
-0.00980482 0.00043182 0.000189465 "inf" "inf"
+0.00987996 0.00074253 0.000271669 "0.3" "0.3"
+0.0144548 0.000707828 0.00030831 "1" "1"
+0.0102319 0.00043182 0.000189465 "inf" "inf"
 EOD
 # WCC auto
 $group3 << EOD
-0.00582793 0.00100401 0.000379249 "0.3" "0.3"
-0.00518845 0.00104912 0.000395915 "1" "1"
-0.00351711 0.000776918 0.000289327 "inf" "inf"
+0.00624369 0.000962136 0.000360947 "0.3" "0.3"
+0.00668556 0.000916852 0.000347713 "1" "1"
+0.00368839 0.000637394 0.000239672 "inf" "inf"
 EOD
 # WCC background
 $group4 << EOD
-0.00470077 0.000717255 0.000267594 "" ""
+0.0048233 0.000775863 0.000284048 "" ""
 EOD
 # WCC target error
 $group5 << EOD
-0.00915013 0.00591475 0.00234935 "0.3%" "0.3%"
-0.0085475 0.00790518 0.00351767 "1%" "1%"
+0.00906164 0.00591475 0.00234935 "0.3%" "0.3%"
+0.00856468 0.00790518 0.00351767 "1%" "1%"
 EOD
 $front_max << EOD
-0.00351711 0.000776918
-0.00470077 0.000717255
-0.00976221 0.00043182
+0.00368839 0.000637394
+0.00907017 0.00043182
 EOD
 $front_rms << EOD
-0.00351711 0.000289327
-0.00470077 0.000267594
-0.00976221 0.000189465
+0.00368839 0.000239672
+0.00907017 0.000189465
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -62,9 +60,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8647, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.012383]
-set arrow 1 from 0.0101351, graph 0 to 0.0101351, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0101351, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0156112]
+set arrow 1 from 0.0101299, graph 0 to 0.0101299, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0101299, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
