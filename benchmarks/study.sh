@@ -6,7 +6,8 @@
 # writes into doc/study/ the table (SCENE-tN.txt), the CSV (SCENE-tN.csv), the gnuplot
 # script (SCENE-tN.gp) and the plot (SCENE-tN.png: error against seconds per step), and the
 # summary of all of them in doc/study/summary.md: per scene, the exact path's seconds per
-# step, the fastest run at <= 1 % error, the automatic strategy and the background refresh.
+# step, the fastest run at <= 1 % error, the automatic strategy and the background refresh;
+# each table also has the exact run on CHOLMOD (the peer, refactoring every step).
 #   sh benchmarks/study.sh          (after sh .ci/setup; about 40 minutes on 2 cores)
 # Environment: BUILD (default build), OUT (default doc/study), THREADS (default "1 2"),
 # SCENES (default: all of the above).
@@ -53,6 +54,7 @@ for scene in $scenes; do
     taskset -c "$cores" "$build/warpchol-threshold-sweep" "parameters/$scene.prm" --threads "$threads" \
       --thresholds "$partial_thresholds" --strategies "$strategies" \
       --strategy-thresholds "$strategy_thresholds" --target-errors "$target_errors" \
+      --backends cholmod \
       --csv "$out/$scene-t$threads.csv" > "$table.tmp"
     mv "$table.tmp" "$table"
     cat "$table"
