@@ -11,8 +11,8 @@
 #include <Eigen/LU>
 
 #include <algorithm>
-#include <mutex>
 #include <cmath>
+#include <mutex>
 
 namespace warpchol::fem
 {

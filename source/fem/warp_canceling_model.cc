@@ -159,6 +159,12 @@ namespace warpchol::fem
     return placement;
   }
 
+  bool WarpCancelingModel::refreshes_beside_the_steps() const
+  {
+    return background && (strategy.kind == StepStrategy::Kind::background ||
+                          placement.current() == RefreshPlacement::Where::beside_the_steps);
+  }
+
   double WarpCancelingModel::update_threshold() const
   {
     return threshold;
@@ -367,7 +373,8 @@ namespace warpchol::fem
     if (step_count > 0 && background && strategy.kind == StepStrategy::Kind::automatic)
       placement.record_step(last_step_prepare_seconds + last_solve_seconds);
     // The step runs on the threads the integrator gave it: so do the solver and the assembly.
-    step_thread_count = step_threads() > 0 ? step_threads() : given_threads;
+    const unsigned int limited = step_threads();
+    step_thread_count          = limited > 0 ? limited : given_threads;
     cholesky_solver.set_thread_count(step_thread_count);
     system.set_thread_count(step_thread_count);
     last_refresh = cholesky::Refresh::none;
@@ -403,30 +410,32 @@ namespace warpchol::fem
         constexpr unsigned recent_steps   = 0x1f;
         far_over_goal                     = (far_over_goal << 1 | (last_velocity_error > far_over * goal)) & recent_steps;
         const int          far_over_steps = std::bitset<5>(far_over_goal).count();
-        const std::string  leaving = "; the steps iterate on the corotational matrix (preconditioned)";
+        std::string why;
         if (adapted_threshold < threshold / 100 && recent_update_fraction > 0.25 && recent_error_ratio > 1)
-          given_up = "target error " + format_number(target) + " given up at step " +
-                     std::to_string(step_count + 1) + ": the threshold " + format_number(adapted_threshold, 2) +
-                     " updates " + format_number(100 * recent_update_fraction, 2) +
-                     " % of the elements per step and the step error is still " +
-                     format_number(recent_error_ratio, 2) + " times the goal" + leaving;
+          why = "the threshold " + format_number(adapted_threshold, 2) + " updates " +
+                format_number(100 * recent_update_fraction, 2) +
+                " % of the elements per step and the step error is still " + format_number(recent_error_ratio, 2) +
+                " times the goal";
         else if (far_over_steps >= 3)
-          given_up = "target error " + format_number(target) + " given up at step " +
-                     std::to_string(step_count + 1) + ": the step error was more than " +
-                     format_number(far_over) + " times the goal in " + std::to_string(far_over_steps) +
-                     " of the last 5 steps (the threshold now " + format_number(adapted_threshold, 2) + ")" + leaving;
+          why = "the step error was more than " + format_number(far_over) + " times the goal in " +
+                std::to_string(far_over_steps) + " of the last 5 steps (the threshold now " +
+                format_number(adapted_threshold, 2) + ")";
         // A threshold that holds the goal only by updating 40 % of the elements or more
         // step after step saves nothing (their partial refactorization recomputes over 90 %
         // of a full one's flops, measured on ten scenes), and on a thin body in bending the
         // step errors it lets through, each near the goal, still add up along the swing.
         else if (recent_update_fraction > 0.4)
-          given_up = "target error " + format_number(target) + " given up at step " +
-                     std::to_string(step_count + 1) + ": the threshold " + format_number(adapted_threshold, 2) +
-                     " holds the step error near the goal only by updating " +
-                     format_number(100 * recent_update_fraction, 2) +
-                     " % of the elements per step, which costs about a full factorization" + leaving;
-        if (!given_up.empty())
-          give_up_target();
+          why = "the threshold " + format_number(adapted_threshold, 2) +
+                " holds the step error near the goal only by updating " +
+                format_number(100 * recent_update_fraction, 2) +
+                " % of the elements per step, which costs about a full factorization";
+        if (!why.empty())
+          {
+            given_up = "target error " + format_number(target) + " given up at step " +
+                       std::to_string(step_count + 1) + ": " + why +
+                       "; the steps iterate on the corotational matrix (preconditioned)";
+            give_up_target();
+          }
       }
     statistics.update_threshold = adapted_threshold;
     ++step_count;
@@ -484,9 +493,6 @@ namespace warpchol::fem
             return;
           }
       }
-    // auto's refreshes beside the steps: the factor is made exact there, never here.
-    const bool refreshes_beside =
-      background && placement.current() == RefreshPlacement::Where::beside_the_steps;
 
     if (threshold == 0)
       {
@@ -497,7 +503,8 @@ namespace warpchol::fem
     // Exact steps change A to the corotational matrix: only where CG iterates on that one
     // (on the WCC matrix they would change the system being solved).
     const unsigned int staleness = step_count - factor_step;
-    if (automatic && strategy.iterate_on == StepStrategy::Target::corotational && !refreshes_beside &&
+    // With the refreshes beside the steps the factor is made exact there, never here.
+    if (automatic && strategy.iterate_on == StepStrategy::Target::corotational && !refreshes_beside_the_steps() &&
         cost_model.exact_step_is_due(staleness))
       {
         // Iterating on would cost more than the least average of a cycle that starts now.
@@ -559,10 +566,7 @@ namespace warpchol::fem
         record_updates(true);
         statistics.elements_updated = body.n_elements();
       }
-    // Strategy = background refreshes all the time; auto where it measured it pays.
-    const bool refreshes_beside = strategy.kind == StepStrategy::Kind::background ||
-                                  placement.current() == RefreshPlacement::Where::beside_the_steps;
-    if (!background->in_flight() && refreshes_beside)
+    if (!background->in_flight() && refreshes_beside_the_steps())
       background->start(step_count, elastic_state.element_rotations, elastic_state.nodal_rotations);
     return due;
   }

@@ -204,6 +204,12 @@ namespace warpchol::fem
      */
     bool take_background_refresh(StepStatistics &statistics);
 
+    /**
+     * Whether the factor is refreshed beside the steps: always with Strategy = background,
+     * with auto where RefreshPlacement measured that it pays.
+     */
+    bool refreshes_beside_the_steps() const;
+
     /** Strategy = background, or auto with two threads or more: the refresh beside the steps. */
     std::unique_ptr<BackgroundRefresh> background;
     /** The threads the solver was given: the steps' when no refresh runs beside them. */
