@@ -6,7 +6,8 @@
  *   warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] [--method left|up|supernodal]
  *                              [--supernodal on|off] [--threads N] [--changed-fraction P]
  *                              [--seed S] [--repeat R] [--max-seconds S] [--compare cholmod]
- *                              [--relaxation off|N0,N1,N2,Z0,Z1,Z2]
+ *                              [--relaxation off|N0,N1,N2,Z0,Z1,Z2] [--update-rank K]
+ *                              [--change-method auto|flops|recompute|update]
  *
  * Times are the best of R runs (the machine is shared and noisy), the factorization's also
  * their median (factor_median_s). --max-seconds S stops the repeats of the factorization
@@ -16,6 +17,15 @@
  * the same matrix with the same permutation and BLAS, alternating with ours, and the
  * ratios ours/CHOLMOD are printed. With --changed-fraction 0 nothing changes and no
  * refactorization runs (refactor_s=0).
+ *
+ * With --update-rank K, a grasp-like change of rank K (a penalty of 100 A(j,j) on the
+ * diagonal of the K dofs of the vertices around a random one, C = sqrt(100 A(j,j)) e_j) is
+ * taken, on the factor of the unchanged matrix, four ways: warpchol's update (and the
+ * downdate that undoes it), warpchol's partial refactorization of the same columns, a full
+ * factorization, and CHOLMOD's cholmod_updown on its simplicial LDL^T factor of the same
+ * matrix with the same permutation (the conversion from its supernodal factor not counted:
+ * updates need it); best of R each, with the flops and the relative residual of a solve
+ * with A + C C^T (update_*, partial_*, cholmod_updown_*).
  */
 
 #include <warpchol/app/command_line.h>
@@ -24,6 +34,7 @@
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/blas.h>
 #include <warpchol/cholesky/cholmod_reference.h>
+#include <warpchol/cholesky/ordering.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/sparse/matrix_market.h>
 #include <warpchol/sparse/residual.h>
@@ -33,6 +44,7 @@
 #include <cmath>
 #include <iostream>
 #include <memory>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -49,13 +61,15 @@ namespace
     int                                      repeat           = 1;
     double                                   max_seconds      = 0;
     bool                                     compare_cholmod  = false;
+    Index                                    update_rank      = 0;
   };
 
   const char *usage = "usage: warpchol-factor MATRIX.mtx [--ordering natural|amd|metis] "
                       "[--method left|up|supernodal] [--supernodal on|off] [--threads N] "
                       "[--changed-fraction P] [--seed S] [--repeat R] [--max-seconds S] "
                       "[--compare cholmod] "
-                      "[--relaxation off|N0,N1,N2,Z0,Z1,Z2]";
+                      "[--relaxation off|N0,N1,N2,Z0,Z1,Z2] [--update-rank K] "
+                      "[--change-method auto|flops|recompute|update]";
 
   Options parse_command_line(const int argc, char **argv)
   {
@@ -74,6 +88,8 @@ namespace
           }
         else if (argument == "--seed")
           options.seed = static_cast<std::uint64_t>(command_line.integer_of(argument, 0, 1L << 62));
+        else if (argument == "--update-rank")
+          options.update_rank = command_line.integer_of(argument, 1, 100000);
         else if (argument == "--repeat")
           options.repeat = static_cast<int>(command_line.integer_of(argument, 1, 1000));
         else if (argument == "--max-seconds")
@@ -103,6 +119,98 @@ namespace
     std::sort(times.begin(), times.end());
     const std::size_t middle = times.size() / 2;
     return times.size() % 2 == 1 ? times[middle] : 0.5 * (times[middle - 1] + times[middle]);
+  }
+
+  /**
+   * The grasp-like change of --update-rank taken four ways on the factor of @p matrix
+   * (which @p solver holds): warpchol's update and downdate, its partial refactorization,
+   * CHOLMOD's updown. Prints the fields.
+   */
+  void compare_updates(const Options &options, const sparse::CSCMatrix &matrix, cholesky::SparseCholesky &solver)
+  {
+    const Index              n       = matrix.n_cols;
+    const int                block   = n % 3 == 0 ? 3 : 1;
+    std::vector<Index>       columns = sparse::local_vertex_columns(matrix, block, (options.update_rank + block - 1) / block,
+                                                                    options.seed);
+    columns.resize(std::min<std::size_t>(columns.size(), options.update_rank));
+    const sparse::CSCMatrix c       = sparse::penalty_columns(matrix, columns, 100.);
+    sparse::CSCMatrix       changed = matrix;
+    sparse::add_outer_products(changed, c, 1.);
+    const std::vector<double> ones(n, 1.);
+    std::vector<double>       b(n), x;
+    changed.vmult(ones.data(), b.data());
+
+    // warpchol: update, then the downdate that brings the factor back.
+    double update_seconds = 1e300, downdate_seconds = 1e300, update_flops = 0;
+    for (int r = 0; r < options.repeat; ++r)
+      {
+        solver.update(c);
+        update_seconds = std::min(update_seconds, solver.statistics().refactorize_seconds);
+        update_flops   = solver.statistics().flops_recomputed;
+        if (r + 1 == options.repeat)
+          solver.solve(b, x);
+        solver.downdate(c);
+        downdate_seconds = std::min(downdate_seconds, solver.statistics().refactorize_seconds);
+      }
+    const double update_residual = sparse::relative_residual(changed, x, b);
+    const cholesky::ModificationPlan plan = cholesky::plan_modification(solver.supernodal_symbolic(), [&] {
+      std::vector<Index> first_rows;
+      for (const Index j : columns)
+        first_rows.push_back(std::find(solver.permutation().begin(), solver.permutation().end(), j) -
+                             solver.permutation().begin());
+      return first_rows;
+    }());
+
+    // warpchol's partial refactorization of the same columns (a solver that never updates).
+    cholesky::SparseCholesky::Settings recompute_settings = options.solver;
+    recompute_settings.change_method                      = cholesky::ChangeMethod::recompute;
+    cholesky::SparseCholesky recompute(recompute_settings);
+    recompute.analyze(matrix);
+    recompute.factorize(matrix);
+    double partial_seconds = 1e300, partial_flops = 0;
+    for (int r = 0; r < options.repeat; ++r)
+      {
+        recompute.refactorize(changed, columns);
+        partial_seconds = std::min(partial_seconds, recompute.statistics().refactorize_seconds);
+        partial_flops   = recompute.statistics().flops_recomputed;
+        recompute.refactorize(matrix, columns);
+      }
+
+    // CHOLMOD: its simplicial LDL^T factor of the same matrix, same permutation, updown.
+    cholesky::CholmodReference cholmod(false);
+    cholmod.analyze(matrix, solver.permutation());
+    cholmod.factorize(matrix);
+    cholmod.convert_for_updates();
+    const std::vector<Index> inverse = cholesky::invert_permutation(solver.permutation());
+    sparse::CSCMatrix        permuted_c = c;
+    for (Index &row : permuted_c.row_index)
+      row = inverse[row];
+    double cholmod_update_seconds = 1e300, cholmod_downdate_seconds = 1e300;
+    std::vector<double> cholmod_x;
+    for (int r = 0; r < options.repeat; ++r)
+      {
+        cholmod.updown(true, permuted_c);
+        cholmod_update_seconds = std::min(cholmod_update_seconds, cholmod.updown_seconds);
+        if (r + 1 == options.repeat)
+          cholmod_x = cholmod.solve(b);
+        cholmod.updown(false, permuted_c);
+        cholmod_downdate_seconds = std::min(cholmod_downdate_seconds, cholmod.updown_seconds);
+      }
+
+    std::cout << " update_rank=" << c.n_cols << " update_s=" << format_number(update_seconds, 4)
+              << " downdate_s=" << format_number(downdate_seconds, 4)
+              << " update_flops=" << format_number(update_flops, 4)
+              << " update_entries=" << plan.n_entries
+              << " update_gflops=" << format_number(update_flops / update_seconds * 1e-9, 3)
+              << " update_residual=" << format_number(update_residual, 3)
+              << " partial_s=" << format_number(partial_seconds, 4)
+              << " partial_flops=" << format_number(partial_flops, 4)
+              << " cholmod_updown_s=" << format_number(cholmod_update_seconds, 4)
+              << " cholmod_downdate_s=" << format_number(cholmod_downdate_seconds, 4)
+              << " cholmod_update_residual=" << format_number(sparse::relative_residual(changed, cholmod_x, b), 3)
+              << " update_vs_cholmod=" << format_number(cholmod_update_seconds / update_seconds, 3)
+              << " downdate_vs_cholmod=" << format_number(cholmod_downdate_seconds / downdate_seconds, 3)
+              << " update_vs_partial=" << format_number(partial_seconds / update_seconds, 3);
   }
 
   void run(const Options &options)
@@ -135,6 +243,22 @@ namespace
           }
       }
     const double factor_seconds = *std::min_element(factor_times.begin(), factor_times.end());
+    // The update fields go at the end of the line; measured on the unchanged matrix.
+    std::ostringstream update_fields;
+    if (options.update_rank > 0)
+      {
+        std::streambuf *const line = std::cout.rdbuf(update_fields.rdbuf());
+        try
+          {
+            compare_updates(options, matrix, solver);
+          }
+        catch (...)
+          {
+            std::cout.rdbuf(line);
+            throw;
+          }
+        std::cout.rdbuf(line);
+      }
 
     // Change a random set of columns (and rows), keeping A symmetric positive definite.
     const auto n_changed = static_cast<Index>(std::llround(options.changed_fraction * matrix.n_cols));
@@ -189,7 +313,7 @@ namespace
                   << " cholmod_bytes=" << cholmod->factor_bytes()
                   << " memory_ratio=" << format_number(static_cast<double>(stats.factor_bytes) / cholmod->factor_bytes(), 3);
       }
-    std::cout << "\n";
+    std::cout << update_fields.str() << "\n";
   }
 } // namespace
 

@@ -97,6 +97,8 @@ namespace warpchol::app
       }
     else if (argument == "--threads")
       settings.n_threads = static_cast<unsigned int>(integer_of(argument, 1, 256));
+    else if (argument == "--change-method")
+      settings.change_method = cholesky::parse_change_method(value_of(argument));
     else if (argument == "--relaxation")
       {
         const std::string text       = value_of(argument);

@@ -38,4 +38,11 @@ namespace warpchol
     , column(column)
     , pivot(pivot)
   {}
+
+  NotPositiveDefinite::NotPositiveDefinite(const long long column, const double pivot,
+                                           const std::string &one_line_message)
+    : MatrixError(one_line_message)
+    , column(column)
+    , pivot(pivot)
+  {}
 } // namespace warpchol

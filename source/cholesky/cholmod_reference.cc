@@ -139,6 +139,37 @@ namespace warpchol::cholesky
     return result;
   }
 
+  void CholmodReference::convert_for_updates()
+  {
+    // Real, LDL^T (not LL^T), simplicial, packed, monotonic.
+    if (!cholmod_l_change_factor(CHOLMOD_REAL, 0, 0, 1, 1, implementation->factor, &implementation->common))
+      throw Error("CHOLMOD could not convert its factor to a simplicial LDL^T");
+  }
+
+  void CholmodReference::updown(const bool update, const sparse::CSCMatrix &c)
+  {
+    cholmod_sparse view{};
+    view.nrow   = c.n_rows;
+    view.ncol   = c.n_cols;
+    view.nzmax  = c.n_nonzeros();
+    view.p      = const_cast<Index *>(c.column_start.data());
+    view.i      = const_cast<Index *>(c.row_index.data());
+    view.x      = const_cast<double *>(c.values.data());
+    view.stype  = 0;
+    view.itype  = CHOLMOD_LONG;
+    view.xtype  = CHOLMOD_REAL;
+    view.dtype  = CHOLMOD_DOUBLE;
+    view.sorted = 1;
+    view.packed = 1;
+    const Stopwatch stopwatch;
+    const int       ok = cholmod_l_updown(update ? 1 : 0, &view, implementation->factor, &implementation->common);
+    updown_seconds     = stopwatch.seconds();
+    if (implementation->common.status == CHOLMOD_NOT_POSDEF)
+      throw NotPositiveDefinite(-1, 0.);
+    if (!ok || implementation->common.status < CHOLMOD_OK)
+      throw Error("CHOLMOD update/downdate failed with status " + std::to_string(implementation->common.status));
+  }
+
   std::size_t CholmodReference::factor_bytes() const
   {
     const cholmod_factor *l = implementation->factor;

@@ -709,6 +709,20 @@ namespace warpchol::cholesky
     return flops;
   }
 
+  ModificationResult SupernodalFactor::modify(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &c,
+                                              const std::vector<double> &signs, const ModificationSettings &settings)
+  {
+    if (static_cast<Index>(implementation->values.size()) != symbolic.n_stored_values())
+      throw Error("modify() called before factorize()");
+    const ModificationResult result = modify_supernodal(symbolic, implementation->values.data(), c, signs, settings);
+    if (implementation->keep_single)
+      for (const Index s : plan_modification(symbolic, c).supernodes)
+        std::copy(implementation->values.begin() + symbolic.value_start[s],
+                  implementation->values.begin() + symbolic.value_start[s + 1],
+                  implementation->single_values.begin() + symbolic.value_start[s]);
+    return result;
+  }
+
   void SupernodalFactor::solve(const SupernodalSymbolic &symbolic, double *x, const Index n_rhs,
                                const unsigned int n_threads) const
   {

@@ -182,6 +182,65 @@ namespace warpchol::cholesky
     return changed_columns;
   }
 
+  void PermutedMatrix::mark_factored()
+  {
+    factored_values = permuted_lower.values;
+  }
+
+  void PermutedMatrix::mark_factored(const std::vector<Index> &columns)
+  {
+    if (factored_values.size() != permuted_lower.values.size())
+      {
+        mark_factored();
+        return;
+      }
+    for (const Index j : columns)
+      std::copy(permuted_lower.values.begin() + permuted_lower.column_start[j],
+                permuted_lower.values.begin() + permuted_lower.column_start[j + 1],
+                factored_values.begin() + permuted_lower.column_start[j]);
+  }
+
+  std::vector<PermutedMatrix::Change> PermutedMatrix::changes_since_factored(const std::vector<Index> &columns) const
+  {
+    std::vector<Change> changes;
+    if (factored_values.size() != permuted_lower.values.size())
+      throw Error("changes_since_factored() before the first factorization");
+    for (const Index j : columns)
+      for (Index k = permuted_lower.column_start[j]; k < permuted_lower.column_start[j + 1]; ++k)
+        if (permuted_lower.values[k] != factored_values[k])
+          changes.push_back({permuted_lower.row_index[k], j, permuted_lower.values[k] - factored_values[k]});
+    return changes;
+  }
+
+  bool PermutedMatrix::add_low_rank(const sparse::CSCMatrix &c, const std::vector<double> &signs)
+  {
+    bool inside = true;
+    if (factored_values.size() != permuted_lower.values.size())
+      mark_factored();
+    for (Index t = 0; t < c.n_cols; ++t)
+      for (Index a = c.column_start[t]; a < c.column_start[t + 1]; ++a)
+        {
+          // Column c.row_index[a] of C gets the products with the rows at and below it.
+          const Index j     = c.row_index[a];
+          const auto  first = permuted_lower.row_index.begin() + permuted_lower.column_start[j];
+          const auto  last  = permuted_lower.row_index.begin() + permuted_lower.column_start[j + 1];
+          for (Index b = a; b < c.column_start[t + 1]; ++b)
+            {
+              const double product = signs[t] * c.values[a] * c.values[b];
+              const auto   found   = std::lower_bound(first, last, c.row_index[b]);
+              if (found == last || *found != c.row_index[b])
+                {
+                  inside = inside && product == 0.;
+                  continue;
+                }
+              const auto k = found - permuted_lower.row_index.begin();
+              permuted_lower.values[k] += product;
+              factored_values[k] += product;
+            }
+        }
+    return inside;
+  }
+
   const sparse::CSCMatrix &PermutedMatrix::lower() const
   {
     return permuted_lower;
@@ -196,6 +255,7 @@ namespace warpchol::cholesky
   {
     writer.write(loaded);
     writer.write(permuted_lower.values);
+    writer.write(factored_values);
   }
 
   void PermutedMatrix::load(BinaryReader &reader)
@@ -206,7 +266,13 @@ namespace warpchol::cholesky
     if (values.size() != permuted_lower.values.size())
       reader.fail("the permuted matrix holds " + std::to_string(values.size()) +
                   " values, this analysis " + std::to_string(permuted_lower.values.size()));
+    std::vector<double> factored;
+    reader.read(factored);
+    if (!factored.empty() && factored.size() != permuted_lower.values.size())
+      reader.fail("the permuted matrix holds " + std::to_string(factored.size()) +
+                  " factored values, this analysis " + std::to_string(permuted_lower.values.size()));
     loaded                = was_loaded;
     permuted_lower.values = std::move(values);
+    factored_values       = std::move(factored);
   }
 } // namespace warpchol::cholesky

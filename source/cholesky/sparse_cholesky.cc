@@ -2,12 +2,14 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/blas.h>
+#include <warpchol/cholesky/low_rank_change.h>
 #include <warpchol/cholesky/numeric_simplicial.h>
 #include <warpchol/cholesky/partial.h>
 #include <warpchol/cholesky/solve.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 
 #include <algorithm>
+#include <cmath>
 #include <iterator>
 
 namespace warpchol::cholesky
@@ -73,6 +75,7 @@ namespace warpchol::cholesky
 
   SparseCholesky::SparseCholesky(const Settings &settings)
     : solver_settings(settings)
+    , refactorization_costs(settings.change_method == ChangeMethod::by_flops)
   {
     blas::use_single_threaded_blas();
   }
@@ -80,8 +83,9 @@ namespace warpchol::cholesky
   void SparseCholesky::analyze(const sparse::CSCMatrix &matrix)
   {
     const Stopwatch stopwatch;
-    analyzed     = false;
-    factor_valid = false;
+    analyzed              = false;
+    factor_valid          = false;
+    matrix_holds_factored = true;
     pending_columns.clear();
     stale_columns.clear();
     if (!(solver_settings.top_flops_fraction >= 0. && solver_settings.top_flops_fraction <= 1.))
@@ -216,7 +220,12 @@ namespace warpchol::cholesky
     stale_columns.clear();
     RefreshPlan everything;
     everything.full        = true;
+    const Stopwatch numeric_stopwatch;
     stats.flops_recomputed = run_numeric(everything);
+    refactorization_costs.record(RefactorizationMethod::full, stats.flops_recomputed, numeric_stopwatch.seconds());
+    permuted_matrix.mark_factored();
+    matrix_holds_factored = true;
+    stats.method          = RefactorizationMethod::full;
     last_recomputed_columns.clear();
     update_backlog_statistics();
     ++stats.n_factorizations;
@@ -333,13 +342,47 @@ namespace warpchol::cholesky
     std::vector<Index>       changes;
     std::set_union(listed.begin(), listed.end(), unlisted.begin(), unlisted.end(), std::back_inserter(changes));
 
-    const RefreshPlan plan = plan_refresh(changes, refresh);
+    // After an update() that reached outside A's pattern, the copy of A is not the factor's
+    // matrix: only a full factorization makes them agree again.
+    if (!matrix_holds_factored)
+      factor_valid = false;
+    // The factor is that of the values last marked factored: a change since can be an update.
+    const bool        exact_before = factor_valid && stale_columns.empty();
+    const RefreshPlan plan         = plan_refresh(changes, refresh);
     if (refresh == Refresh::none && !plan.full)
-      pending_columns = std::move(changes);
+      pending_columns = changes;
     else
       pending_columns.clear();
-    stale_columns          = plan.stale_columns;
-    stats.flops_recomputed = run_numeric(plan);
+    stale_columns = plan.stale_columns;
+
+    stats.update_rank               = 0;
+    stats.update_flops              = -1;
+    stats.partial_flops             = -1;
+    stats.predicted_update_seconds  = -1;
+    stats.predicted_partial_seconds = -1;
+    stats.predicted_full_seconds    = -1;
+    stats.update_fell_back          = false;
+    const Stopwatch numeric_stopwatch;
+    const bool      may_update = exact_before && refresh == Refresh::all && !plan.full && !plan.columns.empty() &&
+                            solver_settings.method == FactorizationMethod::supernodal &&
+                            solver_settings.change_method != ChangeMethod::recompute;
+    if (!(may_update && updated_instead(changes, plan)))
+      {
+        stats.flops_recomputed = run_numeric(plan);
+        stats.method           = plan.full ? RefactorizationMethod::full :
+                                 plan.columns.empty() ? RefactorizationMethod::none :
+                                                        RefactorizationMethod::partial;
+        last_recomputed_columns = plan.columns;
+      }
+    refactorization_costs.record(stats.method, stats.flops_recomputed, numeric_stopwatch.seconds());
+    if (factor_is_exact())
+      {
+        if (exact_before && !plan.full)
+          permuted_matrix.mark_factored(changes);
+        else
+          permuted_matrix.mark_factored();
+        matrix_holds_factored = true;
+      }
     if (plan.full)
       {
         last_recomputed_columns.resize(stats.n);
@@ -347,11 +390,189 @@ namespace warpchol::cholesky
           last_recomputed_columns[j] = j;
         stats.factorize_seconds = stopwatch.seconds();
       }
-    else
-      last_recomputed_columns = plan.columns;
     update_backlog_statistics();
     stats.refactorize_seconds = stopwatch.seconds();
     ++stats.n_refactorizations;
+  }
+
+  ModificationSettings SparseCholesky::modification_settings() const
+  {
+    ModificationSettings settings;
+    settings.pivot_tolerance = solver_settings.downdate_pivot_tolerance;
+    settings.n_threads       = solver_settings.n_threads;
+    return settings;
+  }
+
+  namespace
+  {
+    /** Flops of the dense LDL^T that finds the low-rank form of a change on @p m rows. */
+    double low_rank_form_flops(const Index m)
+    {
+      return static_cast<double>(m) * static_cast<double>(m) * static_cast<double>(m) / 3.;
+    }
+
+    /** The columns of L (permuted, sorted) a modification by @p plan changes. */
+    std::vector<Index> modified_columns(const SupernodalSymbolic &symbolic, const ModificationPlan &plan)
+    {
+      std::vector<Index> columns;
+      for (std::size_t k = 0; k < plan.supernodes.size(); ++k)
+        for (Index j = symbolic.first_column[plan.supernodes[k]] + plan.start_columns[k];
+             j < symbolic.first_column[plan.supernodes[k] + 1]; ++j)
+          columns.push_back(j);
+      return columns;
+    }
+  } // namespace
+
+  bool SparseCholesky::updated_instead(const std::vector<Index> &changes, const RefreshPlan &plan)
+  {
+    const std::vector<PermutedMatrix::Change> entries = permuted_matrix.changes_since_factored(changes);
+    const std::vector<Index>                  rows    = touched_rows(entries);
+    if (rows.empty())
+      {
+        // The values are those the factor was made from: nothing to do.
+        stats.flops_recomputed      = 0;
+        stats.columns_recomputed    = 0;
+        stats.supernodes_recomputed = 0;
+        stats.method                = RefactorizationMethod::none;
+        last_recomputed_columns.clear();
+        return true;
+      }
+    if (static_cast<Index>(rows.size()) > solver_settings.max_update_rows)
+      return false;
+    const ModificationPlan update_plan = plan_modification(supernodal_structure, rows);
+    stats.update_rank                  = update_plan.rank;
+    stats.update_flops                 = update_plan.flops + low_rank_form_flops(update_plan.rank);
+    stats.partial_flops                = plan.flops;
+    stats.predicted_update_seconds =
+      refactorization_costs.predicted_seconds(RefactorizationMethod::update, stats.update_flops);
+    stats.predicted_partial_seconds =
+      refactorization_costs.predicted_seconds(RefactorizationMethod::partial, plan.flops);
+    stats.predicted_full_seconds =
+      refactorization_costs.predicted_seconds(RefactorizationMethod::full, supernodal_structure.flops);
+    if (solver_settings.change_method != ChangeMethod::update &&
+        stats.predicted_update_seconds >= std::min(stats.predicted_partial_seconds, stats.predicted_full_seconds))
+      return false;
+
+    const LowRankChange form = low_rank_form(stats.n, entries);
+    stats.update_rank        = form.c.n_cols;
+    try
+      {
+        const ModificationResult result =
+          supernodal_factor.modify(supernodal_structure, form.c, form.signs, modification_settings());
+        stats.flops_recomputed      = result.flops + low_rank_form_flops(static_cast<Index>(rows.size()));
+        stats.columns_recomputed    = result.columns;
+        stats.supernodes_recomputed = result.supernodes;
+        stats.method                = RefactorizationMethod::update;
+        last_recomputed_columns     = modified_columns(supernodal_structure, plan_modification(supernodal_structure, form.c));
+        ++stats.n_updates;
+        return true;
+      }
+    catch (const NotPositiveDefinite &)
+      {
+        // A downdate that would lose a pivot: the factor is as it was; recompute instead,
+        // which reports the pivot in the user's numbering if the matrix itself is not
+        // positive definite.
+        stats.update_fell_back = true;
+        return false;
+      }
+  }
+
+  void SparseCholesky::check_modification(const std::string &caller) const
+  {
+    if (!analyzed)
+      throw Error(caller + " called before analyze()");
+    if (solver_settings.method != FactorizationMethod::supernodal)
+      throw InputError(caller + " needs the supernodal method, not " + to_string(solver_settings.method));
+    if (!factor_valid)
+      throw Error(caller + " called without a valid factorization");
+    if (!factor_is_exact())
+      throw Error(caller + " needs the exact factor of A, and changes are pending or stale: refactorize() first");
+  }
+
+  void SparseCholesky::update(const sparse::CSCMatrix &c)
+  {
+    modify(c, std::vector<double>(c.n_cols, 1.));
+  }
+
+  void SparseCholesky::downdate(const sparse::CSCMatrix &c)
+  {
+    modify(c, std::vector<double>(c.n_cols, -1.));
+  }
+
+  void SparseCholesky::modify(const sparse::CSCMatrix &c, const std::vector<double> &signs)
+  {
+    check_modification(signs.empty() || signs[0] > 0 ? "update()" : "downdate()");
+    if (c.n_rows != stats.n)
+      throw InputError("C has " + std::to_string(c.n_rows) + " rows, the matrix " + std::to_string(stats.n));
+    c.check_consistency();
+    const Stopwatch stopwatch;
+    // C in the permuted numbering, each column's rows sorted.
+    sparse::CSCMatrix permuted = sparse::CSCMatrix::zero(stats.n, c.n_cols);
+    std::vector<std::pair<Index, double>> column;
+    for (Index t = 0; t < c.n_cols; ++t)
+      {
+        column.clear();
+        for (Index k = c.column_start[t]; k < c.column_start[t + 1]; ++k)
+          {
+            if (!std::isfinite(c.values[k]))
+              throw MatrixError("C(" + std::to_string(c.row_index[k]) + "," + std::to_string(t) + ") = " +
+                                format_number(c.values[k]) + " is not finite");
+            column.emplace_back(inverse_permutation[c.row_index[k]], c.values[k]);
+          }
+        std::sort(column.begin(), column.end());
+        for (const auto &[row, value] : column)
+          {
+            permuted.row_index.push_back(row);
+            permuted.values.push_back(value);
+          }
+        permuted.column_start[t + 1] = static_cast<Index>(permuted.row_index.size());
+      }
+    check_modification_pattern(supernodal_structure, permuted, fill_reducing_permutation);
+    try
+      {
+        const ModificationResult result =
+          supernodal_factor.modify(supernodal_structure, permuted, signs, modification_settings());
+        stats.flops_recomputed      = result.flops;
+        stats.columns_recomputed    = result.columns;
+        stats.supernodes_recomputed = result.supernodes;
+      }
+    catch (const NotPositiveDefinite &failure)
+      {
+        const Index column = fill_reducing_permutation[failure.column];
+        throw NotPositiveDefinite(column, failure.pivot,
+                                  "the downdate would leave the matrix not positive definite: the pivot of column " +
+                                    std::to_string(column) + " would be " + format_number(failure.pivot) +
+                                    " (the factor is left as it was)");
+      }
+    if (!permuted_matrix.add_low_rank(permuted, signs))
+      matrix_holds_factored = false;
+    stats.method = RefactorizationMethod::update;
+    ++stats.n_updates;
+    stats.refactorize_seconds = stopwatch.seconds();
+    refactorization_costs.record(RefactorizationMethod::update, stats.flops_recomputed, stats.refactorize_seconds);
+  }
+
+  double SparseCholesky::predicted_seconds(const std::vector<Index> &changed_columns, const Refresh refresh) const
+  {
+    if (!analyzed)
+      throw Error("predicted_seconds() called before analyze()");
+    check_request(changed_columns, refresh);
+    const std::vector<Index> changes = pending_with(changed_columns);
+    const RefreshPlan        plan    = plan_refresh(changes, refresh);
+    const double             recompute =
+      refactorization_costs.predicted_seconds(plan.full ? RefactorizationMethod::full : RefactorizationMethod::partial,
+                                              plan.flops);
+    const bool may_update = factor_valid && matrix_holds_factored && stale_columns.empty() &&
+                            refresh == Refresh::all && !plan.full && !changes.empty() &&
+                            solver_settings.method == FactorizationMethod::supernodal &&
+                            solver_settings.change_method != ChangeMethod::recompute &&
+                            static_cast<Index>(changes.size()) <= solver_settings.max_update_rows;
+    if (!may_update)
+      return recompute;
+    const ModificationPlan update_plan = plan_modification(supernodal_structure, changes);
+    const double           update      = refactorization_costs.predicted_seconds(
+      RefactorizationMethod::update, update_plan.flops + low_rank_form_flops(update_plan.rank));
+    return solver_settings.change_method == ChangeMethod::update ? update : std::min(update, recompute);
   }
 
   double SparseCholesky::predicted_flops(const std::vector<Index> &changed_columns, const Refresh refresh) const
@@ -381,6 +602,8 @@ namespace warpchol::cholesky
     writer.write(last_recomputed_columns);
     writer.write(stats.n_factorizations);
     writer.write(stats.n_refactorizations);
+    writer.write(matrix_holds_factored);
+    refactorization_costs.save(writer);
   }
 
   void SparseCholesky::load_numeric(BinaryReader &reader)
@@ -415,6 +638,8 @@ namespace warpchol::cholesky
           reader.fail("a column " + std::to_string(column) + " is out of range");
     reader.read(stats.n_factorizations);
     reader.read(stats.n_refactorizations);
+    reader.read(matrix_holds_factored);
+    refactorization_costs.load(reader);
     update_backlog_statistics();
   }
 

@@ -132,4 +132,38 @@ namespace warpchol::sparse
     std::sort(columns.begin(), columns.end());
     return columns;
   }
+
+  CSCMatrix penalty_columns(const CSCMatrix &matrix, const std::vector<Index> &columns, const double factor)
+  {
+    CSCMatrix c = CSCMatrix::zero(matrix.n_rows, static_cast<Index>(columns.size()));
+    for (std::size_t t = 0; t < columns.size(); ++t)
+      {
+        c.row_index.push_back(columns[t]);
+        c.values.push_back(std::sqrt(factor * std::abs(matrix(columns[t], columns[t]))));
+        c.column_start[t + 1] = static_cast<Index>(t + 1);
+      }
+    return c;
+  }
+
+  void add_outer_products(CSCMatrix &matrix, const CSCMatrix &c, const double sign)
+  {
+    const auto add = [&](const Index i, const Index j, const double value) {
+      const auto first = matrix.row_index.begin() + matrix.column_start[j];
+      const auto last  = matrix.row_index.begin() + matrix.column_start[j + 1];
+      const auto found = std::lower_bound(first, last, i);
+      if (found == last || *found != i)
+        throw InputError("C C^T has an entry (" + std::to_string(i) + "," + std::to_string(j) +
+                         ") the matrix does not store");
+      matrix.values[found - matrix.row_index.begin()] += value;
+    };
+    for (Index t = 0; t < c.n_cols; ++t)
+      for (Index a = c.column_start[t]; a < c.column_start[t + 1]; ++a)
+        for (Index b = c.column_start[t]; b < c.column_start[t + 1]; ++b)
+          {
+            const Index i = c.row_index[a], j = c.row_index[b];
+            if (matrix.storage == Storage::lower && i < j)
+              continue;
+            add(i, j, sign * c.values[a] * c.values[b]);
+          }
+  }
 } // namespace warpchol::sparse

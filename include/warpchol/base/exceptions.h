@@ -61,6 +61,8 @@ namespace warpchol
   {
   public:
     NotPositiveDefinite(long long column, double pivot);
+    /** The same with a message of its own (a downdate that stops before the pivot fails). */
+    NotPositiveDefinite(long long column, double pivot, const std::string &one_line_message);
 
     /** The column of the input matrix (user numbering) whose pivot failed. */
     long long column;

@@ -46,11 +46,26 @@ namespace warpchol::cholesky
     /** L of P^T A P as a CSC matrix (supernodal factors converted to simplicial LL^T). */
     sparse::CSCMatrix factor() const;
 
+    /**
+     * Convert the factor to the simplicial LDL^T that cholmod_updown modifies (CHOLMOD
+     * updates no other kind), as a user of CHOLMOD's Modify module must before updating.
+     */
+    void convert_for_updates();
+
+    /**
+     * L D L^T +/- C C^T by cholmod_l_updown (update if @p update, else downdate): @p c
+     * n x k, its rows already permuted as the factor's (P^T C), sorted. Times it in
+     * updown_seconds. Throws NotPositiveDefinite if CHOLMOD reports the downdate failed.
+     * Needs convert_for_updates() first.
+     */
+    void updown(bool update, const sparse::CSCMatrix &c);
+
     /** Bytes CHOLMOD holds for the numeric factor (values, row indices, pointers). */
     std::size_t factor_bytes() const;
 
     double analyze_seconds   = 0;
     double factorize_seconds = 0;
+    double updown_seconds    = 0;
 
   private:
     /** cholmod_l_analyze_p with @p permutation (null: CHOLMOD's own choice). */

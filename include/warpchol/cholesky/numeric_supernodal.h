@@ -2,6 +2,7 @@
 
 #include <warpchol/base/binary_io.h>
 #include <warpchol/base/types.h>
+#include <warpchol/cholesky/modify.h>
 #include <warpchol/cholesky/supernodal_symbolic.h>
 #include <warpchol/sparse/csc_matrix.h>
 
@@ -66,6 +67,14 @@ namespace warpchol::cholesky
     double factorize(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &lower,
                      const std::vector<Index> &supernodes,
                      const std::vector<Index> &start_offsets, unsigned int n_threads);
+
+    /**
+     * L L^T + C diag(@p signs) C^T in place (modify_supernodal(), which says what @p c must
+     * be), the single-precision copy following. Throws NotPositiveDefinite, the values
+     * left as they were, if a downdate loses positive definiteness.
+     */
+    ModificationResult modify(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &c,
+                              const std::vector<double> &signs, const ModificationSettings &settings);
 
     /**
      * Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x.

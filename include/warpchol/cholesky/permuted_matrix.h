@@ -44,6 +44,31 @@ namespace warpchol::cholesky
      */
     std::vector<Index> load(const sparse::CSCMatrix &matrix, const double *values);
 
+    /**
+     * Record that the factor now holds the loaded values: of every column, or of
+     * @p columns of C only (the others were factored from what they hold already).
+     */
+    void mark_factored();
+    void mark_factored(const std::vector<Index> &columns);
+
+    /** An entry of C whose value changed: row and column of C, loaded minus factored value. */
+    struct Change
+    {
+      Index  row;
+      Index  column;
+      double delta;
+    };
+
+    /** The entries of @p columns of C (sorted) whose loaded value differs from the factored one. */
+    std::vector<Change> changes_since_factored(const std::vector<Index> &columns) const;
+
+    /**
+     * C += sum_t signs[t] c_t c_t^T, loaded and factored values alike (an update of the
+     * factor by @p c, rows permuted and sorted), on the entries of C's pattern. Returns false
+     * if some product falls outside it: C then no longer holds the factored matrix.
+     */
+    bool add_low_rank(const sparse::CSCMatrix &c, const std::vector<double> &signs);
+
     /** C, lower storage, permuted numbering. */
     const sparse::CSCMatrix &lower() const;
 
@@ -73,6 +98,8 @@ namespace warpchol::cholesky
     sparse::Storage    storage = sparse::Storage::lower;
     std::vector<Index> analyzed_column_start;
     std::vector<Index> analyzed_row_index;
+    /** The values the factor was computed from (mark_factored()). */
+    std::vector<double> factored_values;
     /** Column of C of each entry, for reporting changed columns. */
     std::vector<Index> entry_column;
     bool               loaded = false;

@@ -1,10 +1,12 @@
 #pragma once
 
 #include <warpchol/base/types.h>
+#include <warpchol/cholesky/modify.h>
 #include <warpchol/cholesky/numeric_supernodal.h>
 #include <warpchol/cholesky/ordering.h>
 #include <warpchol/cholesky/partial.h>
 #include <warpchol/cholesky/permuted_matrix.h>
+#include <warpchol/cholesky/refactorization_choice.h>
 #include <warpchol/cholesky/supernodal_symbolic.h>
 #include <warpchol/cholesky/symbolic.h>
 #include <warpchol/sparse/csc_matrix.h>
@@ -72,6 +74,11 @@ namespace warpchol::cholesky
    *   solver.solve(b, x);
    * @endcode
    *
+   * A change of A that is a sum of few outer products (a spring on a few vertices, a few
+   * elements cut or changed) is cheaper to take as an update of the factor than by
+   * recomputing the columns on its paths: refactorize() weighs both for each change (and
+   * update() / downdate() apply a C C^T the caller knows, as CHOLMOD's cholmod_updown).
+   *
    * A caller that uses the factor as a preconditioner may bring it up to date only in part
    * (supernodal method): refactorize(A, changed_columns, Refresh::below_top) every step and
    * refactorize(A, {}, Refresh::all) every few steps recompute the top supernodes, which
@@ -105,6 +112,20 @@ namespace warpchol::cholesky
        * the factor's memory. solve() always uses the double factor.
        */
       bool                single_precision_preconditioner = false;
+      /**
+       * How refactorize() takes a change of A when the factor was exact (supernodal
+       * method): by the cheapest of an update of the factor and the recomputation of its
+       * columns (ChangeMethod).
+       */
+      ChangeMethod        change_method = ChangeMethod::automatic;
+      /** ModificationSettings::pivot_tolerance of downdates. */
+      double              downdate_pivot_tolerance = 1e-12;
+      /**
+       * A change touching more rows and columns than this is never taken as an update
+       * (its low-rank form is found by a dense factorization on them, and the update's
+       * cost grows with its rank: recomputing wins long before).
+       */
+      Index               max_update_rows = 600;
     };
 
     /** What the last calls did and cost. Times are wall-clock seconds. */
@@ -147,6 +168,24 @@ namespace warpchol::cholesky
       /** Top supernodes that are stale after the last call, and the flops a Refresh::all would spend on them alone. */
       Index  stale_supernodes    = 0;
       double stale_flops         = 0;
+
+      /** How the last refactorize() (or update()) brought the factor up to date. */
+      RefactorizationMethod method = RefactorizationMethod::none;
+      /**
+       * What the last refactorize() weighed, when it weighed an update (ChangeMethod): the
+       * rank of the change in low-rank form and the flops and predicted seconds of an
+       * update, a partial and a full refactorization; negative when not weighed.
+       */
+      Index  update_rank               = 0;
+      double update_flops              = -1;
+      double partial_flops             = -1;
+      double predicted_update_seconds  = -1;
+      double predicted_partial_seconds = -1;
+      double predicted_full_seconds    = -1;
+      /** Whether the last refactorize() tried an update that a downdate's pivot stopped (it recomputed instead). */
+      bool   update_fell_back          = false;
+      /** Updates and downdates done (by refactorize() or update()). */
+      Index  n_updates                 = 0;
 
       /** nnz(L) / nnz(tril(A)). */
       double fill() const;
@@ -204,6 +243,35 @@ namespace warpchol::cholesky
                      const double             *values,
                      const std::vector<Index> &changed_columns,
                      Refresh                   refresh = Refresh::all);
+
+    /**
+     * L L^T + C C^T: the factor of A + C C^T, in place (CHOLMOD's cholmod_updown). @p c is
+     * n x k in the user's numbering (any storage flag: every stored entry is an entry of
+     * C), each column's rows coupled in A's factor (for instance the dofs of one element or
+     * one vertex): C C^T must fit L's pattern, which is refused naming the column and rows
+     * otherwise. The solver's copy of A is updated too, so that a later refactorize()
+     * finds the change. Supernodal method; needs an exact factor (factor_is_exact()).
+     */
+    void update(const sparse::CSCMatrix &c);
+
+    /**
+     * L L^T - C C^T, as update(). Throws NotPositiveDefinite, the factor left as it was,
+     * if A - C C^T is not positive definite (or loses all but a few digits of a pivot,
+     * Settings::downdate_pivot_tolerance): the caller may then factor the matrix it
+     * meant anew.
+     */
+    void downdate(const sparse::CSCMatrix &c);
+
+    /** Both in one pass: column t of @p c is added if signs[t] = +1, subtracted if -1. */
+    void modify(const sparse::CSCMatrix &c, const std::vector<double> &signs);
+
+    /**
+     * The predicted seconds of refactorize(matrix, @p changed_columns, @p refresh) now, as
+     * its choice between an update and a recomputation would have it (the change's rank
+     * taken as the number of changed columns): what a caller that weighs refreshing
+     * against other work compares. Throws as refactorize() does.
+     */
+    double predicted_seconds(const std::vector<Index> &changed_columns, Refresh refresh) const;
 
     /**
      * The flops refactorize(matrix, @p changed_columns, @p refresh) would spend now: on the
@@ -336,6 +404,19 @@ namespace warpchol::cholesky
     /** Set the statistics of what is pending and stale. */
     void update_backlog_statistics();
 
+    /** Throw unless update() and its kind may run now (@p caller names it). */
+    void check_modification(const std::string &caller) const;
+
+    /**
+     * Weigh an update of the factor by the change of A since it was factored (columns
+     * @p changes of C) against recomputing @p plan; if the update is chosen, run it and
+     * return true (false: recompute). Sets the statistics of the choice.
+     */
+    bool updated_instead(const std::vector<Index> &changes, const RefreshPlan &plan);
+
+    /** The settings of the update and downdate kernels. */
+    ModificationSettings modification_settings() const;
+
     Settings              solver_settings;
     std::vector<Index>    fill_reducing_permutation;
     std::vector<Index>    inverse_permutation;
@@ -358,6 +439,14 @@ namespace warpchol::cholesky
     std::vector<Index>    stale_columns;
     bool                  analyzed     = false;
     bool                  factor_valid = false;
+    /**
+     * Whether the copy of A holds the matrix the factor is that of: not after an update()
+     * whose C C^T reaches entries of L outside A's pattern (the next refactorize() factors
+     * in full).
+     */
+    bool                  matrix_holds_factored = true;
+    /** The rates of the choice between update and recomputation. */
+    RefactorizationCostModel refactorization_costs;
     mutable Statistics    stats;
   };
 } // namespace warpchol::cholesky

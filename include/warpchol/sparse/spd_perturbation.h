@@ -37,4 +37,17 @@ namespace warpchol::sparse
    */
   std::vector<Index> local_vertex_columns(const CSCMatrix &matrix, int block_size, Index n_vertices,
                                           std::uint64_t seed);
+
+  /**
+   * A grasp's springs in low-rank form: C (n x |columns|) with the column sqrt(@p factor
+   * A(j,j)) e_j for each of @p columns, so that A + C C^T adds factor A(j,j) to those
+   * diagonal entries (rank |columns|).
+   */
+  CSCMatrix penalty_columns(const CSCMatrix &matrix, const std::vector<Index> &columns, double factor);
+
+  /**
+   * matrix += @p sign C C^T on the stored entries of @p matrix (either storage); throws
+   * InputError if a product falls on an entry it does not store.
+   */
+  void add_outer_products(CSCMatrix &matrix, const CSCMatrix &c, double sign);
 } // namespace warpchol::sparse

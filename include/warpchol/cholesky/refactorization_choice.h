@@ -1,0 +1,84 @@
+#pragma once
+
+#include <warpchol/base/binary_io.h>
+
+#include <array>
+#include <string>
+
+/**
+ * @file
+ * The choice, per change of A, between updating the factor and recomputing its columns
+ * (SparseCholesky::refactorize()): what each costs, predicted from flops and rates
+ * calibrated on what was measured.
+ */
+namespace warpchol::cholesky
+{
+  /** How a refactorize() brought the factor up to date. */
+  enum class RefactorizationMethod
+  {
+    /** Nothing to do, or the changes were only loaded (Refresh::none). */
+    none,
+    /** An update and downdate of the factor by the change in low-rank form (cholesky/modify). */
+    update,
+    /** Partial refactorization: the columns on the changes' elimination-tree paths recomputed. */
+    partial,
+    /** Every column computed anew. */
+    full
+  };
+
+  /** "none", "update", "partial", "full". */
+  std::string to_string(RefactorizationMethod method);
+
+  /** What refactorize() may choose from (SparseCholesky::Settings::change_method). */
+  enum class ChangeMethod
+  {
+    /** The cheapest by predicted seconds, its rates calibrated on measured times. */
+    automatic,
+    /**
+     * The cheapest by predicted seconds at fixed rates (no measurement): the same choice
+     * whatever the machine's load, so the same bits from run to run.
+     */
+    by_flops,
+    /** Never update: recompute the columns (partial refactorization). */
+    recompute,
+    /** Update whenever the change allows it (supernodal method, an exact factor). */
+    update
+  };
+
+  /** "auto", "flops", "recompute", "update". */
+  std::string to_string(ChangeMethod method);
+  /** The inverse of to_string(); throws InputError naming the valid ones. */
+  ChangeMethod parse_change_method(const std::string &name);
+
+  /**
+   * Seconds of each method: flops / rate, with a rate per method. Until a method was
+   * measured its rate is the factorization's (the first one measured, the set-up's) times
+   * a fixed ratio: the update's kernels reach about half a factorization's flop rate,
+   * carrying fewer columns per entry of L than dgemm does. Measured rates follow the run as
+   * exponential moving averages. With fixed_rates (ChangeMethod::by_flops) nothing is ever
+   * measured: the predictions are fixed multiples of the flops.
+   */
+  class RefactorizationCostModel
+  {
+  public:
+    explicit RefactorizationCostModel(bool fixed_rates = false);
+
+    /** The predicted seconds of @p method spending @p flops. */
+    double predicted_seconds(RefactorizationMethod method, double flops) const;
+
+    /** @p method spent @p flops in @p seconds. */
+    void record(RefactorizationMethod method, double flops, double seconds);
+
+    void save(BinaryWriter &writer) const;
+    void load(BinaryReader &reader);
+
+  private:
+    /** A factorization's flop rate before any was measured, and the update's share of it. */
+    static constexpr double default_rate = 2e10, update_rate_ratio = 0.5;
+
+    bool                  fixed_rates;
+    /** Flops per second of update, partial, full; whether each was measured. */
+    std::array<double, 3> rates    = {{update_rate_ratio * default_rate, default_rate, default_rate}};
+    std::array<bool, 3>   measured = {{false, false, false}};
+  };
+} // namespace warpchol::cholesky

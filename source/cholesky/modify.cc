@@ -1,0 +1,567 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/cholesky/modify.h>
+
+#include <tbb/enumerable_thread_specific.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <string>
+
+#include "subtree_tasks.h"
+
+namespace warpchol::cholesky
+{
+  namespace
+  {
+    /** Columns of C per pass over the paths: one bit each in a supernode's mask. */
+    constexpr Index group_columns = 64;
+    /** Columns of C a supernode's reflectors carry in registers at a time. */
+    constexpr Index chunk_columns = 16;
+    /** Rows a reflector is applied to at a time: one vector of doubles (two on AVX2). */
+    constexpr Index lanes = 8;
+    /** Supernodes whose own work exceeds this many flops split their rows over threads. */
+    constexpr double threaded_supernode_flops = 2e6;
+
+    using Lanes = double __attribute__((vector_size(8 * lanes)));
+
+    Lanes load(const double *p)
+    {
+      Lanes v;
+      std::memcpy(&v, p, sizeof v);
+      return v;
+    }
+
+    void store(double *p, const Lanes &v)
+    {
+      std::memcpy(p, &v, sizeof v);
+    }
+
+    /** Entries of L in the local columns [q, nc) of supernode s, diagonal included. */
+    Index entries_from(const SupernodalSymbolic &symbolic, const Index s, const Index q)
+    {
+      const Index nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+      return (nc - q) * nr - (q + nc - 1) * (nc - q) / 2;
+    }
+
+    Index n_chunks(const Index rank)
+    {
+      return (rank + chunk_columns - 1) / chunk_columns;
+    }
+
+    /** Flops of a modification of rank @p rank of supernode s from its local column q on. */
+    double supernode_modification_flops(const SupernodalSymbolic &symbolic, const Index s, const Index q,
+                                        const Index rank)
+    {
+      return static_cast<double>(entries_from(symbolic, s, q)) *
+             (4. * static_cast<double>(rank) + 3. * static_cast<double>(n_chunks(rank)));
+    }
+
+    /** Where a change entering supernode @p child goes on in its parent: the local column of its first row below. */
+    Index entry_column_in_parent(const SupernodalSymbolic &symbolic, const Index child)
+    {
+      const Index p = symbolic.supernode_parent[child];
+      return symbolic.row_index[symbolic.row_start[child] + symbolic.n_columns(child)] - symbolic.first_column[p];
+    }
+
+    /**
+     * The reflectors of one chunk of K columns of C on one supernode, and how they are
+     * applied: per local column j, tau_j, v_j (K values) and S v_j (K values).
+     */
+    template <int K>
+    struct ChunkKernel
+    {
+      static constexpr Index stride = 2 * K + 1;
+
+      double       *l;
+      Index         nr, nc;
+      double       *w;
+      Index         ldw;
+      const double *sign;
+      double       *reflectors;
+
+      /** Apply the reflectors [j_begin, j_end) to the rows [row_begin, row_end), eight at a time. */
+      void apply_to_rows(const Index row_begin, const Index row_end, const Index j_begin, const Index j_end) const
+      {
+        if (j_begin >= j_end)
+          return;
+        Index i = row_begin;
+        for (; i + lanes <= row_end; i += lanes)
+          {
+            Lanes carried[K];
+            for (int t = 0; t < K; ++t)
+              carried[t] = load(w + t * ldw + i);
+            for (Index j = j_begin; j < j_end; ++j)
+              {
+                const double *r      = reflectors + j * stride;
+                double       *column = l + j * nr + i;
+                const Lanes   old    = load(column);
+                Lanes         s      = old;
+                for (int t = 0; t < K; ++t)
+                  s += carried[t] * r[1 + K + t];
+                const Lanes changed = r[0] * s - old;
+                store(column, changed);
+                const Lanes sum = old + changed;
+                for (int t = 0; t < K; ++t)
+                  carried[t] -= sum * r[1 + t];
+              }
+            for (int t = 0; t < K; ++t)
+              store(w + t * ldw + i, carried[t]);
+          }
+        for (; i < row_end; ++i)
+          apply_to_row(i, j_begin, j_end);
+      }
+
+      /** The same for one row. */
+      void apply_to_row(const Index i, const Index j_begin, const Index j_end) const
+      {
+        double carried[K];
+        for (int t = 0; t < K; ++t)
+          carried[t] = w[t * ldw + i];
+        for (Index j = j_begin; j < j_end; ++j)
+          {
+            const double *r   = reflectors + j * stride;
+            const double  old = l[j * nr + i];
+            double        s   = old;
+            for (int t = 0; t < K; ++t)
+              s += carried[t] * r[1 + K + t];
+            const double changed = r[0] * s - old;
+            l[j * nr + i]        = changed;
+            const double sum     = old + changed;
+            for (int t = 0; t < K; ++t)
+              carried[t] -= sum * r[1 + t];
+          }
+        for (int t = 0; t < K; ++t)
+          w[t * ldw + i] = carried[t];
+      }
+
+      /**
+       * The reflector of column j from its row: (L_jj, w_j) -> (r, 0). Throws
+       * NotPositiveDefinite (column @p first_column + j) if r^2 falls to the tolerance.
+       */
+      void make_reflector(const Index j, const double tolerance, const Index first_column) const
+      {
+        const double alpha = l[j * nr + j];
+        double       r2 = alpha * alpha, held = alpha * alpha;
+        for (int t = 0; t < K; ++t)
+          {
+            const double entry = w[t * ldw + j];
+            r2 += sign[t] * entry * entry;
+            if (sign[t] > 0)
+              held += entry * entry;
+          }
+        if (!(r2 > tolerance * held) || !std::isfinite(r2))
+          throw NotPositiveDefinite(first_column + j, r2);
+        const double r = std::sqrt(r2), denominator = alpha + r;
+        double      *reflector = reflectors + j * stride;
+        reflector[0]           = 1. + alpha / r;
+        for (int t = 0; t < K; ++t)
+          {
+            reflector[1 + t]     = w[t * ldw + j] / denominator;
+            reflector[1 + K + t] = sign[t] * reflector[1 + t];
+            w[t * ldw + j]       = 0.;
+          }
+        l[j * nr + j] = r;
+      }
+
+      /**
+       * Modify the supernode from its local column q on: the rows of its diagonal block a
+       * group of eight at a time (the reflectors of the columns before the group, then the
+       * group's own, made from its rows one by one), then the rows below (split over
+       * threads if @p threaded). Returns the flops.
+       */
+      double run(const Index q, const double tolerance, const Index first_column, const bool threaded) const
+      {
+        Index i0 = q;
+        for (; i0 < nc; i0 += lanes)
+          {
+            const Index i1 = std::min(i0 + lanes, nr);
+            apply_to_rows(i0, i1, q, i0);
+            for (Index j = i0; j < std::min(i1, nc); ++j)
+              {
+                make_reflector(j, tolerance, first_column);
+                for (Index i = j + 1; i < i1; ++i)
+                  apply_to_row(i, j, j + 1);
+              }
+          }
+        const Index rows_below = nr - std::min(i0, nr);
+        if (threaded && rows_below > 4 * lanes)
+          {
+            // Each row is computed alone, the same way whatever the split: the same bits
+            // for any number of threads.
+            const Index block = std::max<Index>(8 * lanes, (rows_below / (8 * lanes) + 1) * lanes);
+            tbb::parallel_for(Index(0), (rows_below + block - 1) / block, [&](const Index b) {
+              apply_to_rows(i0 + b * block, std::min(nr, i0 + (b + 1) * block), q, nc);
+            });
+          }
+        else if (rows_below > 0)
+          apply_to_rows(i0, nr, q, nc);
+        return 0;
+      }
+    };
+
+    /** ChunkKernel<K>::run for the K of @p n_columns (1 to chunk_columns). */
+    template <int K>
+    void run_chunk(const Index n_columns, double *l, const Index nr, const Index nc, double *w, const Index ldw,
+                   const double *sign, double *reflectors, const Index q, const double tolerance,
+                   const Index first_column, const bool threaded)
+    {
+      if constexpr (K < chunk_columns)
+        if (n_columns > K)
+          {
+            run_chunk<K + 1>(n_columns, l, nr, nc, w, ldw, sign, reflectors, q, tolerance, first_column, threaded);
+            return;
+          }
+      const ChunkKernel<K> kernel{l, nr, nc, w, ldw, sign, reflectors};
+      kernel.run(q, tolerance, first_column, threaded);
+    }
+
+    /** What one thread needs to modify a supernode. */
+    struct Workspace
+    {
+      /** The supernode's rows of the active columns of W, column by column. */
+      std::vector<double> w;
+      std::vector<double> reflectors;
+      std::vector<double> signs;
+      std::vector<Index>  active;
+    };
+
+    /**
+     * One modify_supernodal() call: the columns of C a group of at most 64 at a time, each
+     * group one pass over the supernodes on its paths.
+     */
+    class ModificationRun
+    {
+    public:
+      ModificationRun(const SupernodalSymbolic &symbolic, double *values, const sparse::CSCMatrix &c,
+                      const std::vector<double> &signs, const ModificationSettings &settings)
+        : symbolic(symbolic)
+        , values(values)
+        , c(c)
+        , signs(signs)
+        , settings(settings)
+        , path_index(symbolic.n_supernodes(), -1)
+      {
+        for (const double sign : signs)
+          keeps_backup = keeps_backup || sign < 0;
+      }
+
+      ModificationResult run()
+      {
+        ModificationResult result;
+        if (keeps_backup)
+          backup_start.assign(symbolic.n_supernodes(), -1);
+        try
+          {
+            for (Index first = 0; first < c.n_cols; first += group_columns)
+              run_group(first, std::min(c.n_cols, first + group_columns), result);
+          }
+        catch (...)
+          {
+            restore();
+            throw;
+          }
+        return result;
+      }
+
+    private:
+      const SupernodalSymbolic   &symbolic;
+      double                     *values;
+      const sparse::CSCMatrix    &c;
+      const std::vector<double>  &signs;
+      const ModificationSettings &settings;
+
+      /** The supernodes of the group's paths, their position in path, -1 elsewhere. */
+      std::vector<Index>         path;
+      std::vector<Index>         path_index;
+      /** Per path position: its first row of W, which columns of the group pass through it, where they start. */
+      std::vector<Index>         w_row_start;
+      std::vector<std::uint64_t> active_mask;
+      /** The group's columns of W, row-major (group_size per row), on the path's columns only. */
+      std::vector<double>        w;
+      Index                      first_group_column = 0, group_size = 0;
+      /** Per column of the group: the row (permuted) of its first entry that may be nonzero. */
+      std::vector<Index>         entry_row;
+
+      bool                       keeps_backup = false;
+      /** A downdate keeps each supernode's values as they were before it touched them. */
+      std::vector<Index>         backup_start;
+      std::vector<double>        backup;
+      tbb::enumerable_thread_specific<Workspace> workspaces;
+
+      Index w_row(const Index row) const
+      {
+        const Index s = symbolic.supernode_of[row];
+        return w_row_start[path_index[s]] + row - symbolic.first_column[s];
+      }
+
+      void run_group(const Index begin, const Index end, ModificationResult &result)
+      {
+        first_group_column = begin;
+        group_size         = end - begin;
+        // The paths: from each column's first row to the root.
+        for (const Index s : path)
+          path_index[s] = -1;
+        path.clear();
+        entry_row.assign(group_size, -1);
+        std::vector<std::uint64_t> start_mask;
+        for (Index t = begin; t < end; ++t)
+          {
+            if (c.column_start[t] == c.column_start[t + 1])
+              continue;
+            const Index first = c.row_index[c.column_start[t]];
+            entry_row[t - begin] = first;
+            for (Index s = symbolic.supernode_of[first]; s != -1 && path_index[s] == -1; s = symbolic.supernode_parent[s])
+              {
+                path_index[s] = 0;
+                path.push_back(s);
+              }
+          }
+        std::sort(path.begin(), path.end());
+        w_row_start.assign(path.size() + 1, 0);
+        active_mask.assign(path.size(), 0);
+        for (std::size_t k = 0; k < path.size(); ++k)
+          {
+            path_index[path[k]] = static_cast<Index>(k);
+            w_row_start[k + 1]  = w_row_start[k] + symbolic.n_columns(path[k]);
+          }
+        for (Index t = 0; t < group_size; ++t)
+          if (entry_row[t] >= 0)
+            active_mask[path_index[symbolic.supernode_of[entry_row[t]]]] |= std::uint64_t(1) << t;
+        for (std::size_t k = 0; k < path.size(); ++k)
+          {
+            const Index p = symbolic.supernode_parent[path[k]];
+            if (p != -1)
+              active_mask[path_index[p]] |= active_mask[k];
+          }
+        w.assign(static_cast<std::size_t>(w_row_start.back() * group_size), 0.);
+        for (Index t = begin; t < end; ++t)
+          for (Index k = c.column_start[t]; k < c.column_start[t + 1]; ++k)
+            w[w_row(c.row_index[k]) * group_size + (t - begin)] = c.values[k];
+
+        if (keeps_backup)
+          for (const Index s : path)
+            if (backup_start[s] < 0)
+              {
+                backup_start[s] = static_cast<Index>(backup.size());
+                backup.resize(backup.size() + static_cast<std::size_t>(symbolic.value_start[s + 1] - symbolic.value_start[s]));
+              }
+
+        std::vector<double> flops(path.size(), 0.);
+        for_each_supernode_bottom_up(
+          symbolic, path, settings.n_threads, [&](const Index s) { return path_index[s] >= 0; },
+          [&](const Index s) {
+            const Index rank = __builtin_popcountll(active_mask[path_index[s]]);
+            return supernode_modification_flops(symbolic, s, 0, rank);
+          },
+          [&](const Index s, const bool joined) {
+            if (joined)
+              {
+                // Its own buffers: while it waits on its rows' threads, this thread may run
+                // other supernodes' tasks with its thread-local workspace.
+                Workspace own;
+                flops[path_index[s]] = modify_supernode(s, own, true);
+              }
+            else
+              flops[path_index[s]] = modify_supernode(s, workspaces.local(), false);
+          });
+        for (std::size_t k = 0; k < path.size(); ++k)
+          {
+            result.flops += flops[k];
+            ++result.supernodes;
+            result.columns += symbolic.n_columns(path[k]);
+          }
+      }
+
+      /** Modify supernode s by the group's columns that pass through it; returns the flops. */
+      double modify_supernode(const Index s, Workspace &workspace, const bool joined)
+      {
+        const Index          position = path_index[s];
+        const std::uint64_t  mask     = active_mask[position];
+        const Index          f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+        const Index         *rows = symbolic.row_index.data() + symbolic.row_start[s];
+        double              *block = values + symbolic.value_start[s];
+        std::vector<Index>  &active = workspace.active;
+        active.clear();
+        Index q_min = nc;
+        for (Index t = 0; t < group_size; ++t)
+          if ((mask >> t) & 1)
+            {
+              active.push_back(t);
+              q_min = std::min(q_min, entry_row[t] - f);
+            }
+        const Index rank = static_cast<Index>(active.size());
+        if (keeps_backup)
+          std::copy(block, block + nr * nc, backup.data() + backup_start[s]);
+
+        // Gather the active columns of W on the rows of s (from q_min: the rows above are 0).
+        const Index ldw = nr;
+        workspace.w.assign(static_cast<std::size_t>(ldw * rank), 0.);
+        workspace.signs.resize(rank);
+        for (Index a = 0; a < rank; ++a)
+          workspace.signs[a] = signs[first_group_column + active[a]];
+        const Index own_rows = w_row_start[position];
+        for (Index i = q_min; i < nr; ++i)
+          {
+            const double *source = w.data() + (i < nc ? own_rows + i : w_row(rows[i])) * group_size;
+            for (Index a = 0; a < rank; ++a)
+              workspace.w[a * ldw + i] = source[active[a]];
+          }
+
+        // Chunks of at most chunk_columns columns, of balanced sizes, one after the other.
+        const Index chunks = n_chunks(rank);
+        double      flops  = 0;
+        workspace.reflectors.resize(static_cast<std::size_t>(nc * (2 * chunk_columns + 1)));
+        for (Index k = 0, a0 = 0; k < chunks; ++k)
+          {
+            const Index size = rank / chunks + (k < rank % chunks ? 1 : 0);
+            Index       q    = nc;
+            for (Index a = a0; a < a0 + size; ++a)
+              q = std::min(q, entry_row[active[a]] - f);
+            const bool threaded =
+              joined && supernode_modification_flops(symbolic, s, q, size) > threaded_supernode_flops;
+            run_chunk<1>(size, block, nr, nc, workspace.w.data() + a0 * ldw, ldw, workspace.signs.data() + a0,
+                         workspace.reflectors.data(), q, settings.pivot_tolerance, f, threaded);
+            flops += supernode_modification_flops(symbolic, s, q, size);
+            a0 += size;
+          }
+
+        // Scatter what goes on to the rows below; the columns now start at s's first row below.
+        for (Index i = nc; i < nr; ++i)
+          {
+            double *target = w.data() + w_row(rows[i]) * group_size;
+            for (Index a = 0; a < rank; ++a)
+              target[active[a]] = workspace.w[a * ldw + i];
+          }
+        for (const Index t : active)
+          entry_row[t] = nr > nc ? rows[nc] : symbolic.n;
+        return flops;
+      }
+
+      /** Put back the values of every supernode a failed downdate touched. */
+      void restore()
+      {
+        if (!keeps_backup)
+          return;
+        for (Index s = 0; s < symbolic.n_supernodes(); ++s)
+          if (backup_start[s] >= 0)
+            std::copy(backup.data() + backup_start[s],
+                      backup.data() + backup_start[s] + (symbolic.value_start[s + 1] - symbolic.value_start[s]),
+                      values + symbolic.value_start[s]);
+      }
+    };
+
+    /** The plan of columns of C that start at @p first_rows (permuted; -1: an empty column). */
+    ModificationPlan plan_from_first_rows(const SupernodalSymbolic &symbolic, const std::vector<Index> &first_rows)
+    {
+      const Index         ns = symbolic.n_supernodes();
+      std::vector<Index>  rank(ns, 0), start(ns, -1);
+      std::vector<char>   on_path(ns, 0);
+      ModificationPlan    plan;
+      const auto          lower_start = [&](const Index s, const Index q) {
+        start[s] = start[s] < 0 ? q : std::min(start[s], q);
+      };
+      for (const Index row : first_rows)
+        {
+          if (row < 0)
+            continue;
+          if (row >= symbolic.n)
+            throw InputError("a column of the modification starts at row " + std::to_string(row) +
+                             ", past the matrix's " + std::to_string(symbolic.n));
+          ++plan.rank;
+          Index s = symbolic.supernode_of[row];
+          ++rank[s];
+          lower_start(s, row - symbolic.first_column[s]);
+          for (; s != -1 && !on_path[s]; s = symbolic.supernode_parent[s])
+            {
+              on_path[s] = 1;
+              plan.supernodes.push_back(s);
+            }
+        }
+      std::sort(plan.supernodes.begin(), plan.supernodes.end());
+      for (const Index s : plan.supernodes)
+        {
+          const Index p = symbolic.supernode_parent[s];
+          if (p != -1)
+            {
+              rank[p] += rank[s];
+              lower_start(p, entry_column_in_parent(symbolic, s));
+            }
+          plan.start_columns.push_back(start[s]);
+          plan.ranks.push_back(rank[s]);
+          // Columns of C pass through in groups of 64: a rank past that is several passes.
+          const double flops = supernode_modification_flops(symbolic, s, start[s], rank[s]);
+          plan.supernode_flops.push_back(flops);
+          plan.flops += flops;
+          plan.n_columns += symbolic.n_columns(s) - start[s];
+          plan.n_entries += entries_from(symbolic, s, start[s]);
+        }
+      return plan;
+    }
+  } // namespace
+
+  ModificationPlan plan_modification(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &c)
+  {
+    std::vector<Index> first_rows(c.n_cols, -1);
+    for (Index t = 0; t < c.n_cols; ++t)
+      if (c.column_start[t] < c.column_start[t + 1])
+        first_rows[t] = c.row_index[c.column_start[t]];
+    return plan_from_first_rows(symbolic, first_rows);
+  }
+
+  ModificationPlan plan_modification(const SupernodalSymbolic &symbolic, const std::vector<Index> &first_rows)
+  {
+    return plan_from_first_rows(symbolic, first_rows);
+  }
+
+  void check_modification_pattern(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &c,
+                                  const std::vector<Index> &row_names)
+  {
+    const auto name = [&](const Index row) { return std::to_string(row_names.empty() ? row : row_names[row]); };
+    if (c.n_rows != symbolic.n)
+      throw InputError("the modification has " + std::to_string(c.n_rows) + " rows, the factor " +
+                       std::to_string(symbolic.n));
+    for (Index t = 0; t < c.n_cols; ++t)
+      {
+        const Index begin = c.column_start[t], end = c.column_start[t + 1];
+        for (Index k = begin; k < end; ++k)
+          {
+            if (c.row_index[k] < 0 || c.row_index[k] >= symbolic.n)
+              throw InputError("column " + std::to_string(t) + " of the modification has a row " +
+                               std::to_string(c.row_index[k]) + " out of range [0, " + std::to_string(symbolic.n) + ")");
+            if (k > begin && c.row_index[k] <= c.row_index[k - 1])
+              throw InputError("the rows of column " + std::to_string(t) +
+                               " of the modification are not sorted and distinct");
+          }
+        if (end - begin < 2)
+          continue;
+        const Index  first = c.row_index[begin], s = symbolic.supernode_of[first];
+        const Index *below = symbolic.row_index.data() + symbolic.row_start[s] + symbolic.n_columns(s);
+        const Index *last  = symbolic.row_index.data() + symbolic.row_start[s + 1];
+        for (Index k = begin + 1; k < end; ++k)
+          {
+            const Index row = c.row_index[k];
+            if (row < symbolic.first_column[s + 1] || std::binary_search(below, last, row))
+              continue;
+            throw InputError("column " + std::to_string(t) + " of the modification has entries in rows " + name(first) +
+                             " and " + name(row) + ", which the factor's structure does not couple: C C^T would fill L " +
+                             "outside its analyzed pattern");
+          }
+      }
+  }
+
+  ModificationResult modify_supernodal(const SupernodalSymbolic &symbolic, double *values, const sparse::CSCMatrix &c,
+                                       const std::vector<double> &signs, const ModificationSettings &settings)
+  {
+    if (static_cast<Index>(signs.size()) != c.n_cols)
+      throw InputError("the modification has " + std::to_string(c.n_cols) + " columns but " +
+                       std::to_string(signs.size()) + " signs");
+    for (const double sign : signs)
+      if (sign != 1. && sign != -1.)
+        throw InputError("a modification's signs are +1 (update) or -1 (downdate), not " + std::to_string(sign));
+    ModificationRun run(symbolic, values, c, signs, settings);
+    return run.run();
+  }
+} // namespace warpchol::cholesky

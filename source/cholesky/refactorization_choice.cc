@@ -1,0 +1,108 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+#include <warpchol/cholesky/refactorization_choice.h>
+
+namespace warpchol::cholesky
+{
+  std::string to_string(const RefactorizationMethod method)
+  {
+    switch (method)
+      {
+        case RefactorizationMethod::none:
+          return "none";
+        case RefactorizationMethod::update:
+          return "update";
+        case RefactorizationMethod::partial:
+          return "partial";
+        case RefactorizationMethod::full:
+          return "full";
+      }
+    return "unknown";
+  }
+
+  std::string to_string(const ChangeMethod method)
+  {
+    switch (method)
+      {
+        case ChangeMethod::automatic:
+          return "auto";
+        case ChangeMethod::by_flops:
+          return "flops";
+        case ChangeMethod::recompute:
+          return "recompute";
+        case ChangeMethod::update:
+          return "update";
+      }
+    return "unknown";
+  }
+
+  ChangeMethod parse_change_method(const std::string &name)
+  {
+    for (const ChangeMethod method :
+         {ChangeMethod::automatic, ChangeMethod::by_flops, ChangeMethod::recompute, ChangeMethod::update})
+      if (name == to_string(method))
+        return method;
+    throw InputError("unknown change method " + quote(name) + " (expected auto, flops, recompute or update)");
+  }
+
+  namespace
+  {
+    /** Index of a method that computes something in the rates. */
+    std::size_t slot(const RefactorizationMethod method)
+    {
+      return method == RefactorizationMethod::update ? 0 : method == RefactorizationMethod::partial ? 1 : 2;
+    }
+
+    /** Weight of a new measurement in a rate's moving average. */
+    constexpr double new_weight = 0.3;
+  } // namespace
+
+  RefactorizationCostModel::RefactorizationCostModel(const bool fixed_rates)
+    : fixed_rates(fixed_rates)
+  {}
+
+  double RefactorizationCostModel::predicted_seconds(const RefactorizationMethod method, const double flops) const
+  {
+    if (method == RefactorizationMethod::none)
+      return 0.;
+    return flops / rates[slot(method)];
+  }
+
+  void RefactorizationCostModel::record(const RefactorizationMethod method, const double flops, const double seconds)
+  {
+    // Too little work to time, or a method that computed nothing.
+    if (fixed_rates || method == RefactorizationMethod::none || !(flops > 1e5) || !(seconds > 0))
+      return;
+    const double      rate = flops / seconds;
+    const std::size_t k    = slot(method);
+    rates[k]               = measured[k] ? (1 - new_weight) * rates[k] + new_weight * rate : rate;
+    measured[k]            = true;
+    // A factorization's rate stands for the methods not measured yet.
+    if (method != RefactorizationMethod::update)
+      for (const std::size_t other : {std::size_t(1), std::size_t(2)})
+        if (!measured[other])
+          rates[other] = rates[k];
+    if (!measured[0] && method != RefactorizationMethod::update)
+      rates[0] = update_rate_ratio * rates[k];
+  }
+
+  void RefactorizationCostModel::save(BinaryWriter &writer) const
+  {
+    for (std::size_t k = 0; k < rates.size(); ++k)
+      {
+        writer.write(rates[k]);
+        writer.write(measured[k]);
+      }
+  }
+
+  void RefactorizationCostModel::load(BinaryReader &reader)
+  {
+    for (std::size_t k = 0; k < rates.size(); ++k)
+      {
+        reader.read(rates[k]);
+        reader.read(measured[k]);
+        if (!(rates[k] > 0))
+          reader.fail("a refactorization rate is not positive (corrupt)");
+      }
+  }
+} // namespace warpchol::cholesky
