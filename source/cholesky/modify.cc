@@ -8,6 +8,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <memory>
 #include <string>
 
 #include "subtree_tasks.h"
@@ -82,34 +83,77 @@ namespace warpchol::cholesky
       const double *sign;
       double       *reflectors;
 
-      /** Apply the reflectors [j_begin, j_end) to the rows [row_begin, row_end), eight at a time. */
+      /**
+       * Row groups of eight carried side by side: each reflector is a chain of dependent
+       * operations per group (the dot product, the new entry, the sum that updates w),
+       * and independent groups fill the gaps of one another's chains. As many as the
+       * registers hold with their K columns of W: a power of two, so that any split of
+       * the rows at multiples of 32 groups them alike.
+       */
+      static constexpr int groups = K <= 4 ? 4 : K <= 11 ? 2 : 1;
+
+      /** s = l + w . S v for one reflector, in two interleaved sums (the same order everywhere). */
+      template <typename Value>
+      static Value dot(const Value &old, const Value *carried, const double *scaled)
+      {
+        Value even = old;
+        if constexpr (K == 1)
+          return even + carried[0] * scaled[0];
+        else
+          {
+            Value odd = carried[1] * scaled[1];
+            even += carried[0] * scaled[0];
+            for (int t = 2; t + 1 < K; t += 2)
+              {
+                even += carried[t] * scaled[t];
+                odd += carried[t + 1] * scaled[t + 1];
+              }
+            if constexpr (K % 2 == 1)
+              even += carried[K - 1] * scaled[K - 1];
+            return even + odd;
+          }
+      }
+
+      /** Apply the reflectors [j_begin, j_end) to the G groups of eight rows from row i. */
+      template <int G>
+      void apply_to_groups(const Index i, const Index j_begin, const Index j_end) const
+      {
+        Lanes carried[G][K];
+        for (int g = 0; g < G; ++g)
+          for (int t = 0; t < K; ++t)
+            carried[g][t] = load(w + t * ldw + i + g * lanes);
+        for (Index j = j_begin; j < j_end; ++j)
+          {
+            const double *r = reflectors + j * stride;
+            Lanes         sum[G];
+            for (int g = 0; g < G; ++g)
+              {
+                double     *column  = l + j * nr + i + g * lanes;
+                const Lanes old     = load(column);
+                const Lanes changed = r[0] * dot(old, carried[g], r + 1 + K) - old;
+                store(column, changed);
+                sum[g] = old + changed;
+              }
+            for (int g = 0; g < G; ++g)
+              for (int t = 0; t < K; ++t)
+                carried[g][t] -= sum[g] * r[1 + t];
+          }
+        for (int g = 0; g < G; ++g)
+          for (int t = 0; t < K; ++t)
+            store(w + t * ldw + i + g * lanes, carried[g][t]);
+      }
+
+      /** Apply the reflectors [j_begin, j_end) to the rows [row_begin, row_end). */
       void apply_to_rows(const Index row_begin, const Index row_end, const Index j_begin, const Index j_end) const
       {
         if (j_begin >= j_end)
           return;
         Index i = row_begin;
+        if constexpr (groups > 1)
+          for (; i + groups * lanes <= row_end; i += groups * lanes)
+            apply_to_groups<groups>(i, j_begin, j_end);
         for (; i + lanes <= row_end; i += lanes)
-          {
-            Lanes carried[K];
-            for (int t = 0; t < K; ++t)
-              carried[t] = load(w + t * ldw + i);
-            for (Index j = j_begin; j < j_end; ++j)
-              {
-                const double *r      = reflectors + j * stride;
-                double       *column = l + j * nr + i;
-                const Lanes   old    = load(column);
-                Lanes         s      = old;
-                for (int t = 0; t < K; ++t)
-                  s += carried[t] * r[1 + K + t];
-                const Lanes changed = r[0] * s - old;
-                store(column, changed);
-                const Lanes sum = old + changed;
-                for (int t = 0; t < K; ++t)
-                  carried[t] -= sum * r[1 + t];
-              }
-            for (int t = 0; t < K; ++t)
-              store(w + t * ldw + i, carried[t]);
-          }
+          apply_to_groups<1>(i, j_begin, j_end);
         for (; i < row_end; ++i)
           apply_to_row(i, j_begin, j_end);
       }
@@ -122,14 +166,11 @@ namespace warpchol::cholesky
           carried[t] = w[t * ldw + i];
         for (Index j = j_begin; j < j_end; ++j)
           {
-            const double *r   = reflectors + j * stride;
-            const double  old = l[j * nr + i];
-            double        s   = old;
-            for (int t = 0; t < K; ++t)
-              s += carried[t] * r[1 + K + t];
-            const double changed = r[0] * s - old;
-            l[j * nr + i]        = changed;
-            const double sum     = old + changed;
+            const double *r       = reflectors + j * stride;
+            const double  old     = l[j * nr + i];
+            const double  changed = r[0] * dot(old, carried, r + 1 + K) - old;
+            l[j * nr + i]         = changed;
+            const double sum      = old + changed;
             for (int t = 0; t < K; ++t)
               carried[t] -= sum * r[1 + t];
           }
@@ -189,9 +230,11 @@ namespace warpchol::cholesky
         const Index rows_below = nr - std::min(i0, nr);
         if (threaded && rows_below > 4 * lanes)
           {
-            // Each row is computed alone, the same way whatever the split: the same bits
-            // for any number of threads.
-            const Index block = std::max<Index>(8 * lanes, (rows_below / (8 * lanes) + 1) * lanes);
+            // Each row is computed alone, the same way whatever the split (blocks of
+            // multiples of 32 rows group them as one thread does): the same bits for any
+            // number of threads.
+            constexpr Index aligned = 4 * lanes;
+            const Index     block   = std::max<Index>(2 * aligned, (rows_below / (8 * aligned) + 1) * aligned);
             tbb::parallel_for(Index(0), (rows_below + block - 1) / block, [&](const Index b) {
               apply_to_rows(i0 + b * block, std::min(nr, i0 + (b + 1) * block), q, nc);
             });
@@ -227,7 +270,38 @@ namespace warpchol::cholesky
       std::vector<double> signs;
       std::vector<Index>  active;
     };
+  } // namespace
 
+  struct ModificationWorkspace::Buffers
+  {
+    /** Per supernode, its position among the paths of the group being modified; -1 between calls. */
+    std::vector<Index>                         path_index;
+    /** The group's columns of W, row-major, on the paths' columns. */
+    std::vector<double>                        w;
+    /** A downdate's copy of what it changes (not initialized: only what is kept is read). */
+    std::unique_ptr<double[]>                  backup;
+    Index                                      backup_capacity = 0;
+    std::vector<Index>                         backup_start, backup_first;
+    tbb::enumerable_thread_specific<Workspace> workspaces;
+  };
+
+  ModificationWorkspace::ModificationWorkspace()
+    : data(std::make_unique<Buffers>())
+  {}
+
+  ModificationWorkspace::~ModificationWorkspace() = default;
+
+  ModificationWorkspace::ModificationWorkspace(ModificationWorkspace &&) noexcept = default;
+
+  ModificationWorkspace &ModificationWorkspace::operator=(ModificationWorkspace &&) noexcept = default;
+
+  ModificationWorkspace::Buffers &ModificationWorkspace::buffers()
+  {
+    return *data;
+  }
+
+  namespace
+  {
     /**
      * One modify_supernodal() call: the columns of C a group of at most 64 at a time, each
      * group one pass over the supernodes on its paths.
@@ -236,23 +310,31 @@ namespace warpchol::cholesky
     {
     public:
       ModificationRun(const SupernodalSymbolic &symbolic, double *values, const sparse::CSCMatrix &c,
-                      const std::vector<double> &signs, const ModificationSettings &settings)
+                      const std::vector<double> &signs, const ModificationSettings &settings,
+                      ModificationWorkspace::Buffers &buffers)
         : symbolic(symbolic)
         , values(values)
         , c(c)
         , signs(signs)
         , settings(settings)
-        , path_index(symbolic.n_supernodes(), -1)
+        , path_index(buffers.path_index)
+        , w(buffers.w)
+        , backup_start(buffers.backup_start)
+        , backup_first(buffers.backup_first)
+        , buffers(buffers)
+        , workspaces(buffers.workspaces)
       {
+        if (static_cast<Index>(path_index.size()) != symbolic.n_supernodes())
+          path_index.assign(symbolic.n_supernodes(), -1);
         for (const double sign : signs)
-          keeps_backup = keeps_backup || sign < 0;
+          keeps_backup = keeps_backup || (sign < 0 && settings.restore_on_failure);
       }
 
       ModificationResult run()
       {
         ModificationResult result;
         if (keeps_backup)
-          backup_start.assign(symbolic.n_supernodes(), -1);
+          allocate_backup();
         try
           {
             for (Index first = 0; first < c.n_cols; first += group_columns)
@@ -260,9 +342,11 @@ namespace warpchol::cholesky
           }
         catch (...)
           {
+            forget_paths();
             restore();
             throw;
           }
+        forget_paths();
         return result;
       }
 
@@ -275,21 +359,33 @@ namespace warpchol::cholesky
 
       /** The supernodes of the group's paths, their position in path, -1 elsewhere. */
       std::vector<Index>         path;
-      std::vector<Index>         path_index;
+      std::vector<Index>        &path_index;
       /** Per path position: its first row of W, which columns of the group pass through it, where they start. */
       std::vector<Index>         w_row_start;
       std::vector<std::uint64_t> active_mask;
       /** The group's columns of W, row-major (group_size per row), on the path's columns only. */
-      std::vector<double>        w;
+      std::vector<double>       &w;
       Index                      first_group_column = 0, group_size = 0;
       /** Per column of the group: the row (permuted) of its first entry that may be nonzero. */
       std::vector<Index>         entry_row;
 
       bool                       keeps_backup = false;
-      /** A downdate keeps each supernode's values as they were before it touched them. */
-      std::vector<Index>         backup_start;
-      std::vector<double>        backup;
-      tbb::enumerable_thread_specific<Workspace> workspaces;
+      /**
+       * A downdate keeps each supernode's values as they were before it touched them:
+       * value v of supernode s at backup[backup_start[s] + v], for v from backup_first[s]
+       * on (-1: none kept yet).
+       */
+      std::vector<Index>                         &backup_start, &backup_first;
+      ModificationWorkspace::Buffers             &buffers;
+      tbb::enumerable_thread_specific<Workspace> &workspaces;
+
+      /** Leave every path_index at -1 for the next call. */
+      void forget_paths()
+      {
+        for (const Index s : path)
+          path_index[s] = -1;
+        path.clear();
+      }
 
       Index w_row(const Index row) const
       {
@@ -341,14 +437,6 @@ namespace warpchol::cholesky
           for (Index k = c.column_start[t]; k < c.column_start[t + 1]; ++k)
             w[w_row(c.row_index[k]) * group_size + (t - begin)] = c.values[k];
 
-        if (keeps_backup)
-          for (const Index s : path)
-            if (backup_start[s] < 0)
-              {
-                backup_start[s] = static_cast<Index>(backup.size());
-                backup.resize(backup.size() + static_cast<std::size_t>(symbolic.value_start[s + 1] - symbolic.value_start[s]));
-              }
-
         std::vector<double> flops(path.size(), 0.);
         for_each_supernode_bottom_up(
           symbolic, path, settings.n_threads, [&](const Index s) { return path_index[s] >= 0; },
@@ -393,12 +481,23 @@ namespace warpchol::cholesky
               q_min = std::min(q_min, entry_row[t] - f);
             }
         const Index rank = static_cast<Index>(active.size());
+        // A downdate keeps what it changes (the columns from q_min on) until it has succeeded;
+        // an earlier group may have kept a part of them already.
         if (keeps_backup)
-          std::copy(block, block + nr * nc, backup.data() + backup_start[s]);
+          {
+            const Index first = q_min * nr, kept = backup_first[s] < 0 ? nr * nc : backup_first[s];
+            if (first < kept)
+              {
+                std::copy(block + first, block + kept, buffers.backup.get() + backup_start[s] + first);
+                backup_first[s] = first;
+              }
+          }
 
         // Gather the active columns of W on the rows of s (from q_min: the rows above are 0).
+        // Rows above q_min are never read: no need to clear them.
         const Index ldw = nr;
-        workspace.w.assign(static_cast<std::size_t>(ldw * rank), 0.);
+        if (workspace.w.size() < static_cast<std::size_t>(ldw * rank))
+          workspace.w.resize(static_cast<std::size_t>(ldw * rank));
         workspace.signs.resize(rank);
         for (Index a = 0; a < rank; ++a)
           workspace.signs[a] = signs[first_group_column + active[a]];
@@ -440,16 +539,40 @@ namespace warpchol::cholesky
         return flops;
       }
 
+      /**
+       * Room for what a downdate may change: of each supernode on the paths of all of C,
+       * its values from the first column any group changes (the plan's start) on.
+       */
+      void allocate_backup()
+      {
+        backup_start.assign(symbolic.n_supernodes(), -1);
+        backup_first.assign(symbolic.n_supernodes(), -1);
+        const ModificationPlan plan  = plan_modification(symbolic, c);
+        Index                  total = 0;
+        for (std::size_t k = 0; k < plan.supernodes.size(); ++k)
+          {
+            const Index s = plan.supernodes[k], first = plan.start_columns[k] * symbolic.n_rows(s);
+            backup_start[s] = total - first;
+            total += symbolic.value_start[s + 1] - symbolic.value_start[s] - first;
+          }
+        // Not value-initialized: only what is kept is ever read.
+        if (buffers.backup_capacity < total)
+          {
+            buffers.backup.reset(new double[total]);
+            buffers.backup_capacity = total;
+          }
+      }
+
       /** Put back the values of every supernode a failed downdate touched. */
       void restore()
       {
         if (!keeps_backup)
           return;
         for (Index s = 0; s < symbolic.n_supernodes(); ++s)
-          if (backup_start[s] >= 0)
-            std::copy(backup.data() + backup_start[s],
-                      backup.data() + backup_start[s] + (symbolic.value_start[s + 1] - symbolic.value_start[s]),
-                      values + symbolic.value_start[s]);
+          if (backup_first[s] >= 0)
+            std::copy(buffers.backup.get() + backup_start[s] + backup_first[s],
+                      buffers.backup.get() + backup_start[s] + (symbolic.value_start[s + 1] - symbolic.value_start[s]),
+                      values + symbolic.value_start[s] + backup_first[s]);
       }
     };
 
@@ -553,7 +676,8 @@ namespace warpchol::cholesky
   }
 
   ModificationResult modify_supernodal(const SupernodalSymbolic &symbolic, double *values, const sparse::CSCMatrix &c,
-                                       const std::vector<double> &signs, const ModificationSettings &settings)
+                                       const std::vector<double> &signs, const ModificationSettings &settings,
+                                       ModificationWorkspace &workspace)
   {
     if (static_cast<Index>(signs.size()) != c.n_cols)
       throw InputError("the modification has " + std::to_string(c.n_cols) + " columns but " +
@@ -561,7 +685,7 @@ namespace warpchol::cholesky
     for (const double sign : signs)
       if (sign != 1. && sign != -1.)
         throw InputError("a modification's signs are +1 (update) or -1 (downdate), not " + std::to_string(sign));
-    ModificationRun run(symbolic, values, c, signs, settings);
+    ModificationRun run(symbolic, values, c, signs, settings, workspace.buffers());
     return run.run();
   }
 } // namespace warpchol::cholesky

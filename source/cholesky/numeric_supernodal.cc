@@ -610,6 +610,8 @@ namespace warpchol::cholesky
       return partition.get();
     }
     tbb::enumerable_thread_specific<Workspace> workspaces;
+    /** The buffers of updates and downdates, kept from one to the next. */
+    ModificationWorkspace                      modification_workspace;
   };
 
   SupernodalFactor::SupernodalFactor()
@@ -714,7 +716,8 @@ namespace warpchol::cholesky
   {
     if (static_cast<Index>(implementation->values.size()) != symbolic.n_stored_values())
       throw Error("modify() called before factorize()");
-    const ModificationResult result = modify_supernodal(symbolic, implementation->values.data(), c, signs, settings);
+    const ModificationResult result = modify_supernodal(symbolic, implementation->values.data(), c, signs, settings,
+                                                        implementation->modification_workspace);
     if (implementation->keep_single)
       for (const Index s : plan_modification(symbolic, c).supernodes)
         std::copy(implementation->values.begin() + symbolic.value_start[s],

@@ -455,10 +455,13 @@ namespace warpchol::cholesky
 
     const LowRankChange form = low_rank_form(stats.n, entries);
     stats.update_rank        = form.c.n_cols;
+    // If a downdate fails, the columns it changed are recomputed below (they lie on the
+    // changes' paths, which the partial refactorization recomputes): no copy to restore.
+    ModificationSettings settings = modification_settings();
+    settings.restore_on_failure   = false;
     try
       {
-        const ModificationResult result =
-          supernodal_factor.modify(supernodal_structure, form.c, form.signs, modification_settings());
+        const ModificationResult result = supernodal_factor.modify(supernodal_structure, form.c, form.signs, settings);
         stats.flops_recomputed      = result.flops + low_rank_form_flops(static_cast<Index>(rows.size()));
         stats.columns_recomputed    = result.columns;
         stats.supernodes_recomputed = result.supernodes;
@@ -469,9 +472,9 @@ namespace warpchol::cholesky
       }
     catch (const NotPositiveDefinite &)
       {
-        // A downdate that would lose a pivot: the factor is as it was; recompute instead,
-        // which reports the pivot in the user's numbering if the matrix itself is not
-        // positive definite.
+        // A downdate that would lose a pivot (its columns, all on the changes' paths, hold
+        // no factor now): recompute them, which reports the pivot in the user's numbering
+        // if the matrix itself is not positive definite.
         stats.update_fell_back = true;
         return false;
       }

@@ -4,6 +4,7 @@
 #include <warpchol/cholesky/supernodal_symbolic.h>
 #include <warpchol/sparse/csc_matrix.h>
 
+#include <memory>
 #include <vector>
 
 /**
@@ -85,6 +86,13 @@ namespace warpchol::cholesky
     double       pivot_tolerance = 1e-12;
     /** Threads: independent paths side by side, and the rows of large supernodes split. */
     unsigned int n_threads = 1;
+    /**
+     * Whether a downdate that fails puts back the values it changed (it keeps a copy of
+     * them as it goes: about a third of its time). A caller that recomputes the columns on
+     * the paths anyway when it fails (SparseCholesky::refactorize()) does without: the
+     * factor is then invalid until it does.
+     */
+    bool         restore_on_failure = true;
   };
 
   /** What a modification did. */
@@ -96,6 +104,26 @@ namespace warpchol::cholesky
   };
 
   /**
+   * What modify_supernodal() keeps from one call to the next, so that repeated updates of
+   * one factor allocate nothing and touch no fresh page (buffers of C's columns on the
+   * paths, of each thread, and of a downdate's copy of what it changes).
+   */
+  class ModificationWorkspace
+  {
+  public:
+    ModificationWorkspace();
+    ~ModificationWorkspace();
+    ModificationWorkspace(ModificationWorkspace &&) noexcept;
+    ModificationWorkspace &operator=(ModificationWorkspace &&) noexcept;
+
+    struct Buffers;
+    Buffers &buffers();
+
+  private:
+    std::unique_ptr<Buffers> data;
+  };
+
+  /**
    * L L^T + C diag(@p signs) C^T in place on the supernodal factor values @p values of
    * @p symbolic: @p c as in plan_modification() and fitting the structure
    * (check_modification_pattern()), one sign (+1 or -1) per column of C. The columns are
@@ -104,8 +132,11 @@ namespace warpchol::cholesky
    *
    * Throws NotPositiveDefinite with the permuted column and the would-be pivot r^2 if a
    * downdate loses positive definiteness (ModificationSettings::pivot_tolerance); the
-   * values are then restored to what they were, bit for bit.
+   * values are then restored to what they were, bit for bit (unless
+   * ModificationSettings::restore_on_failure is false: then the columns modify_supernodal()
+   * would have changed, those of plan_modification(), hold no factor).
    */
   ModificationResult modify_supernodal(const SupernodalSymbolic &symbolic, double *values, const sparse::CSCMatrix &c,
-                                       const std::vector<double> &signs, const ModificationSettings &settings);
+                                       const std::vector<double> &signs, const ModificationSettings &settings,
+                                       ModificationWorkspace &workspace);
 } // namespace warpchol::cholesky
