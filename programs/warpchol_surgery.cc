@@ -5,12 +5,16 @@
  *   warpchol-surgery PARAMS.prm [--repeat R] [--csv FILE]
  *
  * 1. Each change alone: the scene with stiffness warping (WCC at threshold inf, partial
- *    strategy), whose factor changes only with the changes. At each step with a change:
- *    the elements cut or changed and vertices grasped or released, the columns it touched
- *    and the flops of refactorizing them (% of a full factorization), the seconds of that
- *    partial refactorization, of a full one of the same matrix (warpchol), and of CHOLMOD
- *    analyzing anew and factoring it (as SOFA does after a topological change); and the
- *    check partial <= 1.2 x flop fraction x full + 1 ms.
+ *    strategy), whose factor changes only with the changes, the solver choosing per change
+ *    between updating its factor and recomputing columns (Solver/Change method = auto).
+ *    At each step with a change: the elements cut or changed and vertices grasped or
+ *    released, the columns it touched, the rank of the change in low-rank form, and the
+ *    seconds of taking it from the factor of the step before, each way on a copy: warpchol's
+ *    update, its partial refactorization, a full factorization, CHOLMOD's cholmod_updown
+ *    of the same low-rank change on its simplicial LDL^T factor of the same matrix and
+ *    permutation (the conversion not counted), and CHOLMOD analyzing anew and factoring
+ *    (as SOFA does after a topological change); then what the run chose, what it
+ *    predicted, and the chosen method's time over the fastest of update, partial and full.
  * 2. Whole runs, seconds per step: the scene as its parameters say; the same without the
  *    changes; exact corotation refactored every step by warpchol and by CHOLMOD (which
  *    analyzes anew after each cut); the stale rest factor as CG's preconditioner (SOFA's
@@ -29,6 +33,9 @@
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/blas.h>
+#include <warpchol/cholesky/cholmod_reference.h>
+#include <warpchol/cholesky/low_rank_change.h>
+#include <warpchol/cholesky/ordering.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -72,26 +79,35 @@ namespace
     return options;
   }
 
-  /** The best of @p repeat runs of @p action, in seconds. */
-  double best_of(const unsigned int repeat, const std::function<void()> &action)
+  /** The least of @p repeat runs of @p action, which returns the seconds it timed. */
+  double best_of(const unsigned int repeat, const std::function<double()> &action)
   {
     double best = std::numeric_limits<double>::infinity();
     for (unsigned int r = 0; r < repeat; ++r)
-      {
-        const Stopwatch stopwatch;
-        action();
-        best = std::min(best, stopwatch.seconds());
-      }
+      best = std::min(best, action());
     return best;
   }
 
-  /** What one change step cost. */
+  /** What one change step cost, each way. */
   struct ChangeRow
   {
     unsigned int step = 0;
     std::string  what;
-    double       columns_pct = 0, flops_pct = 0;
-    double       partial = 0, full = 0, cholmod = 0;
+    double       columns_pct = 0;
+    Index        rank        = 0;
+    double       update = 0, partial = 0, full = 0, cholmod_updown = 0, cholmod_anew = 0;
+    /** What the run chose and predicted for it. */
+    std::string  chosen;
+    double       predicted = -1;
+
+    double chosen_seconds() const
+    {
+      return chosen == "update" ? update : chosen == "partial" ? partial : full;
+    }
+    double fastest() const
+    {
+      return std::min({update, partial, full});
+    }
   };
 
   /** Seconds per step of a whole run, and CG's iterations per step. */
@@ -125,6 +141,64 @@ namespace
     return row;
   }
 
+  /**
+   * The change from @p before to @p after (lower triangles, the user's numbering) in the
+   * permuted numbering of @p solver, in low-rank form.
+   */
+  cholesky::LowRankChange change_between(const sparse::CSCMatrix &before, const sparse::CSCMatrix &after,
+                                         const cholesky::SparseCholesky &solver)
+  {
+    const std::vector<Index> inverse = cholesky::invert_permutation(solver.permutation());
+    std::vector<cholesky::PermutedMatrix::Change> changes;
+    for (Index j = 0; j < after.n_cols; ++j)
+      for (Index k = after.column_start[j]; k < after.column_start[j + 1]; ++k)
+        if (after.values[k] != before.values[k])
+          {
+            const Index i = inverse[after.row_index[k]], column = inverse[j];
+            changes.push_back({std::max(i, column), std::min(i, column), after.values[k] - before.values[k]});
+          }
+    return cholesky::low_rank_form(after.n_cols, changes);
+  }
+
+  /** CHOLMOD's update and downdate of @p change (one call each sign), on its LDL^T factor of @p before. */
+  double cholmod_updown_seconds(const sparse::CSCMatrix &before, const cholesky::LowRankChange &change,
+                                const cholesky::SparseCholesky &solver, const unsigned int repeat)
+  {
+    sparse::CSCMatrix part[2];
+    for (int sign = 0; sign < 2; ++sign)
+      {
+        part[sign] = sparse::CSCMatrix::zero(change.c.n_rows, 0);
+        for (Index t = 0; t < change.c.n_cols; ++t)
+          if ((change.signs[t] > 0) == (sign == 0))
+            {
+              for (Index k = change.c.column_start[t]; k < change.c.column_start[t + 1]; ++k)
+                {
+                  part[sign].row_index.push_back(change.c.row_index[k]);
+                  part[sign].values.push_back(change.c.values[k]);
+                }
+              part[sign].column_start.push_back(static_cast<Index>(part[sign].row_index.size()));
+              ++part[sign].n_cols;
+            }
+      }
+    double best = std::numeric_limits<double>::infinity();
+    for (unsigned int r = 0; r < repeat; ++r)
+      {
+        cholesky::CholmodReference cholmod(false);
+        cholmod.analyze(before, solver.permutation());
+        cholmod.factorize(before);
+        cholmod.convert_for_updates();
+        double seconds = 0;
+        for (int sign = 0; sign < 2; ++sign)
+          if (part[sign].n_cols > 0)
+            {
+              cholmod.updown(sign == 0, part[sign]);
+              seconds += cholmod.updown_seconds;
+            }
+        best = std::min(best, seconds);
+      }
+    return best;
+  }
+
   std::vector<ChangeRow> change_costs(const app::AllParameters &scene_parameters, const unsigned int repeat)
   {
     app::AllParameters parameters      = scene_parameters;
@@ -133,41 +207,72 @@ namespace
     parameters.model.target_error      = 0;
     parameters.model.strategy.kind     = fem::StepStrategy::Kind::partial;
     parameters.solver.backend.backend  = backends::Backend::warpchol;
+    parameters.solver.settings.change_method = cholesky::ChangeMethod::automatic;
     app::Scene             scene(parameters);
     std::vector<ChangeRow> rows;
+    // The factor and the matrix of the step before, which each way starts from.
+    cholesky::SparseCholesky before        = scene.model().solver();
+    sparse::CSCMatrix        before_matrix = scene.model().system_matrix().lower();
     for (unsigned int step = 1; step <= parameters.time_stepping.n_steps; ++step)
       {
         fem::StepStatistics statistics;
         scene.integrator().advance(statistics);
-        if (statistics.change_columns == 0)
-          continue;
-        ChangeRow row;
-        row.step = step;
-        std::ostringstream what;
-        if (statistics.elements_cut > 0)
-          what << statistics.elements_cut << " cut ";
-        if (statistics.vertices_grasped > 0)
-          what << statistics.vertices_grasped << " grasped ";
-        if (statistics.vertices_released > 0)
-          what << statistics.vertices_released << " released ";
-        if (statistics.elements_changed > 0)
-          what << statistics.elements_changed << " changed ";
-        row.what        = what.str();
-        row.columns_pct = 100.0 * statistics.change_columns / statistics.n_columns;
-        row.flops_pct   = 100.0 * statistics.change_flops / statistics.flops_full;
-        row.partial     = statistics.t_factor();
-        // The same matrix factored in full, by warpchol and by CHOLMOD analyzing anew.
-        const auto &model  = scene.model();
-        auto        fresh  = model.solver();
-        row.full           = best_of(repeat, [&] { fresh.factorize(model.system_matrix().lower()); });
-        backends::Settings cholmod_settings;
-        cholmod_settings.backend = backends::Backend::cholmod;
-        auto cholmod             = backends::create_linear_solver(cholmod_settings, {});
-        row.cholmod              = best_of(repeat, [&] {
-          cholmod->topology_changed();
-          cholmod->factorize(model.system_matrix().matrix(), model.system_matrix().csc());
-        });
-        rows.push_back(row);
+        const auto              &model = scene.model();
+        const sparse::CSCMatrix &after = model.system_matrix().lower();
+        if (statistics.change_columns > 0)
+          {
+            ChangeRow row;
+            row.step = step;
+            std::ostringstream what;
+            if (statistics.elements_cut > 0)
+              what << statistics.elements_cut << " cut ";
+            if (statistics.vertices_grasped > 0)
+              what << statistics.vertices_grasped << " grasped ";
+            if (statistics.vertices_released > 0)
+              what << statistics.vertices_released << " released ";
+            if (statistics.elements_changed > 0)
+              what << statistics.elements_changed << " changed ";
+            row.what        = what.str();
+            row.columns_pct = 100.0 * statistics.change_columns / statistics.n_columns;
+            row.chosen      = cholesky::to_string(statistics.factor_method);
+            row.predicted   = statistics.factor_method == cholesky::RefactorizationMethod::update ?
+                                statistics.predicted_update_seconds :
+                                statistics.predicted_partial_seconds;
+            // Each way from a copy of the factor of the step before.
+            const auto from_before = [&](const cholesky::ChangeMethod method, const bool full) {
+              return best_of(repeat, [&, method, full] {
+                cholesky::SparseCholesky solver = before;
+                solver.set_change_method(method);
+                const Stopwatch stopwatch;
+                if (full)
+                  solver.factorize(after);
+                else
+                  solver.refactorize(after, {});
+                return stopwatch.seconds();
+              });
+            };
+            row.update  = from_before(cholesky::ChangeMethod::update, false);
+            row.partial = from_before(cholesky::ChangeMethod::recompute, false);
+            row.full    = from_before(cholesky::ChangeMethod::recompute, true);
+            const cholesky::LowRankChange change = change_between(before_matrix, after, before);
+            row.rank                             = change.c.n_cols;
+            row.cholmod_updown                   = cholmod_updown_seconds(before_matrix, change, before, repeat);
+            backends::Settings cholmod_settings;
+            cholmod_settings.backend = backends::Backend::cholmod;
+            auto cholmod             = backends::create_linear_solver(cholmod_settings, {});
+            row.cholmod_anew         = best_of(repeat, [&] {
+              const Stopwatch stopwatch;
+              cholmod->topology_changed();
+              cholmod->factorize(model.system_matrix().matrix(), model.system_matrix().csc());
+              return stopwatch.seconds();
+            });
+            rows.push_back(row);
+          }
+        if (statistics.refactorized)
+          {
+            before        = model.solver();
+            before_matrix = after;
+          }
       }
     return rows;
   }
@@ -188,25 +293,29 @@ namespace
               << parameters.solver.settings.n_threads << " thread(s)\n\n"
               << "each change alone (stiffness warping: the factor changes only with the changes); seconds, best of "
               << options.repeat << "\n"
-              << std::setw(6) << "step" << std::setw(26) << "change" << std::setw(10) << "columns%" << std::setw(9)
-              << "flops%" << std::setw(11) << "partial s" << std::setw(10) << "full s" << std::setw(11) << "CHOLMOD s"
-              << std::setw(14) << "partial/full" << std::setw(15) << "bound/full" << std::setw(14) << "CHOLMOD/part"
-              << "\n";
+              << std::setw(5) << "step" << std::setw(24) << "change" << std::setw(9) << "columns%" << std::setw(6)
+              << "rank" << std::setw(10) << "update" << std::setw(10) << "partial" << std::setw(10) << "full"
+              << std::setw(12) << "CHOLMOD upd" << std::setw(12) << "CHOLMOD new" << std::setw(9) << "chosen"
+              << std::setw(11) << "predicted" << std::setw(14) << "chosen/best" << "\n";
     const std::vector<ChangeRow> changes = change_costs(parameters, options.repeat);
     unsigned int                 within  = 0;
+    double worst = 0, update_vs_cholmod = std::numeric_limits<double>::infinity();
     for (const auto &row : changes)
       {
-        const double bound = 1.2 * row.flops_pct / 100 * row.full + 1e-3;
-        within += row.partial <= bound;
-        std::cout << std::setw(6) << row.step << std::setw(26) << row.what << std::setw(10)
-                  << format_number(row.columns_pct, 3) << std::setw(9) << format_number(row.flops_pct, 3) << std::setw(11)
-                  << format_number(row.partial, 3) << std::setw(10) << format_number(row.full, 3) << std::setw(11)
-                  << format_number(row.cholmod, 3) << std::setw(14) << format_number(row.partial / row.full, 3)
-                  << std::setw(15) << format_number(1.2 * row.flops_pct / 100 + 1e-3 / row.full, 3) << std::setw(14)
-                  << format_number(row.cholmod / row.partial, 3) << "\n";
+        const double ratio = row.chosen_seconds() / row.fastest();
+        within += ratio <= 1.2;
+        worst             = std::max(worst, ratio);
+        update_vs_cholmod = std::min(update_vs_cholmod, row.cholmod_updown / row.update);
+        std::cout << std::setw(5) << row.step << std::setw(24) << row.what << std::setw(9)
+                  << format_number(row.columns_pct, 3) << std::setw(6) << row.rank << std::setw(10)
+                  << format_number(row.update, 3) << std::setw(10) << format_number(row.partial, 3) << std::setw(10)
+                  << format_number(row.full, 3) << std::setw(12) << format_number(row.cholmod_updown, 3) << std::setw(12)
+                  << format_number(row.cholmod_anew, 3) << std::setw(9) << row.chosen << std::setw(11)
+                  << format_number(row.predicted, 3) << std::setw(14) << format_number(ratio, 3) << "\n";
       }
-    std::cout << "steps with a change within 1.2 x flop fraction x full + 1 ms: " << within << " of " << changes.size()
-              << "\n\n";
+    std::cout << "steps whose chosen method is within 1.2x of the fastest of update, partial and full: " << within
+              << " of " << changes.size() << " (worst " << format_number(worst, 3)
+              << "x); update against CHOLMOD's updown at least " << format_number(update_vs_cholmod, 3) << "x\n\n";
 
     // Whole runs.
     std::vector<RunRow> runs;
@@ -218,6 +327,9 @@ namespace
     unchanged.grasp.sphere_radius = 0;
     unchanged.material_change.region.kind = "none";
     runs.push_back(run_scene("the same without the changes", unchanged));
+    app::AllParameters recomputing = parameters;
+    recomputing.solver.settings.change_method = cholesky::ChangeMethod::recompute;
+    runs.push_back(run_scene("the same, changes recomputed (no updates)", recomputing));
     runs.push_back(run_scene("exact, warpchol refactoring every step", parameters.exact_corotational()));
     app::AllParameters cholmod = parameters.exact_corotational();
     cholmod.solver.backend.backend = backends::Backend::cholmod;
@@ -250,16 +362,18 @@ namespace
               << " before the first change, " << format_number(mean(last, stale_run.changed.size()), 3)
               << " after the last\n"
               << "the changes' run at " << format_number(100 * runs[1].seconds_per_step / runs[0].seconds_per_step, 3)
-              << " % of the steps per second without them; " << format_number(runs[3].seconds_per_step / runs[0].seconds_per_step, 3)
+              << " % of the steps per second without them; " << format_number(runs[4].seconds_per_step / runs[0].seconds_per_step, 3)
               << "x faster than CHOLMOD refactoring every step, "
-              << format_number(runs[4].seconds_per_step / runs[0].seconds_per_step, 3)
+              << format_number(runs[5].seconds_per_step / runs[0].seconds_per_step, 3)
               << "x faster than the stale rest factor\n";
 
     write_file_atomically(csv_file, [&](std::ostream &out) {
-      out << "step,change,columns_pct,flops_pct,partial_seconds,full_seconds,cholmod_seconds\n";
+      out << "step,change,columns_pct,rank,update_seconds,partial_seconds,full_seconds,cholmod_updown_seconds,"
+             "cholmod_anew_seconds,chosen,predicted_seconds\n";
       for (const auto &row : changes)
-        out << row.step << "," << row.what << "," << row.columns_pct << "," << row.flops_pct << "," << row.partial << ","
-            << row.full << "," << row.cholmod << "\n";
+        out << row.step << "," << row.what << "," << row.columns_pct << "," << row.rank << "," << row.update << ","
+            << row.partial << "," << row.full << "," << row.cholmod_updown << "," << row.cholmod_anew << ","
+            << row.chosen << "," << row.predicted << "\n";
     });
     std::cout << "table: " << csv_file << std::endl;
   }

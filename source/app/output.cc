@@ -371,7 +371,8 @@ namespace warpchol::app
              "t_factor,t_solve,t_iterations,t_step,kinetic_energy,elastic_energy,potential_energy,"
              "tool_energy,total_energy,external_work,tool_work_on_body,energy_ratio,update_threshold,"
              "velocity_error,choice,t_predicted,t_strategy,factor_lag,elements_cut,vertices_grasped,"
-             "vertices_released,elements_changed,change_columns_pct,change_flops_pct,t_change") +
+             "vertices_released,elements_changed,change_columns_pct,change_flops_pct,t_change,factor_method,"
+             "update_rank,t_predicted_update,t_predicted_partial,t_predicted_full") +
            (with_error ? ",error_vs_corotational,rms_error_vs_corotational" : "");
   }
 
@@ -409,6 +410,16 @@ namespace warpchol::app
     line << "," << s.elements_cut << "," << s.vertices_grasped << "," << s.vertices_released << ","
          << s.elements_changed << "," << percent(s.change_columns, s.n_columns) << ","
          << percent(s.change_flops, s.flops_full) << "," << s.stages.seconds(fem::stage::change);
+    // How the step's factorization took its changes, and what the solver weighed.
+    line << "," << (s.refactorized ? cholesky::to_string(s.factor_method) : std::string()) << ",";
+    if (s.predicted_update_seconds >= 0)
+      line << s.update_rank;
+    for (const double seconds : {s.predicted_update_seconds, s.predicted_partial_seconds, s.predicted_full_seconds})
+      {
+        line << ",";
+        if (seconds >= 0)
+          line << seconds;
+      }
     if (with_error)
       line << "," << std::setprecision(6) << row.error_vs_corotational << ","
            << row.rms_error_vs_corotational;

@@ -683,6 +683,14 @@ namespace warpchol::app
                         "at |b - A x| <= Tolerance |b|");
       prm.declare_entry("Max iterations", "1000", Patterns::Integer(1),
                         "The iterative backends fail past this many iterations");
+      prm.declare_entry("Change method", "auto", Patterns::Selection("auto|flops|recompute|update"),
+                        "How a change of A (a grasp, a cut, a material change, WCC's re-rotated "
+                        "elements) reaches an exact factor (supernodal method): auto takes the "
+                        "cheaper of an update of the factor by the change in low-rank form and "
+                        "the recomputation of the columns on its paths, by their predicted "
+                        "seconds at rates measured during the run; flops the same at fixed "
+                        "rates (the same choices on any machine: reproducible bits); recompute "
+                        "never updates; update always does where it can");
       prm.declare_entry("Preconditioner precision", "double", Patterns::Selection("double|single"),
                         "The factor as CG's preconditioner (Model/Strategy other than partial, "
                         "supernodal method): single keeps a single-precision copy of L and "
@@ -725,6 +733,7 @@ namespace warpchol::app
       settings.n_threads          = prm.get_integer("Threads");
       settings.top_flops_fraction = prm.get_double("Top flops fraction");
       settings.single_precision_preconditioner = prm.get("Preconditioner precision") == "single";
+      settings.change_method                   = cholesky::parse_change_method(prm.get("Change method"));
       prm.leave_subsection();
     }
 

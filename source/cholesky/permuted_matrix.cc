@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numeric>
 #include <string>
 
@@ -110,6 +111,18 @@ namespace warpchol::cholesky
             throw MatrixError(asymmetry_message(permutation[permuted_lower.row_index[k]],
                                                 permutation[entry_column[k]]));
       }
+    entry_of_input.assign(matrix.n_nonzeros(), -1);
+    diagonal_entry.assign(n, -1);
+    for (Index k = 0; k < nnz; ++k)
+      {
+        entry_of_input[source[k]] = k;
+        if (mirror[k] != -1)
+          entry_of_input[mirror[k]] = k;
+        if (permuted_lower.row_index[k] == entry_column[k])
+          diagonal_entry[entry_column[k]] = k;
+      }
+    input_values.clear();
+    factored_values.clear();
     loaded = false;
   }
 
@@ -141,8 +154,67 @@ namespace warpchol::cholesky
                         std::to_string(analyzed_row_index.size()) + " entries)");
   }
 
+  void PermutedMatrix::refuse_value(const Index p, const double value) const
+  {
+    // The column of A's entry p: the last column that starts at or before it.
+    const Index column =
+      std::upper_bound(analyzed_column_start.begin(), analyzed_column_start.end(), p) - analyzed_column_start.begin() - 1;
+    throw MatrixError("value " + format_number(value) + " at entry " + entry_name(analyzed_row_index[p], column) +
+                      " is not finite");
+  }
+
+  std::vector<Index> PermutedMatrix::load_changed_values(const double *const values)
+  {
+    const Index        n_input = static_cast<Index>(input_values.size());
+    std::vector<Index> changed;
+    for (Index p = 0; p < n_input; ++p)
+      if (values[p] != input_values[p])
+        changed.push_back(p);
+    if (changed.empty())
+      return {};
+    // Check everything before writing anything.
+    for (const Index p : changed)
+      if (!std::isfinite(values[p]))
+        refuse_value(p, values[p]);
+    if (storage == sparse::Storage::full)
+      {
+        const auto new_diagonal = [&](const Index column) {
+          const Index k = diagonal_entry[column];
+          return k < 0 ? 0. : std::abs(values[source[k]]);
+        };
+        for (const Index p : changed)
+          {
+            const Index k = entry_of_input[p];
+            if (mirror[k] == -1)
+              continue;
+            const double value = values[source[k]], twin = values[mirror[k]];
+            const Index  r = permuted_lower.row_index[k], c = entry_column[k];
+            if (!sparse::symmetric_pair(value, twin, new_diagonal(r), new_diagonal(c)))
+              throw MatrixError("matrix is not symmetric: A" + entry_name(permutation[r], permutation[c]) + " = " +
+                                format_number(value) + " but A" + entry_name(permutation[c], permutation[r]) + " = " +
+                                format_number(twin));
+          }
+      }
+    std::vector<Index> changed_columns;
+    for (const Index p : changed)
+      {
+        const Index k   = entry_of_input[p];
+        input_values[p] = values[p];
+        if (source[k] == p && permuted_lower.values[k] != values[p])
+          {
+            permuted_lower.values[k] = values[p];
+            changed_columns.push_back(entry_column[k]);
+          }
+      }
+    std::sort(changed_columns.begin(), changed_columns.end());
+    changed_columns.erase(std::unique(changed_columns.begin(), changed_columns.end()), changed_columns.end());
+    return changed_columns;
+  }
+
   std::vector<Index> PermutedMatrix::load_values(const double *const values)
   {
+    if (loaded && input_values.size() == entry_of_input.size())
+      return load_changed_values(values);
     const Index        nnz = permuted_lower.n_nonzeros();
     std::vector<Index> changed_columns;
     for (Index k = 0; k < nnz; ++k)
@@ -178,6 +250,7 @@ namespace warpchol::cholesky
                                   format_number(twin));
             }
       }
+    input_values.assign(values, values + entry_of_input.size());
     loaded = true;
     return changed_columns;
   }
@@ -236,6 +309,9 @@ namespace warpchol::cholesky
               const auto k = found - permuted_lower.row_index.begin();
               permuted_lower.values[k] += product;
               factored_values[k] += product;
+              // C no longer holds what A held at the last load: the next load compares anew.
+              if (!input_values.empty())
+                input_values[source[k]] = std::numeric_limits<double>::quiet_NaN();
             }
         }
     return inside;
@@ -274,5 +350,12 @@ namespace warpchol::cholesky
     loaded                = was_loaded;
     permuted_lower.values = std::move(values);
     factored_values       = std::move(factored);
+    // A's values as last loaded, from C's (a mirror that differed within the symmetry
+    // tolerance reads as changed at the next load, which changes no column of C).
+    input_values.assign(entry_of_input.size(), 0.);
+    for (std::size_t p = 0; p < entry_of_input.size(); ++p)
+      input_values[p] = permuted_lower.values[entry_of_input[p]];
+    if (!loaded)
+      input_values.clear();
   }
 } // namespace warpchol::cholesky

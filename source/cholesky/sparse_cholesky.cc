@@ -765,6 +765,12 @@ namespace warpchol::cholesky
     return solver_settings;
   }
 
+  void SparseCholesky::set_change_method(const ChangeMethod method)
+  {
+    solver_settings.change_method = method;
+    refactorization_costs         = RefactorizationCostModel(method == ChangeMethod::by_flops);
+  }
+
   void SparseCholesky::set_thread_count(const unsigned int n_threads)
   {
     solver_settings.n_threads = std::max(1u, n_threads);

@@ -267,7 +267,7 @@ namespace warpchol::fem
       reader.read(count);
   }
 
-  double StepCostModel::predicted_seconds(const cholesky::Refresh refresh, const double flops) const
+  double StepCostModel::predicted_seconds(const cholesky::Refresh refresh, const double refresh_seconds) const
   {
     double iterations = last_iterations + 1;
     if (refresh == cholesky::Refresh::all)
@@ -275,6 +275,6 @@ namespace warpchol::fem
     else if (refresh == cholesky::Refresh::below_top)
       // Not tried yet: assume a little worse than a full refresh, so that it gets tried.
       iterations = iterations_after_top >= 0 ? iterations_after_top : iterations_after_all + 1;
-    return flops / flop_rate + iterations * seconds_per_iteration;
+    return refresh_seconds + iterations * seconds_per_iteration;
   }
 } // namespace warpchol::fem

@@ -545,7 +545,10 @@ namespace warpchol::fem
     if (automatic)
       statistics.choice = to_string(refresh);
     refactorize(changed_columns, statistics, refresh);
-    cost_model.record_factorization(statistics.flops_recomputed, statistics.t_factor());
+    // The flop rate of recomputations (an update's flops go at another rate, which the
+    // solver's own choice measures).
+    if (statistics.factor_method != cholesky::RefactorizationMethod::update)
+      cost_model.record_factorization(statistics.flops_recomputed, statistics.t_factor());
   }
 
   bool WarpCancelingModel::take_background_refresh(StepStatistics &statistics)
@@ -595,7 +598,7 @@ namespace warpchol::fem
           {
             if (!cost_model.calibrated())
               return Refresh::all;
-            // Predicting the flops of each refresh walks the elimination tree three times.
+            // Predicting the cost of each refresh walks the elimination tree three times.
             StageTimer timer(statistics.stages, stage::refresh_choice);
             Refresh cheapest      = Refresh::all;
             double  least_seconds = std::numeric_limits<double>::infinity();
@@ -607,7 +610,7 @@ namespace warpchol::fem
                 if (refresh == Refresh::none && change_pending)
                   continue;
                 const double seconds = cost_model.predicted_seconds(
-                  refresh, cholesky_solver.predicted_flops(changed_columns, refresh));
+                  refresh, cholesky_solver.predicted_seconds(changed_columns, refresh));
                 if (seconds < least_seconds)
                   {
                     least_seconds = seconds;

@@ -87,6 +87,17 @@ namespace warpchol::cholesky
     /** load() of values in the analyzed pattern's order, once the pattern is checked. */
     std::vector<Index> load_values(const double *values);
 
+    /**
+     * A later load(): only the entries whose value differs from the last load's are
+     * checked (finite, symmetric) and copied, all before any is written (a refused load
+     * leaves C as it was). The comparison streams A's values in their order, the cost of
+     * a memcmp; C's entries are gathered through the permutation only where they changed.
+     */
+    std::vector<Index> load_changed_values(const double *values);
+
+    /** Throw MatrixError for the value of A's stored entry @p p, not finite. */
+    [[noreturn]] void refuse_value(Index p, double value) const;
+
     sparse::CSCMatrix  permuted_lower;
     std::vector<Index> permutation;
     std::vector<Index> inverse_permutation;
@@ -98,6 +109,11 @@ namespace warpchol::cholesky
     sparse::Storage    storage = sparse::Storage::lower;
     std::vector<Index> analyzed_column_start;
     std::vector<Index> analyzed_row_index;
+    /** A's values at the last load, in A's order; the entry of C each of A's entries is (source or mirror). */
+    std::vector<double> input_values;
+    std::vector<Index>  entry_of_input;
+    /** Position of each column's diagonal entry in C, -1 if it has none. */
+    std::vector<Index>  diagonal_entry;
     /** The values the factor was computed from (mark_factored()). */
     std::vector<double> factored_values;
     /** Column of C of each entry, for reporting changed columns. */

@@ -345,6 +345,9 @@ namespace warpchol::cholesky
      */
     void set_thread_count(unsigned int n_threads);
 
+    /** Take changes by @p method from now on (Settings::change_method); rates measured so far are forgotten. */
+    void set_change_method(ChangeMethod method);
+
     /**
      * Write the numeric state to a checkpoint: the loaded values of A, the factor as it is
      * (exact or partly refreshed), what is pending and stale. The analysis is not written:

@@ -103,6 +103,18 @@ namespace warpchol::fem
 
     /** How much of the factor was brought up to date ("all", "below_top", "none"; "" if nothing changed). */
     std::string refresh;
+    /**
+     * How the factorization of the step took its changes (cholesky::RefactorizationMethod:
+     * update, partial or full; none if nothing was computed), and what the solver weighed
+     * when it weighed an update against recomputing: the change's rank and the predicted
+     * seconds of an update, a partial and a full refactorization (negative if not weighed).
+     * The seconds spent are t_factor().
+     */
+    cholesky::RefactorizationMethod factor_method = cholesky::RefactorizationMethod::none;
+    Index                           update_rank   = 0;
+    double predicted_update_seconds  = -1;
+    double predicted_partial_seconds = -1;
+    double predicted_full_seconds    = -1;
     /** Iterations of preconditioned CG (0 for a direct solve). */
     unsigned int cg_iterations = 0;
     /** The paths the element rotations of the step's element pass took (none without rotations). */

@@ -100,8 +100,9 @@ namespace warpchol::fem
    * what was measured so far (exponential moving averages, so that it follows the run).
    *
    * Within a step that iterates, the refresh of the factor:
-   *   seconds(refresh) = flops(refresh) / flop rate + iterations(refresh) * seconds per iteration,
-   * with the flops the solver predicts; the iterations after refreshing all or below the
+   *   seconds(refresh) = refresh seconds + iterations(refresh) * seconds per iteration,
+   * with the refresh's seconds as the solver predicts them (its cheaper of updating the
+   * factor and recomputing columns, at the rates it measured); the iterations after refreshing all or below the
    * top are those seen after the last such refreshes, with no refresh one more than the
    * last step's (the factor only grows staler).
    *
@@ -142,8 +143,8 @@ namespace warpchol::fem
      */
     void record_iterating_step(unsigned int staleness, double seconds, unsigned int iterations);
 
-    /** The predicted seconds of a step that refreshes with @p refresh at @p flops, then iterates. */
-    double predicted_seconds(cholesky::Refresh refresh, double flops) const;
+    /** The predicted seconds of a step whose refresh @p refresh costs @p refresh_seconds, then iterates. */
+    double predicted_seconds(cholesky::Refresh refresh, double refresh_seconds) const;
 
     /** The predicted seconds of an exact step (negative before one was measured). */
     double predicted_exact_seconds() const;
