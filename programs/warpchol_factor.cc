@@ -29,6 +29,7 @@
  */
 
 #include <warpchol/app/command_line.h>
+#include <warpchol/app/machine.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
@@ -313,6 +314,11 @@ namespace
                   << " cholmod_bytes=" << cholmod->factor_bytes()
                   << " memory_ratio=" << format_number(static_cast<double>(stats.factor_bytes) / cholmod->factor_bytes(), 3);
       }
+    // A benchmark's figures are read against the machine's ceilings.
+    if (options.update_rank > 0 || options.compare_cholmod)
+      std::cout << " simd=" << app::simd_target()
+                << " dgemm_gflops=" << format_number(cholesky::blas::measure_dgemm_gflops(), 3)
+                << " read_gbs=" << format_number(app::measure_read_bandwidth(), 3);
     std::cout << update_fields.str() << "\n";
   }
 } // namespace

@@ -24,6 +24,7 @@
  */
 
 #include <warpchol/app/command_line.h>
+#include <warpchol/app/machine.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
 #include <warpchol/app/output.h>
@@ -289,7 +290,8 @@ namespace
     if (!csv_directory.empty())
       app::create_directory(csv_directory);
 
-    std::cout << "scene " << parameters.scene_name() << ", " << parameters.time_stepping.n_steps << " steps, "
+    std::cout << app::describe_machine() << "\n"
+              << "scene " << parameters.scene_name() << ", " << parameters.time_stepping.n_steps << " steps, "
               << parameters.solver.settings.n_threads << " thread(s)\n\n"
               << "each change alone (stiffness warping: the factor changes only with the changes); seconds, best of "
               << options.repeat << "\n"

@@ -23,6 +23,7 @@
  */
 
 #include <warpchol/app/command_line.h>
+#include <warpchol/app/machine.h>
 #include <warpchol/app/error_time_plot.h>
 #include <warpchol/app/output.h>
 #include <warpchol/app/parameters.h>
@@ -550,8 +551,7 @@ namespace
     print_table(parameters, rows, exact_per_step);
     print_best(rows, exact_per_step);
     // The ceiling of every factorization on this machine, to read the times against.
-    std::cout << "machine: dgemm " << format_number(cholesky::blas::measure_dgemm_gflops(), 3)
-              << " GFLOP/s on one thread (1000x1000 products)\n";
+    std::cout << app::describe_machine() << "\n";
     const app::Scene scene(corotational);
     {
       double estimate_seconds = 0;

@@ -103,7 +103,7 @@ namespace warpchol::app
       for_each_checkpointed_total(totals, [&](const auto &value) { writer.write(value); });
       std::vector<std::string>  names;
       std::vector<unsigned int> counts;
-      for (const auto *counted : {&totals.refreshes, &totals.choices})
+      for (const auto *counted : {&totals.refreshes, &totals.choices, &totals.factor_methods})
         {
           names.clear();
           counts.clear();
@@ -137,7 +137,7 @@ namespace warpchol::app
       std::vector<std::string>  names;
       std::vector<unsigned int> counts;
       std::vector<double>       seconds;
-      for (auto *counted : {&totals.refreshes, &totals.choices})
+      for (auto *counted : {&totals.refreshes, &totals.choices, &totals.factor_methods})
         {
           reader.read(names);
           reader.read(counts);
@@ -259,6 +259,7 @@ namespace warpchol::app
     if (statistics.refactorized)
       {
         ++t.refactorizations;
+        ++t.factor_methods[cholesky::to_string(statistics.factor_method)];
         t.columns_recomputed_pct += 100.0 * statistics.columns_recomputed / statistics.n_columns;
         t.flops_recomputed_pct += 100.0 * statistics.flops_recomputed / statistics.flops_full;
       }
@@ -720,6 +721,14 @@ namespace warpchol::app
           out << ", columns recomputed mean " << n(t.columns_recomputed_pct / t.refactorizations)
               << " %, flops recomputed mean " << n(t.flops_recomputed_pct / t.refactorizations)
               << " %";
+        // How the factorizations took their changes: by updating the factor or recomputing
+        // (chosen by measured times: shown with them).
+        if (timings && t.refactorizations > 0)
+          {
+            out << "; taken by";
+            for (const auto &[method, count] : t.factor_methods)
+              out << " " << method << " " << count;
+          }
         out << "\n";
         if (wcc && wcc->target_error() > 0 && t.steps > 0)
           out << "  adapted update threshold: mean " << n(t.threshold_sum / t.steps) << ", from "

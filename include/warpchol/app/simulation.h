@@ -68,6 +68,8 @@ namespace warpchol::app
     std::map<std::string, unsigned int> refreshes;
     /** Steps per choice of the automatic strategy ("exact", "all", ...; fem::StepStatistics::choice). */
     std::map<std::string, unsigned int> choices;
+    /** Factorizations per way they took their changes ("update", "partial", "full"; fem::StepStatistics::factor_method). */
+    std::map<std::string, unsigned int> factor_methods;
     /**
      * Cuts, grasps, material changes: elements cut and changed, vertices grasped and
      * released, the steps with a change and, summed over them, the share of the columns and

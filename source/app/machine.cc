@@ -1,0 +1,67 @@
+#include <warpchol/app/machine.h>
+#include <warpchol/base/format.h>
+#include <warpchol/base/stopwatch.h>
+#include <warpchol/cholesky/blas.h>
+
+#include <algorithm>
+#include <fstream>
+#include <numeric>
+#include <vector>
+
+namespace warpchol::app
+{
+  std::string cpu_name()
+  {
+    std::ifstream cpuinfo("/proc/cpuinfo");
+    std::string   line;
+    while (std::getline(cpuinfo, line))
+      if (line.rfind("model name", 0) == 0)
+        {
+          const auto colon = line.find(':');
+          if (colon != std::string::npos)
+            return line.substr(line.find_first_not_of(" \t", colon + 1));
+        }
+    return "unknown CPU";
+  }
+
+  std::string simd_target()
+  {
+#if defined(__AVX512F__)
+    return "avx512";
+#elif defined(__AVX2__)
+    return "avx2";
+#elif defined(__SSE2__)
+    return "sse2";
+#else
+    return "none";
+#endif
+  }
+
+  double measure_read_bandwidth()
+  {
+    const std::size_t   n = (std::size_t(256) << 20) / sizeof(double);
+    std::vector<double> array(n, 1.);
+    double              best = 0, sink = 0;
+    for (int repeat = 0; repeat < 4; ++repeat)
+      {
+        const Stopwatch stopwatch;
+        // Four sums side by side, so that the additions' latency does not bound it.
+        double sums[4] = {0, 0, 0, 0};
+        for (std::size_t i = 0; i + 3 < n; i += 4)
+          for (int k = 0; k < 4; ++k)
+            sums[k] += array[i + k];
+        const double seconds = stopwatch.seconds();
+        sink += sums[0] + sums[1] + sums[2] + sums[3];
+        best = std::max(best, static_cast<double>(n * sizeof(double)) / seconds * 1e-9);
+      }
+    // The sum must be used, or the compiler may drop the loops.
+    return sink > 0 ? best : 0.;
+  }
+
+  std::string describe_machine()
+  {
+    return "machine: " + cpu_name() + ", SIMD target " + simd_target() + ", dgemm " +
+           format_number(cholesky::blas::measure_dgemm_gflops(), 3) + " GFLOP/s, read " +
+           format_number(measure_read_bandwidth(), 3) + " GB/s (one thread)";
+  }
+} // namespace warpchol::app
