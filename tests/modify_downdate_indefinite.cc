@@ -3,8 +3,9 @@
 // naming the column (the message is printed), and the factor is left bit for bit as it
 // was, whether the pivot fails at once (a leaf: its ancestors untouched), after other
 // columns of C changed the supernodes below (the root, last), or in the second group of
-// 64 columns (rank 65); solve() still solves A to 1e-12. A downdate that keeps A positive
-// definite (c^T A^-1 c = 1/2) then equals a fresh factorization of A - c c^T.
+// 64 columns (rank 65), on 1 thread and on 2 (a leaf's pivot among 16 columns on other
+// paths, which run beside it); solve() still solves A to 1e-12. A downdate that keeps A
+// positive definite (c^T A^-1 c = 1/2) then equals a fresh factorization of A - c c^T.
 //
 // Through refactorize(A', changed) with ChangeMethod::update: a penalty on the 9 dofs of
 // 3 vertices is taken as an update (Statistics::method), of rank 9, with the chooser's
@@ -75,6 +76,11 @@ int main()
   // sqrt(2 A(j,j)) e_j: A(j,j) becomes -A(j,j).
   const auto indefinite = [&](const Index j) { return sparse::penalty_columns(matrix, {j}, 2.); };
   check_failed_downdate("a leaf's pivot", solver, matrix, indefinite(leaf));
+  cholesky::SparseCholesky two_threads = solver;
+  two_threads.set_thread_count(2);
+  check_failed_downdate("a leaf's pivot, 2 threads", two_threads, matrix,
+                        tests::side_by_side(sparse::penalty_columns(matrix, sparse::random_columns(n, 16, 2), 1e-3),
+                                            indefinite(leaf), false));
 
   // Small downdates on leaves of other paths, then the root's pivot fails: the supernodes
   // on their paths were changed before it.
