@@ -99,10 +99,11 @@ namespace warpchol
    *
    * A row whose values changed without being listed in refactorize() is found while the
    * values are copied in and recomputed as well: the list says where to look, it is not
-   * trusted. The factor is therefore always the one of the matrix given last, and equals
-   * what a fresh initialize() would compute to rounding: the columns that are kept do not
-   * depend on what changed (column by column they are equal bit for bit; supernodes may
-   * sum the updates of their descendants in another order).
+   * trusted. The factor is therefore always the one of the matrix given last (with the
+   * updates and downdates since), and equals what a fresh initialize() would compute to
+   * rounding: the columns that are kept do not depend on what changed (column by column
+   * they are equal bit for bit; supernodes may sum the updates of their descendants in
+   * another order).
    *
    * <h4>Errors</h4>
    *
@@ -116,7 +117,7 @@ namespace warpchol
    * <h4>Threads</h4>
    *
    * vmult(), Tvmult() and solve() are const and may run concurrently with each other,
-   * not with initialize(), factorize() or refactorize().
+   * not with initialize(), factorize(), refactorize(), update() or downdate().
    *
    * @ingroup Solvers Preconditioners
    */
