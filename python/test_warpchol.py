@@ -2,9 +2,11 @@
 
 Solutions equal SciPy's spsolve on CSC and CSR matrices with both triangles stored or
 one, unsorted or int64 indices, one or several right-hand sides; a partial
-refactorization recomputes part of the factor and equals a fresh factorization; bad
-input raises the module's exceptions with one-line messages; the README's snippet runs
-and prints what the README shows.
+refactorization recomputes part of the factor and equals a fresh factorization; update()
+and downdate() by C in any SciPy format equal a fresh factorization of A + C C^T and A,
+a downdate to an indefinite matrix raises NotPositiveDefinite and leaves the factor as it
+was; bad input raises the module's exceptions with one-line messages; the README's
+snippet runs and prints what the README shows.
 
     PYTHONPATH=build/python python3 python/test_warpchol.py    (ctest -R python)
 """
@@ -41,6 +43,25 @@ def scaled_block(a, columns, factor):
 
 def relative_error(x, reference):
     return np.abs(x - reference).max() / np.abs(reference).max()
+
+
+def penalty_and_edge_columns(a, dofs, edges, seed=1):
+    """C (n x k): a column sqrt(a[i, i]) e_i per dof i, and one of random values on each
+    edge (i, j) of the grid (coupled in a, hence in its factor)."""
+    rng = np.random.default_rng(seed)
+    n = a.shape[0]
+    diagonal = a.diagonal()
+    rows, columns, values = [], [], []
+    for t, i in enumerate(dofs):
+        rows.append(i)
+        columns.append(t)
+        values.append(np.sqrt(diagonal[i]))
+    for t, (i, j) in enumerate(edges, start=len(dofs)):
+        for row in (i, j):
+            rows.append(row)
+            columns.append(t)
+            values.append(rng.uniform(-1, 1) * np.sqrt(diagonal[row]))
+    return sp.coo_matrix((values, (rows, columns)), shape=(n, len(dofs) + len(edges)))
 
 
 class Solve(unittest.TestCase):
@@ -187,6 +208,107 @@ class Errors(unittest.TestCase):
         solver.refactorize(a, [0])
         self.assertEqual(solver.columns_recomputed, 25)
         self.assertLess(relative_error(solver.solve(np.ones(25)), spla.spsolve(a, np.ones(25))), 1e-10)
+
+
+class UpdateDowndate(unittest.TestCase):
+    expect = Errors.expect
+
+    def setUp(self):
+        self.a = laplacian(30)
+        self.b = np.sin(np.arange(self.a.shape[0]) * 0.37) + 1.0
+        self.c = penalty_and_edge_columns(self.a, [40, 41, 450], [(100, 101), (600, 630)])
+
+    def fresh_solve(self, matrix):
+        fresh = warpchol.SparseCholesky()
+        fresh.factorize(matrix)
+        return fresh.solve(self.b)
+
+    def test_update_then_downdate_equal_fresh(self):
+        updated = (self.a + self.c @ self.c.T).tocsc()
+        for name, c in [("coo", self.c), ("csc", self.c.tocsc()), ("csr", self.c.tocsr()),
+                        ("lil", self.c.tolil()), ("csc array", sp.csc_array(self.c))]:
+            with self.subTest(name):
+                solver = warpchol.SparseCholesky()
+                solver.factorize(self.a)
+                solver.update(c)
+                statistics = solver.statistics
+                self.assertEqual(statistics["method"], "update")
+                self.assertEqual(statistics["n_updates"], 1)
+                x = solver.solve(self.b)
+                self.assertLess(relative_error(x, self.fresh_solve(updated)), 1e-12)
+                self.assertLess(relative_error(x, spla.spsolve(updated, self.b)), 1e-10)
+                solver.downdate(c)
+                self.assertLess(relative_error(solver.solve(self.b), self.fresh_solve(self.a)), 1e-12)
+                self.assertEqual(solver.statistics["n_updates"], 2)
+
+    def test_duplicates_and_stored_zeros(self):
+        # The penalty on dof 40 given as two halves (summed), and a stored zero on a far row.
+        c = sp.coo_matrix(([np.sqrt(self.a[40, 40]) / 2, np.sqrt(self.a[40, 40]) / 2, 0.0],
+                           ([40, 40, 899], [0, 0, 0])), shape=(900, 1))
+        solver = warpchol.SparseCholesky()
+        solver.factorize(self.a)
+        solver.update(c)
+        single = sp.csc_matrix(([np.sqrt(self.a[40, 40])], ([40], [0])), shape=(900, 1))
+        self.assertLess(relative_error(solver.solve(self.b), self.fresh_solve((self.a + single @ single.T).tocsc())),
+                        1e-12)
+
+    def test_indefinite_downdate_leaves_the_factor(self):
+        solver = warpchol.SparseCholesky()
+        solver.factorize(self.a)
+        before = solver.solve(self.b)
+        j = 450
+        c = sp.csc_matrix(([np.sqrt(2 * self.a[j, j])], ([j], [0])), shape=(900, 1))
+        with self.assertRaises(warpchol.NotPositiveDefinite) as raised:
+            solver.downdate(c)
+        message = str(raised.exception)
+        self.assertNotIn("\n", message)
+        self.assertRegex(message, r"downdate would leave the matrix not positive definite: the pivot of column "
+                                  r"450 would be -.*left as it was")
+        np.testing.assert_array_equal(solver.solve(self.b), before)
+        self.assertLess(relative_error(before, spla.spsolve(self.a, self.b)), 1e-10)
+        # ... and takes a downdate that keeps A positive definite.
+        half = sp.csc_matrix(([np.sqrt(0.5 * self.a[j, j])], ([j], [0])), shape=(900, 1))
+        solver.downdate(half)
+        downdated = (self.a - half @ half.T).tocsc()
+        self.assertLess(relative_error(solver.solve(self.b), self.fresh_solve(downdated)), 1e-12)
+
+    def test_refactorize_statistics(self):
+        solver = warpchol.SparseCholesky()
+        solver.factorize(self.a)
+        statistics = solver.statistics
+        for key in ("method", "update_rank", "update_flops", "partial_flops", "predicted_update_seconds",
+                    "predicted_partial_seconds", "predicted_full_seconds", "update_fell_back", "n_updates"):
+            self.assertIn(key, statistics)
+        self.assertEqual(statistics["method"], "full")
+        penalty = penalty_and_edge_columns(self.a, [300, 301, 302], [])
+        changed = (self.a + penalty @ penalty.T).tocsc()
+        solver.refactorize(changed, [300, 301, 302])
+        statistics = solver.statistics
+        self.assertIn(statistics["method"], ("update", "partial"))
+        self.assertEqual(statistics["update_rank"], 3)
+        for key in ("predicted_update_seconds", "predicted_partial_seconds", "predicted_full_seconds"):
+            self.assertGreater(statistics[key], 0)
+        self.assertFalse(statistics["update_fell_back"])
+        self.assertLess(relative_error(solver.solve(self.b), self.fresh_solve(changed)), 1e-12)
+
+    def test_bad_input(self):
+        solver = warpchol.SparseCholesky()
+        solver.factorize(self.a)
+        expect = self.expect
+        expect(TypeError, "expected C as a SciPy sparse matrix", lambda: solver.update(np.ones((900, 1))))
+        expect(warpchol.InputError, "C has 899 rows, the matrix 900",
+               lambda: solver.update(sp.csc_matrix((899, 1))))
+        far = sp.csc_matrix(([1.0, 1.0], ([0, 899], [0, 0])), shape=(900, 1))
+        expect(warpchol.InputError, r"entries in rows \d+ and \d+, which the factor's structure does not couple",
+               lambda: solver.update(far))
+        nan = sp.csc_matrix(([np.nan], ([3], [0])), shape=(900, 1))
+        expect(warpchol.MatrixError, "not finite", lambda: solver.downdate(nan))
+        left = warpchol.SparseCholesky(method="left")
+        left.factorize(self.a)
+        expect(warpchol.InputError, "needs the supernodal method", lambda: left.update(self.c))
+        expect(warpchol.Error, "before analyze", lambda: warpchol.SparseCholesky().update(self.c))
+        # None of it changed the factor.
+        self.assertLess(relative_error(solver.solve(self.b), spla.spsolve(self.a, self.b)), 1e-10)
 
 
 class ReadmeSnippet(unittest.TestCase):

@@ -5,6 +5,7 @@
 //   solver.analyze(A); solver.factorize(A)      # or solver.factorize(A) alone
 //   x = solver.solve(b)
 //   solver.refactorize(A, changed_columns)      # A: the same pattern, new values
+//   solver.update(C); solver.downdate(C)        # the factor of A + C C^T, of A - C C^T
 //
 // The matrix's arrays are read where SciPy keeps them: at analyze() its pattern becomes
 // the solver's CSC form; afterwards each call compares the pattern with the analyzed one
@@ -154,6 +155,37 @@ namespace warpchol::python
       const Values                 values = values_of(matrix);
       const py::gil_scoped_release unlocked;
       solver.refactorize(csc, values.data, changed);
+    }
+
+    /**
+     * The factor of A + @p sign C C^T in place: @p c any SciPy sparse matrix (n x k),
+     * converted to CSC with its duplicates summed and its stored zeros left out.
+     */
+    void modify(const py::object &c, const double sign)
+    {
+      const py::module_ scipy_sparse = py::module_::import("scipy.sparse");
+      if (!scipy_sparse.attr("issparse")(c).cast<bool>())
+        throw py::type_error("warpchol: expected C as a SciPy sparse matrix (n x k), got " +
+                             std::string(py::str(py::type::of(c).attr("__name__"))));
+      // A copy: tocsc() of a CSC matrix is the matrix itself, which sum_duplicates() would sort.
+      const py::object csc = c.attr("tocsc")(py::arg("copy") = true);
+      csc.attr("sum_duplicates")();
+      csc.attr("eliminate_zeros")();
+      const SciPyArrays arrays = arrays_of(csc);
+      sparse::CSCMatrix columns = sparse::CSCMatrix::zero(arrays.n_rows, arrays.n_cols);
+      const Index       nnz     = arrays.indices.size();
+      columns.row_index.resize(nnz);
+      visit_indices(arrays.indptr, [&](const auto *values) {
+        std::copy(values, values + arrays.n_cols + 1, columns.column_start.begin());
+      });
+      visit_indices(arrays.indices, [&](const auto *values) { std::copy(values, values + nnz, columns.row_index.begin()); });
+      const auto values = float64_values(arrays.data);
+      columns.values.assign(values.data(), values.data() + values.size());
+      const py::gil_scoped_release unlocked;
+      if (sign > 0)
+        solver.update(columns);
+      else
+        solver.downdate(columns);
     }
 
     /** x with A x = b, for b of shape (n,) or (n, k). */
@@ -358,7 +390,9 @@ PYBIND11_MODULE(warpchol, module)
 A is a symmetric positive definite SciPy sparse matrix in CSC or CSR format, with both
 triangles stored or one. After analyze(A) and factorize(A), refactorize(A, changed_columns)
 takes A with the same pattern and new values in the listed columns (and, by symmetry,
-rows), and recomputes only the columns of L that depend on them.
+rows), and recomputes only the columns of L that depend on them, or updates the factor by
+the change where that is cheaper. update(C) and downdate(C) give the factor of A + C C^T
+and A - C C^T for a C of few columns, in place.
 
 method: "supernodal" (default), "left" or "up"; ordering: "metis" (default), "amd" or
 "natural"; threads: threads of the supernodal factorization and solves.)")
@@ -370,7 +404,18 @@ method: "supernodal" (default), "left" or "up"; ordering: "metis" (default), "am
          "Numeric factorization of A (analyzing its pattern first if analyze() was not called).")
     .def("refactorize", &SciPyCholesky::refactorize, py::arg("A"), py::arg("changed_columns"),
          "Partial refactorization: A has the analyzed pattern and new values in changed_columns (and the same "
-         "rows); a column that changed without being listed is found and recomputed as well.")
+         "rows); a column that changed without being listed is found and recomputed as well. A change of low rank "
+         "may be taken as an update of the factor instead, where that is cheaper (statistics[\"method\"]).")
+    .def(
+      "update", [](SciPyCholesky &self, const py::object &c) { self.modify(c, 1.); }, py::arg("C"),
+      "The factor of A + C C^T, in place, without refactorizing (CHOLMOD's cholmod_updown): C is a SciPy sparse "
+      "matrix of n rows and k columns in any format (duplicates summed, stored zeros left out), each column's rows "
+      "coupled in the factor as the dofs of one element or one vertex are (InputError names two that are not). "
+      "Supernodal method, after a factorization.")
+    .def(
+      "downdate", [](SciPyCholesky &self, const py::object &c) { self.modify(c, -1.); }, py::arg("C"),
+      "The factor of A - C C^T, in place, as update(). Raises NotPositiveDefinite if A - C C^T is not positive "
+      "definite; the factor of A is then left as it was.")
     .def("solve", &SciPyCholesky::solve, py::arg("b"), "x with A x = b, for b of shape (n,) or (n, k).")
     .def_property_readonly("n", [](const SciPyCholesky &self) { return self.statistics().n; })
     .def_property_readonly("storage", &SciPyCholesky::storage,
@@ -414,7 +459,19 @@ method: "supernodal" (default), "left" or "up"; ordering: "metis" (default), "am
         statistics["n_factorizations"]      = stats.n_factorizations;
         statistics["n_refactorizations"]    = stats.n_refactorizations;
         statistics["factor_bytes"]          = stats.factor_bytes;
+        statistics["method"]                = warpchol::cholesky::to_string(stats.method);
+        statistics["update_rank"]           = stats.update_rank;
+        statistics["update_flops"]          = stats.update_flops;
+        statistics["partial_flops"]         = stats.partial_flops;
+        statistics["predicted_update_seconds"]  = stats.predicted_update_seconds;
+        statistics["predicted_partial_seconds"] = stats.predicted_partial_seconds;
+        statistics["predicted_full_seconds"]    = stats.predicted_full_seconds;
+        statistics["update_fell_back"]      = stats.update_fell_back;
+        statistics["n_updates"]             = stats.n_updates;
         return statistics;
       },
-      "Sizes, fill, flops and counts of the factorization (see SparseCholesky::Statistics).");
+      "Sizes, fill, flops and counts of the factorization (see SparseCholesky::Statistics); method: how the last "
+      "refactorize(), update() or downdate() brought the factor up to date (\"none\", \"update\", \"partial\" "
+      "or \"full\"); update_rank, update_flops, partial_flops and the predicted seconds: what the last "
+      "refactorize() weighed (0 and -1 where it weighed no update).");
 }

@@ -77,6 +77,8 @@ int main()
         cholesky::SparseCholesky::Settings settings;
         settings.method    = method;
         settings.n_threads = n_threads;
+        // Partial refactorization itself, not the update refactorize() may choose instead.
+        settings.change_method = cholesky::ChangeMethod::recompute;
         cholesky::SparseCholesky solver(settings);
         solver.factorize(warped.csc());
 

@@ -112,6 +112,8 @@ namespace
     settings.ordering.method = ordering;
     settings.method          = method;
     settings.n_threads       = n_threads;
+    // Partial refactorization itself, not the update refactorize() may choose instead.
+    settings.change_method = cholesky::ChangeMethod::recompute;
     cholesky::SparseCholesky solver(settings);
     solver.analyze(matrix);
     solver.factorize(matrix);

@@ -98,6 +98,8 @@ namespace
     settings.method             = cholesky::FactorizationMethod::supernodal;
     settings.n_threads          = n_threads;
     settings.top_flops_fraction = top_fraction;
+    // Refreshes by recomputation, not the update refactorize() may choose for Refresh::all.
+    settings.change_method = cholesky::ChangeMethod::recompute;
     return settings;
   }
 

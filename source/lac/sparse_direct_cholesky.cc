@@ -128,6 +128,60 @@ namespace warpchol
     refactorize_from(matrix, changed_rows);
   }
 
+  namespace
+  {
+    /** The columns of @p c in the solver's form (n x k, CSC), without the stored entries that are zero. */
+    sparse::CSCMatrix modification_columns(const dealii::SparseMatrix<double> &c)
+    {
+      const sparse::CSCMatrix stored  = sparse::to_csc(c);
+      sparse::CSCMatrix       columns = sparse::CSCMatrix::zero(stored.n_rows, stored.n_cols);
+      for (Index t = 0; t < stored.n_cols; ++t)
+        {
+          for (Index k = stored.column_start[t]; k < stored.column_start[t + 1]; ++k)
+            if (stored.values[k] != 0.)
+              {
+                columns.row_index.push_back(stored.row_index[k]);
+                columns.values.push_back(stored.values[k]);
+              }
+          columns.column_start[t + 1] = static_cast<Index>(columns.row_index.size());
+        }
+      return columns;
+    }
+  } // namespace
+
+  void SparseDirectCholesky::modify(const dealii::SparseMatrix<double> &C, const double sign)
+  {
+    assert_factored();
+    // The solver's errors leave its factor as it was: unlike a failed factorization's,
+    // they become exceptions of their own.
+    try
+      {
+        const sparse::CSCMatrix columns = modification_columns(C);
+        if (sign > 0)
+          cholesky_solver.update(columns);
+        else
+          cholesky_solver.downdate(columns);
+      }
+    catch (const NotPositiveDefinite &error)
+      {
+        AssertThrow(false, ExcDowndateNotPositiveDefinite(error.column, error.pivot));
+      }
+    catch (const Error &error)
+      {
+        AssertThrow(false, ExcInvalidModification(error.what()));
+      }
+  }
+
+  void SparseDirectCholesky::update(const dealii::SparseMatrix<double> &C)
+  {
+    modify(C, 1.);
+  }
+
+  void SparseDirectCholesky::downdate(const dealii::SparseMatrix<double> &C)
+  {
+    modify(C, -1.);
+  }
+
 #ifdef DEAL_II_WITH_TRILINOS
   namespace
   {

@@ -69,6 +69,24 @@ namespace warpchol
    *   cg.solve(other_matrix, solution, rhs, solver);
    * @endcode
    *
+   * <h4>Updates and downdates</h4>
+   *
+   * A change that the caller knows as a sum of outer products, A + C C^T or A - C C^T with
+   * C of a few columns (a penalty sqrt(k) e_i on a degree of freedom, a spring between
+   * two), is applied to the factor in place by update() and downdate(), without a matrix:
+   *
+   * @code
+   *   // A spring of stiffness k on the dof i: A + k e_i e_i^T.
+   *   DynamicSparsityPattern dsp(system_matrix.m(), 1);
+   *   dsp.add(i, 0);
+   *   SparsityPattern pattern;
+   *   pattern.copy_from(dsp);
+   *   SparseMatrix<double> C(pattern);
+   *   C.set(i, 0, std::sqrt(k));
+   *   solver.update(C);                      // the factor of A + C C^T
+   *   solver.downdate(C);                    // and back to A's
+   * @endcode
+   *
    * <h4>Matrices</h4>
    *
    * A dealii::SparseMatrix<double>, or a TrilinosWrappers::SparseMatrix held by one
@@ -81,10 +99,11 @@ namespace warpchol
    *
    * A row whose values changed without being listed in refactorize() is found while the
    * values are copied in and recomputed as well: the list says where to look, it is not
-   * trusted. The factor is therefore always the one of the matrix given last, and equals
-   * what a fresh initialize() would compute to rounding: the columns that are kept do not
-   * depend on what changed (column by column they are equal bit for bit; supernodes may
-   * sum the updates of their descendants in another order).
+   * trusted. The factor is therefore always the one of the matrix given last (with the
+   * updates and downdates since), and equals what a fresh initialize() would compute to
+   * rounding: the columns that are kept do not depend on what changed (column by column
+   * they are equal bit for bit; supernodes may sum the updates of their descendants in
+   * another order).
    *
    * <h4>Errors</h4>
    *
@@ -98,7 +117,7 @@ namespace warpchol
    * <h4>Threads</h4>
    *
    * vmult(), Tvmult() and solve() are const and may run concurrently with each other,
-   * not with initialize(), factorize() or refactorize().
+   * not with initialize(), factorize(), refactorize(), update() or downdate().
    *
    * @ingroup Solvers Preconditioners
    */
@@ -166,11 +185,55 @@ namespace warpchol
      * others. @p matrix has the sparsity pattern given to initialize(). The rows may be
      * listed in any order and more than once.
      *
+     * Where the change is of low rank (a few rows, as a penalty on a few degrees of
+     * freedom gives), updating the factor by it, as update() and downdate() do, costs less
+     * than recomputing those columns: the solver weighs both and takes the cheaper
+     * (cholesky::ChangeMethod::automatic; Statistics::method says which it took). Either
+     * way the factor is the one of @p matrix.
+     *
      * statistics() then says what it cost: Statistics::columns_recomputed,
      * Statistics::flops_recomputed (against Statistics::method_flops for a full
      * factorization) and Statistics::refactorize_seconds.
      */
     void refactorize(const dealii::SparseMatrix<double> &matrix, const std::vector<size_type> &changed_rows);
+
+    /**
+     * Update the factorization of A to that of A + C C^T in place, without recomputing
+     * its columns (CHOLMOD's cholmod_updown): cheaper than refactorize() where the change
+     * is a sum of a few outer products that the caller knows, such as a penalty
+     * (a spring, a contact) sqrt(k) e_i on a few degrees of freedom, or an element's
+     * matrix given as a few columns.
+     *
+     * @p C is n x k: a dealii::SparseMatrix on a rectangular SparsityPattern whose rows
+     * are those of the factored matrix, one column per outer product. The rows of each
+     * column must be coupled in the factor, as the degrees of freedom of one cell or one
+     * vertex are (C C^T must fit the sparsity of L); a column whose rows are not is
+     * refused, naming them. Stored entries of @p C that are zero are left out (they add
+     * nothing to C C^T), so a pattern wider than the values is fine.
+     *
+     * The factor is then that of A + C C^T, and vmult() and solve() solve with it;
+     * statistics() says what it cost (Statistics::flops_recomputed,
+     * Statistics::columns_recomputed, Statistics::refactorize_seconds) and
+     * Statistics::method is RefactorizationMethod::update. The solver keeps A + C C^T as
+     * the matrix it factored, which a later refactorize() compares the matrix it is given
+     * with: one that holds the change (assembled again) leaves the factor as it is but for
+     * rounding, one with A as before takes the change back.
+     *
+     * Needs the supernodal method (AdditionalData::method) and a factorization
+     * (ExcNotInitialized otherwise). Throws ExcInvalidModification for a @p C that cannot
+     * be taken (another number of rows, a value that is not finite, rows the factor does
+     * not couple) or another method; the factorization is then unchanged.
+     */
+    void update(const dealii::SparseMatrix<double> &C);
+
+    /**
+     * Downdate the factorization of A to that of A - C C^T in place, as update() (same
+     * @p C, same errors). If A - C C^T is not positive definite, or so near to it that the
+     * factor would keep only a few digits, throws ExcDowndateNotPositiveDefinite, naming
+     * the column whose pivot would fail, and leaves the factorization of A as it was, bit
+     * for bit: vmult() and solve() still solve with A.
+     */
+    void downdate(const dealii::SparseMatrix<double> &C);
 
 #ifdef DEAL_II_WITH_TRILINOS
     /**
@@ -265,6 +328,24 @@ namespace warpchol
      */
     DeclException1(ExcInvalidMatrix, std::string, << arg1);
 
+    /**
+     * A downdate() that would leave a matrix that is not positive definite: the pivot of
+     * the column (the matrix's own numbering) would be the value given. The factorization
+     * is left as it was.
+     */
+    DeclException2(ExcDowndateNotPositiveDefinite,
+                   size_type,
+                   double,
+                   << "the downdate would leave the matrix not positive definite: the pivot of column " << arg1
+                   << " would be " << arg2 << " (the factorization is left as it was)");
+
+    /**
+     * A C that update() or downdate() cannot take, in the words of the solver: another
+     * number of rows than the matrix, a value that is not finite, a column whose rows the
+     * factor does not couple (naming them); or a method other than the supernodal one.
+     */
+    DeclException1(ExcInvalidModification, std::string, << arg1);
+
     /** A changed row that the matrix does not have. */
     DeclException2(ExcRowOutOfRange,
                    size_type,
@@ -287,6 +368,9 @@ namespace warpchol
     void factorize_from(const Matrix &matrix);
     template <typename Matrix>
     void refactorize_from(const Matrix &matrix, const std::vector<size_type> &changed_rows);
+
+    /** update() (@p sign +1) and downdate() (-1). */
+    void modify(const dealii::SparseMatrix<double> &C, double sign);
 
     /** Copy the values of @p matrix into matrix_csc, which has its pattern. */
     void copy_values(const dealii::SparseMatrix<double> &matrix);
