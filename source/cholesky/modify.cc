@@ -1,4 +1,5 @@
 #include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
 #include <warpchol/cholesky/modify.h>
 
 #include <tbb/enumerable_thread_specific.h>
@@ -684,7 +685,7 @@ namespace warpchol::cholesky
                        std::to_string(signs.size()) + " signs");
     for (const double sign : signs)
       if (sign != 1. && sign != -1.)
-        throw InputError("a modification's signs are +1 (update) or -1 (downdate), not " + std::to_string(sign));
+        throw InputError("a modification's signs are +1 (update) or -1 (downdate), not " + format_number(sign));
     ModificationRun run(symbolic, values, c, signs, settings, workspace.buffers());
     return run.run();
   }

@@ -504,10 +504,15 @@ namespace warpchol::cholesky
 
   void SparseCholesky::modify(const sparse::CSCMatrix &c, const std::vector<double> &signs)
   {
-    check_modification(signs.empty() || signs[0] > 0 ? "update()" : "downdate()");
+    const bool all_up   = std::all_of(signs.begin(), signs.end(), [](double sign) { return sign > 0; });
+    const bool all_down = std::all_of(signs.begin(), signs.end(), [](double sign) { return sign < 0; });
+    check_modification(all_up ? "update()" : all_down ? "downdate()" : "modify()");
     if (c.n_rows != stats.n)
       throw InputError("C has " + std::to_string(c.n_rows) + " rows, the matrix " + std::to_string(stats.n));
-    c.check_consistency();
+    // C is a general n x k matrix: every stored entry is one of it, whatever its flag says.
+    sparse::CSCMatrix general = c;
+    general.storage           = sparse::Storage::full;
+    general.check_consistency();
     const Stopwatch stopwatch;
     // C in the permuted numbering, each column's rows sorted.
     sparse::CSCMatrix permuted = sparse::CSCMatrix::zero(stats.n, c.n_cols);

@@ -246,7 +246,7 @@ namespace warpchol::cholesky
 
     /**
      * L L^T + C C^T: the factor of A + C C^T, in place (CHOLMOD's cholmod_updown). @p c is
-     * n x k in the user's numbering (any storage flag: every stored entry is an entry of
+     * n x k in the user's numbering (its storage flag is not read: every stored entry is an entry of
      * C), each column's rows coupled in A's factor (for instance the dofs of one element or
      * one vertex): C C^T must fit L's pattern, which is refused naming the column and rows
      * otherwise. The solver's copy of A is updated too, so that a later refactorize()
