@@ -560,16 +560,20 @@ namespace warpchol::cholesky
     refactorization_costs.record(RefactorizationMethod::update, stats.flops_recomputed, stats.refactorize_seconds);
   }
 
-  double SparseCholesky::predicted_seconds(const std::vector<Index> &changed_columns, const Refresh refresh) const
+  double SparseCholesky::predicted_seconds(const std::vector<Index> &changed_columns, const Refresh refresh,
+                                           RefactorizationMethod *method) const
   {
+    RefactorizationMethod ignored = RefactorizationMethod::none;
+    if (method == nullptr)
+      method = &ignored;
     if (!analyzed)
       throw Error("predicted_seconds() called before analyze()");
     check_request(changed_columns, refresh);
     const std::vector<Index> changes = pending_with(changed_columns);
     const RefreshPlan        plan    = plan_refresh(changes, refresh);
-    const double             recompute =
-      refactorization_costs.predicted_seconds(plan.full ? RefactorizationMethod::full : RefactorizationMethod::partial,
-                                              plan.flops);
+    *method = plan.full ? RefactorizationMethod::full :
+              plan.flops > 0 ? RefactorizationMethod::partial : RefactorizationMethod::none;
+    const double recompute = refactorization_costs.predicted_seconds(*method, plan.flops);
     const bool may_update = factor_valid && matrix_holds_factored && stale_columns.empty() &&
                             refresh == Refresh::all && !plan.full && !changes.empty() &&
                             solver_settings.method == FactorizationMethod::supernodal &&
@@ -580,7 +584,10 @@ namespace warpchol::cholesky
     const ModificationPlan update_plan = plan_modification(supernodal_structure, changes);
     const double           update      = refactorization_costs.predicted_seconds(
       RefactorizationMethod::update, update_plan.flops + low_rank_form_flops(update_plan.rank));
-    return solver_settings.change_method == ChangeMethod::update ? update : std::min(update, recompute);
+    if (solver_settings.change_method != ChangeMethod::update && recompute <= update)
+      return recompute;
+    *method = RefactorizationMethod::update;
+    return update;
   }
 
   double SparseCholesky::predicted_flops(const std::vector<Index> &changed_columns, const Refresh refresh) const

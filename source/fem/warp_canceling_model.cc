@@ -602,6 +602,12 @@ namespace warpchol::fem
             StageTimer timer(statistics.stages, stage::refresh_choice);
             Refresh cheapest      = Refresh::all;
             double  least_seconds = std::numeric_limits<double>::infinity();
+            // Where the exact factor can take the step's changes as an update, refreshing
+            // below the top would give that up: the top left stale blocks every later
+            // update until a recomputation of the top (most of a factorization's flops)
+            // makes the factor exact again, a cost a single step's prediction cannot see.
+            cholesky::RefactorizationMethod all_method = cholesky::RefactorizationMethod::none;
+            const double all_seconds = cholesky_solver.predicted_seconds(changed_columns, Refresh::all, &all_method);
             for (const Refresh refresh : {Refresh::all, Refresh::below_top, Refresh::none})
               {
                 // A change of the system (a cut) left out of the factor makes CG iterate
@@ -609,8 +615,10 @@ namespace warpchol::fem
                 // the top, in the step it comes.
                 if (refresh == Refresh::none && change_pending)
                   continue;
+                if (refresh == Refresh::below_top && all_method == cholesky::RefactorizationMethod::update)
+                  continue;
                 const double seconds = cost_model.predicted_seconds(
-                  refresh, cholesky_solver.predicted_seconds(changed_columns, refresh));
+                  refresh, refresh == Refresh::all ? all_seconds : cholesky_solver.predicted_seconds(changed_columns, refresh));
                 if (seconds < least_seconds)
                   {
                     least_seconds = seconds;

@@ -269,9 +269,11 @@ namespace warpchol::cholesky
      * The predicted seconds of refactorize(matrix, @p changed_columns, @p refresh) now, as
      * its choice between an update and a recomputation would have it (the change's rank
      * taken as the number of changed columns): what a caller that weighs refreshing
-     * against other work compares. Throws as refactorize() does.
+     * against other work compares; the method it would take in @p method if not null.
+     * Throws as refactorize() does.
      */
-    double predicted_seconds(const std::vector<Index> &changed_columns, Refresh refresh) const;
+    double predicted_seconds(const std::vector<Index> &changed_columns, Refresh refresh,
+                             RefactorizationMethod *method = nullptr) const;
 
     /**
      * The flops refactorize(matrix, @p changed_columns, @p refresh) would spend now: on the
