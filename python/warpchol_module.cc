@@ -119,8 +119,9 @@ namespace warpchol::python
   class SciPyCholesky
   {
   public:
-    SciPyCholesky(const std::string &method, const std::string &ordering, const unsigned int n_threads)
-      : solver(settings(method, ordering, n_threads))
+    SciPyCholesky(const std::string &method, const std::string &ordering, const unsigned int n_threads,
+                  const std::string &change_method)
+      : solver(settings(method, ordering, n_threads, change_method))
     {}
 
     /** Ordering and symbolic analysis of the pattern of @p matrix. */
@@ -227,12 +228,13 @@ namespace warpchol::python
 
   private:
     static cholesky::SparseCholesky::Settings settings(const std::string &method, const std::string &ordering,
-                                                       const unsigned int n_threads)
+                                                       const unsigned int n_threads, const std::string &change_method)
     {
       cholesky::SparseCholesky::Settings settings;
       settings.method          = cholesky::parse_factorization_method(method);
       settings.ordering.method = cholesky::parse_ordering_method(ordering);
       settings.n_threads       = std::max(1u, n_threads);
+      settings.change_method   = cholesky::parse_change_method(change_method);
       return settings;
     }
 
@@ -395,9 +397,13 @@ the change where that is cheaper. update(C) and downdate(C) give the factor of A
 and A - C C^T for a C of few columns, in place.
 
 method: "supernodal" (default), "left" or "up"; ordering: "metis" (default), "amd" or
-"natural"; threads: threads of the supernodal factorization and solves.)")
-    .def(py::init<const std::string &, const std::string &, unsigned int>(), py::arg("method") = "supernodal",
-         py::arg("ordering") = "metis", py::arg("threads") = 1)
+"natural"; threads: threads of the supernodal factorization and solves; change_method: how
+refactorize() takes a change, "auto" (default: the cheaper of an update and a
+recomputation, by times measured as it goes), "flops" (the same at fixed rates: the same
+choice on any machine), "recompute" (never update) or "update" (whenever possible).)")
+    .def(py::init<const std::string &, const std::string &, unsigned int, const std::string &>(),
+         py::arg("method") = "supernodal", py::arg("ordering") = "metis", py::arg("threads") = 1,
+         py::arg("change_method") = "auto")
     .def("analyze", &SciPyCholesky::analyze, py::arg("A"),
          "Fill-reducing ordering and symbolic analysis of the pattern of A.")
     .def("factorize", &SciPyCholesky::factorize, py::arg("A"),

@@ -68,9 +68,21 @@ namespace warpchol::cholesky
       return symbolic.row_index[symbolic.row_start[child] + symbolic.n_columns(child)] - symbolic.first_column[p];
     }
 
+    /** Lane k of a group holds k: which rows of a group a reflector may change. */
+    const Lanes lane_numbers = {0, 1, 2, 3, 4, 5, 6, 7};
+
     /**
      * The reflectors of one chunk of K columns of C on one supernode, and how they are
      * applied: per local column j, tau_j, v_j (K values) and S v_j (K values).
+     *
+     * Rows go eight at a time (a group, one vector per column of L and of W), from the
+     * supernode's first changing column q on. A group that meets the diagonal block first
+     * takes the reflectors of the columns before it, then makes its own from its rows one
+     * by one, each applied at once to the group's rows below it (the others masked); the
+     * groups below the diagonal block take every reflector, a few side by side; the rows
+     * past the last whole group go through a copy padded with zeros to a group. Every row
+     * is thus computed by the same vector code, whatever its place: the same bits for any
+     * split of the rows.
      */
     template <int K>
     struct ChunkKernel
@@ -79,10 +91,13 @@ namespace warpchol::cholesky
 
       double       *l;
       Index         nr, nc;
+      /** The supernode's rows of W (ldw >= nr + lanes: zero rows pad the last group). */
       double       *w;
       Index         ldw;
       const double *sign;
       double       *reflectors;
+      /** Room for the last, partial group of rows: nc x lanes values. */
+      double       *tail;
 
       /**
        * Row groups of eight carried side by side: each reflector is a chain of dependent
@@ -115,21 +130,25 @@ namespace warpchol::cholesky
           }
       }
 
-      /** Apply the reflectors [j_begin, j_end) to the G groups of eight rows from row i. */
+      /**
+       * Apply the reflectors [j_begin, j_end) to G groups of rows: those of L at
+       * @p rows (column stride @p ld), those of W from row @p w_row on.
+       */
       template <int G>
-      void apply_to_groups(const Index i, const Index j_begin, const Index j_end) const
+      void apply_to_groups(double *rows, const Index ld, const Index w_row, const Index j_begin,
+                           const Index j_end) const
       {
         Lanes carried[G][K];
         for (int g = 0; g < G; ++g)
           for (int t = 0; t < K; ++t)
-            carried[g][t] = load(w + t * ldw + i + g * lanes);
+            carried[g][t] = load(w + t * ldw + w_row + g * lanes);
         for (Index j = j_begin; j < j_end; ++j)
           {
             const double *r = reflectors + j * stride;
             Lanes         sum[G];
             for (int g = 0; g < G; ++g)
               {
-                double     *column  = l + j * nr + i + g * lanes;
+                double     *column  = rows + j * ld + g * lanes;
                 const Lanes old     = load(column);
                 const Lanes changed = r[0] * dot(old, carried[g], r + 1 + K) - old;
                 store(column, changed);
@@ -141,10 +160,10 @@ namespace warpchol::cholesky
           }
         for (int g = 0; g < G; ++g)
           for (int t = 0; t < K; ++t)
-            store(w + t * ldw + i + g * lanes, carried[g][t]);
+            store(w + t * ldw + w_row + g * lanes, carried[g][t]);
       }
 
-      /** Apply the reflectors [j_begin, j_end) to the rows [row_begin, row_end). */
+      /** Apply the reflectors [j_begin, j_end) to the whole groups of rows [row_begin, row_end) in place. */
       void apply_to_rows(const Index row_begin, const Index row_end, const Index j_begin, const Index j_end) const
       {
         if (j_begin >= j_end)
@@ -152,47 +171,25 @@ namespace warpchol::cholesky
         Index i = row_begin;
         if constexpr (groups > 1)
           for (; i + groups * lanes <= row_end; i += groups * lanes)
-            apply_to_groups<groups>(i, j_begin, j_end);
+            apply_to_groups<groups>(l + i, nr, i, j_begin, j_end);
         for (; i + lanes <= row_end; i += lanes)
-          apply_to_groups<1>(i, j_begin, j_end);
-        for (; i < row_end; ++i)
-          apply_to_row(i, j_begin, j_end);
-      }
-
-      /** The same for one row. */
-      void apply_to_row(const Index i, const Index j_begin, const Index j_end) const
-      {
-        double carried[K];
-        for (int t = 0; t < K; ++t)
-          carried[t] = w[t * ldw + i];
-        for (Index j = j_begin; j < j_end; ++j)
-          {
-            const double *r       = reflectors + j * stride;
-            const double  old     = l[j * nr + i];
-            const double  changed = r[0] * dot(old, carried, r + 1 + K) - old;
-            l[j * nr + i]         = changed;
-            const double sum      = old + changed;
-            for (int t = 0; t < K; ++t)
-              carried[t] -= sum * r[1 + t];
-          }
-        for (int t = 0; t < K; ++t)
-          w[t * ldw + i] = carried[t];
+          apply_to_groups<1>(l + i, nr, i, j_begin, j_end);
       }
 
       /**
-       * The reflector of column j from its row: (L_jj, w_j) -> (r, 0). Throws
-       * NotPositiveDefinite (column @p first_column + j) if r^2 falls to the tolerance.
+       * The reflector of column j from its row (L_jj = @p alpha, w_j = @p row_w):
+       * (L_jj, w_j) -> (r, 0); returns r. Throws NotPositiveDefinite (column
+       * @p first_column + j) if r^2 falls to the tolerance.
        */
-      void make_reflector(const Index j, const double tolerance, const Index first_column) const
+      double make_reflector(const Index j, const double alpha, const double *row_w, const double tolerance,
+                            const Index first_column) const
       {
-        const double alpha = l[j * nr + j];
-        double       r2 = alpha * alpha, held = alpha * alpha;
+        double r2 = alpha * alpha, held = alpha * alpha;
         for (int t = 0; t < K; ++t)
           {
-            const double entry = w[t * ldw + j];
-            r2 += sign[t] * entry * entry;
+            r2 += sign[t] * row_w[t] * row_w[t];
             if (sign[t] > 0)
-              held += entry * entry;
+              held += row_w[t] * row_w[t];
           }
         if (!(r2 > tolerance * held) || !std::isfinite(r2))
           throw NotPositiveDefinite(first_column + j, r2);
@@ -201,34 +198,63 @@ namespace warpchol::cholesky
         reflector[0]           = 1. + alpha / r;
         for (int t = 0; t < K; ++t)
           {
-            reflector[1 + t]     = w[t * ldw + j] / denominator;
+            reflector[1 + t]     = row_w[t] / denominator;
             reflector[1 + K + t] = sign[t] * reflector[1 + t];
-            w[t * ldw + j]       = 0.;
           }
-        l[j * nr + j] = r;
+        return r;
       }
 
       /**
-       * Modify the supernode from its local column q on: the rows of its diagonal block a
-       * group of eight at a time (the reflectors of the columns before the group, then the
-       * group's own, made from its rows one by one), then the rows below (split over
-       * threads if @p threaded). Returns the flops.
+       * A group of rows that meets the diagonal block (rows from @p i0, those of L at
+       * @p rows with column stride @p ld): the reflectors [q, i0), then those of its own
+       * rows, each made from its row and applied to the rows below it in the group.
        */
-      double run(const Index q, const double tolerance, const Index first_column, const bool threaded) const
+      void diagonal_group(double *rows, const Index ld, const Index i0, const Index q, const double tolerance,
+                          const Index first_column) const
       {
-        Index i0 = q;
-        for (; i0 < nc; i0 += lanes)
+        apply_to_groups<1>(rows, ld, i0, q, std::min(i0, nc));
+        Lanes carried[K];
+        for (int t = 0; t < K; ++t)
+          carried[t] = load(w + t * ldw + i0);
+        for (Index j = i0; j < std::min(i0 + lanes, nc); ++j)
           {
-            const Index i1 = std::min(i0 + lanes, nr);
-            apply_to_rows(i0, i1, q, i0);
-            for (Index j = i0; j < std::min(i1, nc); ++j)
+            const int lane = static_cast<int>(j - i0);
+            double    row_w[K];
+            for (int t = 0; t < K; ++t)
+              row_w[t] = carried[t][lane];
+            double     *column = rows + j * ld;
+            const Lanes old    = load(column);
+            const double r     = make_reflector(j, old[lane], row_w, tolerance, first_column);
+            const double *reflector = reflectors + j * stride;
+            Lanes        changed    = reflector[0] * dot(old, carried, reflector + 1 + K) - old;
+            const Lanes  sum        = old + changed;
+            // Rows above j keep their values; row j becomes (r, 0) exactly; those below move.
+            const auto below = lane_numbers > static_cast<double>(lane);
+            changed          = below ? changed : old;
+            changed[lane]    = r;
+            store(column, changed);
+            for (int t = 0; t < K; ++t)
               {
-                make_reflector(j, tolerance, first_column);
-                for (Index i = j + 1; i < i1; ++i)
-                  apply_to_row(i, j, j + 1);
+                const Lanes moved = carried[t] - sum * reflector[1 + t];
+                carried[t]        = below ? moved : carried[t];
+                carried[t][lane]  = 0.;
               }
           }
-        const Index rows_below = nr - std::min(i0, nr);
+        for (int t = 0; t < K; ++t)
+          store(w + t * ldw + i0, carried[t]);
+      }
+
+      /**
+       * Modify the supernode from its local column q on, the rows below the diagonal
+       * block split over threads if @p threaded.
+       */
+      void run(const Index q, const double tolerance, const Index first_column, const bool threaded) const
+      {
+        const Index whole_end = q + (nr - q) / lanes * lanes;
+        Index       i0        = q;
+        for (; i0 < nc && i0 < whole_end; i0 += lanes)
+          diagonal_group(l + i0, nr, i0, q, tolerance, first_column);
+        const Index rows_below = whole_end - i0;
         if (threaded && rows_below > 4 * lanes)
           {
             // Each row is computed alone, the same way whatever the split (blocks of
@@ -237,28 +263,40 @@ namespace warpchol::cholesky
             constexpr Index aligned = 4 * lanes;
             const Index     block   = std::max<Index>(2 * aligned, (rows_below / (8 * aligned) + 1) * aligned);
             tbb::parallel_for(Index(0), (rows_below + block - 1) / block, [&](const Index b) {
-              apply_to_rows(i0 + b * block, std::min(nr, i0 + (b + 1) * block), q, nc);
+              apply_to_rows(i0 + b * block, std::min(whole_end, i0 + (b + 1) * block), q, nc);
             });
           }
         else if (rows_below > 0)
-          apply_to_rows(i0, nr, q, nc);
-        return 0;
+          apply_to_rows(i0, whole_end, q, nc);
+        if (whole_end == nr)
+          return;
+        // The last rows, fewer than a group: through a copy padded with zero rows (which
+        // stay zero), its columns from q on.
+        const Index n_rows = nr - whole_end;
+        for (Index j = q; j < nc; ++j)
+          for (Index k = 0; k < lanes; ++k)
+            tail[j * lanes + k] = k < n_rows ? l[j * nr + whole_end + k] : 0.;
+        diagonal_group(tail, lanes, whole_end, q, tolerance, first_column);
+        for (Index j = q; j < nc; ++j)
+          for (Index k = 0; k < n_rows; ++k)
+            l[j * nr + whole_end + k] = tail[j * lanes + k];
       }
     };
 
     /** ChunkKernel<K>::run for the K of @p n_columns (1 to chunk_columns). */
     template <int K>
     void run_chunk(const Index n_columns, double *l, const Index nr, const Index nc, double *w, const Index ldw,
-                   const double *sign, double *reflectors, const Index q, const double tolerance,
+                   const double *sign, double *reflectors, double *tail, const Index q, const double tolerance,
                    const Index first_column, const bool threaded)
     {
       if constexpr (K < chunk_columns)
         if (n_columns > K)
           {
-            run_chunk<K + 1>(n_columns, l, nr, nc, w, ldw, sign, reflectors, q, tolerance, first_column, threaded);
+            run_chunk<K + 1>(n_columns, l, nr, nc, w, ldw, sign, reflectors, tail, q, tolerance, first_column,
+                             threaded);
             return;
           }
-      const ChunkKernel<K> kernel{l, nr, nc, w, ldw, sign, reflectors};
+      const ChunkKernel<K> kernel{l, nr, nc, w, ldw, sign, reflectors, tail};
       kernel.run(q, tolerance, first_column, threaded);
     }
 
@@ -268,6 +306,8 @@ namespace warpchol::cholesky
       /** The supernode's rows of the active columns of W, column by column. */
       std::vector<double> w;
       std::vector<double> reflectors;
+      /** The last partial group of rows of L, padded (ChunkKernel::tail). */
+      std::vector<double> tail;
       std::vector<double> signs;
       std::vector<Index>  active;
     };
@@ -496,9 +536,14 @@ namespace warpchol::cholesky
 
         // Gather the active columns of W on the rows of s (from q_min: the rows above are 0).
         // Rows above q_min are never read: no need to clear them.
-        const Index ldw = nr;
+        // A group of rows of padding past the last row: zeros, which stay zero.
+        const Index ldw = nr + lanes;
         if (workspace.w.size() < static_cast<std::size_t>(ldw * rank))
           workspace.w.resize(static_cast<std::size_t>(ldw * rank));
+        for (Index a = 0; a < rank; ++a)
+          std::fill(workspace.w.begin() + a * ldw + nr, workspace.w.begin() + (a + 1) * ldw, 0.);
+        if (workspace.tail.size() < static_cast<std::size_t>(nc * lanes))
+          workspace.tail.resize(static_cast<std::size_t>(nc * lanes));
         workspace.signs.resize(rank);
         for (Index a = 0; a < rank; ++a)
           workspace.signs[a] = signs[first_group_column + active[a]];
@@ -523,7 +568,7 @@ namespace warpchol::cholesky
             const bool threaded =
               joined && supernode_modification_flops(symbolic, s, q, size) > threaded_supernode_flops;
             run_chunk<1>(size, block, nr, nc, workspace.w.data() + a0 * ldw, ldw, workspace.signs.data() + a0,
-                         workspace.reflectors.data(), q, settings.pivot_tolerance, f, threaded);
+                         workspace.reflectors.data(), workspace.tail.data(), q, settings.pivot_tolerance, f, threaded);
             flops += supernode_modification_flops(symbolic, s, q, size);
             a0 += size;
           }
