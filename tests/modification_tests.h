@@ -23,6 +23,15 @@ namespace tests
   using warpchol::Index;
   using warpchol::sparse::CSCMatrix;
 
+  /** The solver the updates need: supernodal, METIS ordering. */
+  inline warpchol::cholesky::SparseCholesky::Settings supernodal_metis()
+  {
+    warpchol::cholesky::SparseCholesky::Settings settings;
+    settings.ordering.method = warpchol::cholesky::OrderingMethod::metis;
+    settings.method          = warpchol::cholesky::FactorizationMethod::supernodal;
+    return settings;
+  }
+
   /**
    * A clique of the graph of @p full (both triangles stored) grown greedily from column
    * @p start: a neighbour of @p start joins if it is coupled with every column already in,

@@ -34,9 +34,7 @@ int main()
 {
   const sparse::CSCMatrix matrix = sparse::read_matrix_market(tests::data_file("bcsstk16.mtx"));
   const Index             n      = matrix.n_cols;
-  cholesky::SparseCholesky::Settings settings;
-  settings.ordering.method = cholesky::OrderingMethod::metis;
-  settings.method          = cholesky::FactorizationMethod::supernodal;
+  const cholesky::SparseCholesky::Settings settings = tests::supernodal_metis();
   const sparse::CSCMatrix penalty = sparse::penalty_columns(matrix, {0, 1}, 1.);
 
   tests::expect_error("update() before analyze()", [&] { cholesky::SparseCholesky(settings).update(penalty); });

@@ -46,9 +46,7 @@ int main()
 {
   const sparse::CSCMatrix matrix = sparse::read_matrix_market(tests::data_file("bcsstk16.mtx"));
   const Index             n      = matrix.n_cols;
-  cholesky::SparseCholesky::Settings settings;
-  settings.ordering.method = cholesky::OrderingMethod::metis;
-  settings.method          = cholesky::FactorizationMethod::supernodal;
+  cholesky::SparseCholesky::Settings settings = tests::supernodal_metis();
   cholesky::SparseCholesky solver(settings);
   solver.analyze(matrix);
   solver.factorize(matrix);

@@ -13,8 +13,11 @@ namespace warpchol::cholesky
     cholmod_factor *factor = nullptr;
     Index           n      = 0;
 
-    /** A CHOLMOD view of our matrix (no copy): symmetric, lower triangle used. */
-    static cholmod_sparse view(const sparse::CSCMatrix &matrix)
+    /**
+     * A CHOLMOD view of our matrix (no copy): by default symmetric, the lower triangle
+     * used (stype -1); stype 0 for a general one (the columns of an update).
+     */
+    static cholmod_sparse view(const sparse::CSCMatrix &matrix, const int stype = -1)
     {
       cholmod_sparse a{};
       a.nrow   = matrix.n_rows;
@@ -23,7 +26,7 @@ namespace warpchol::cholesky
       a.p      = const_cast<Index *>(matrix.column_start.data());
       a.i      = const_cast<Index *>(matrix.row_index.data());
       a.x      = const_cast<double *>(matrix.values.data());
-      a.stype  = -1;
+      a.stype  = stype;
       a.itype  = CHOLMOD_LONG;
       a.xtype  = CHOLMOD_REAL;
       a.dtype  = CHOLMOD_DOUBLE;
@@ -148,19 +151,7 @@ namespace warpchol::cholesky
 
   void CholmodReference::updown(const bool update, const sparse::CSCMatrix &c)
   {
-    cholmod_sparse view{};
-    view.nrow   = c.n_rows;
-    view.ncol   = c.n_cols;
-    view.nzmax  = c.n_nonzeros();
-    view.p      = const_cast<Index *>(c.column_start.data());
-    view.i      = const_cast<Index *>(c.row_index.data());
-    view.x      = const_cast<double *>(c.values.data());
-    view.stype  = 0;
-    view.itype  = CHOLMOD_LONG;
-    view.xtype  = CHOLMOD_REAL;
-    view.dtype  = CHOLMOD_DOUBLE;
-    view.sorted = 1;
-    view.packed = 1;
+    cholmod_sparse  view = Implementation::view(c, 0);
     const Stopwatch stopwatch;
     const int       ok = cholmod_l_updown(update ? 1 : 0, &view, implementation->factor, &implementation->common);
     updown_seconds     = stopwatch.seconds();
