@@ -1,8 +1,9 @@
 ## The libraries warpchol's solver links that deal.II does not hand over as targets:
 ## SuiteSparse (CHOLMOD, the peer; AMD, an ordering; SuiteSparse_config), METIS (the
-## nested-dissection ordering) and BLAS/LAPACK (OpenBLAS: our supernodal kernels and
-## CHOLMOD's). Found here, as the imported targets warpchol::suitesparse, warpchol::metis
-## and warpchol::blas, both by warpchol's own build (CMakeLists.txt) and by the installed
+## nested-dissection ordering), BLAS/LAPACK (OpenBLAS: our supernodal kernels and
+## CHOLMOD's) and Google Highway (the choice, at run time, of the SIMD target of our own
+## kernels: base/simd.h). Found here, as the imported targets warpchol::suitesparse,
+## warpchol::metis, warpchol::blas and warpchol::highway, both by warpchol's own build (CMakeLists.txt) and by the installed
 ## package (warpcholConfig.cmake), so that the exported library names the same targets in
 ## both places and no path of the building machine is written into the package.
 ##
@@ -21,9 +22,14 @@ find_library(METIS_LIBRARY metis)
 # call at run time) is the BLAS/LAPACK of both our supernodal kernels and CHOLMOD:
 # comparisons use the same BLAS.
 find_library(OPENBLAS_LIBRARY openblas)
+# Highway (Debian: libhwy-dev): its foreach_target compiles each kernel file once per SIMD
+# target, and its runtime dispatch picks the best one the CPU has.
+find_path(HWY_INCLUDE_DIR hwy/highway.h)
+find_library(HWY_LIBRARY hwy)
 
 foreach(variable SUITESPARSE_INCLUDE_DIR CHOLMOD_LIBRARY AMD_LIBRARY SUITESPARSECONFIG_LIBRARY
-                 METIS_INCLUDE_DIR METIS_LIBRARY OPENBLAS_LIBRARY)
+                 METIS_INCLUDE_DIR METIS_LIBRARY OPENBLAS_LIBRARY
+                 HWY_INCLUDE_DIR HWY_LIBRARY)
   if(NOT ${variable})
     list(APPEND WARPCHOL_MISSING_DEPENDENCIES ${variable})
   endif()
@@ -44,4 +50,5 @@ if(NOT WARPCHOL_MISSING_DEPENDENCIES)
     "${CHOLMOD_LIBRARY};${AMD_LIBRARY};${SUITESPARSECONFIG_LIBRARY}")
   warpchol_imported_target(metis "${METIS_INCLUDE_DIR}" "${METIS_LIBRARY}")
   warpchol_imported_target(blas "" "${OPENBLAS_LIBRARY}")
+  warpchol_imported_target(highway "${HWY_INCLUDE_DIR}" "${HWY_LIBRARY}")
 endif()

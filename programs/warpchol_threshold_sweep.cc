@@ -25,6 +25,7 @@
 #include <warpchol/app/command_line.h>
 #include <warpchol/app/machine.h>
 #include <warpchol/app/error_time_plot.h>
+#include <warpchol/app/kernel_timing.h>
 #include <warpchol/app/output.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
@@ -35,7 +36,6 @@
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/blas.h>
-#include <warpchol/fem/rotations.h>
 
 #include <deal.II/base/utilities.h>
 
@@ -193,6 +193,8 @@ namespace
     double              cg_iterations    = 0; // mean per step
     double              seconds          = 0; // time steps only
     double              factor_mib       = 0; // the factor's or preconditioner's memory
+    double              cg_iteration_mb  = 0; // what one CG iteration moves (0 without CG)
+    double              cg_gbps          = 0; // and at what rate its iterations moved it
     bool                has_threshold    = false; // a WCC threshold or target, or a peer's tolerance
     fem::StepStatistics phases;               // seconds summed over the steps
     app::TrajectoryError error;               // against the exact run (none for itself)
@@ -256,6 +258,12 @@ namespace
           row.error.add(app::position_error(x, reference[step - 1], scene.body().rest_positions()));
       }
     row.factor_mib = scene.model().factor_memory_bytes() / 1048576.;
+    if (scene.model().cg_iterations_run() > 0 && scene.model().cg_seconds_run() > 0)
+      {
+        const double bytes  = scene.model().cg_iteration_bytes().total();
+        row.cg_iteration_mb = bytes * 1e-6;
+        row.cg_gbps = bytes * static_cast<double>(scene.model().cg_iterations_run()) / scene.model().cg_seconds_run() * 1e-9;
+      }
     if (row.steps > 0)
       {
         row.elements_updated /= row.steps;
@@ -265,78 +273,6 @@ namespace
     return row;
   }
 
-  /**
-   * The cost per element of each element kernel, in ns per tet, at the configuration
-   * @p positions: best of a few repetitions of the whole loop on the scene's threads.
-   */
-  void print_kernel_costs(const app::Scene &scene, const std::vector<fem::Vector3> &positions,
-                          const double estimate_seconds_per_step)
-  {
-    const auto        &body       = scene.body();
-    const unsigned int n_elements = body.n_elements();
-    const auto time_per_tet = [&](const std::function<void()> &kernel) {
-      double best = std::numeric_limits<double>::infinity();
-      for (unsigned int repetition = 0; repetition < 5; ++repetition)
-        {
-          Stopwatch stopwatch;
-          kernel();
-          best = std::min(best, stopwatch.seconds());
-        }
-      return format_number(1e9 * best / n_elements, 3);
-    };
-    std::vector<fem::Matrix3> rotations(n_elements);
-    const std::string svd = time_per_tet([&] {
-      for (unsigned int e = 0; e < n_elements; ++e)
-        rotations[e] = fem::rotation_by_svd(body.deformation_gradient(e, positions));
-    });
-    const std::string polar = time_per_tet([&] {
-      for (unsigned int e = 0; e < n_elements; ++e)
-        rotations[e] = fem::rotation_of(body.deformation_gradient(e, positions));
-    });
-    std::vector<fem::Matrix3> gradients(n_elements);
-    for (unsigned int e = 0; e < n_elements; ++e)
-      gradients[e] = body.deformation_gradient(e, positions);
-    const std::string batched_polar =
-      time_per_tet([&] { fem::rotations_of(gradients.data(), rotations.data(), n_elements); });
-    fem::ElasticBody::State state;
-    const std::string       fused = time_per_tet(
-      [&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements, state); });
-    const std::string fused_nodal = time_per_tet(
-      [&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements_and_vertices, state); });
-    // A from R_e K_e R_e^T, as the exact path assembles it in every step, and re-assembled
-    // for a tenth of the elements (spread over the body), as a WCC update does.
-    const auto           &parameters = scene.parameters();
-    fem::SystemCoefficients coefficients = fem::SystemCoefficients::implicit_euler(
-      parameters.time_stepping.time_step, parameters.time_stepping.rayleigh_mass,
-      parameters.time_stepping.rayleigh_stiffness);
-    fem::SystemMatrix system(body, coefficients);
-    const std::string assembly = time_per_tet([&] { system.assemble(fem::ElementFrames::rotated(state.element_rotations)); });
-    std::vector<unsigned int> tenth;
-    for (unsigned int e = 0; e < n_elements; e += 10)
-      tenth.push_back(e);
-    const std::string reassembly = time_per_tet([&] {
-      system.reassemble(tenth, fem::ElementFrames::rotated(state.element_rotations));
-    });
-    std::vector<fem::Vector3> product(body.n_vertices());
-    std::vector<fem::Matrix3> work;
-    const std::string         corotated_product = time_per_tet([&] {
-      std::fill(product.begin(), product.end(), fem::Vector3::Zero());
-      body.add_corotated_stiffness_times(&state.element_rotations, positions, product, work);
-    });
-    std::cout << "element kernels (ns per tet, " << n_elements << " tets, one pass over all):\n"
-              << "  rotation by SVD (the former kernel)            " << svd << "\n"
-              << "  rotation by scaled Newton, one by one          " << polar << "\n"
-              << "  rotation by scaled Newton, 8 per SIMD group    " << batched_polar << "\n"
-              << "  fused pass: F, rotation, force, energy, gather " << fused << "\n"
-              << "  the same with the nodal rotations              " << fused_nodal << "\n"
-              << "  corotated stiffness product (one CG product)   " << corotated_product << "\n"
-              << "  assembly of A from the rotations (exact path)  " << assembly << "\n"
-              << "  re-assembly of every tenth element (per tet)   " << reassembly << "\n"
-              << "  WCC error estimate (fastest of the runs above) "
-              << (estimate_seconds_per_step > 0 ? format_number(1e9 * estimate_seconds_per_step / n_elements, 3) :
-                                                  std::string("-"))
-              << "\n";
-  }
 
   /** The threshold column: the WCC threshold or target, the peer's tolerance, or "-". */
   std::string threshold_text(const SweepRow &row)
@@ -374,7 +310,8 @@ namespace
               << std::setw(8) << "flops%" << std::setw(7) << "CG it" << std::setw(10) << "s/step"
               << std::setw(8) << "speedup" << std::setw(9) << "rotat" << std::setw(9) << "estim"
               << std::setw(9) << "assem" << std::setw(9) << "factor" << std::setw(9) << "iterat"
-              << std::setw(9) << "solve" << std::setw(8) << "MiB" << std::setw(10) << "max err" << std::setw(10) << "mean err"
+              << std::setw(9) << "solve" << std::setw(8) << "MiB" << std::setw(8) << "CG MB" << std::setw(8) << "CG GB/s"
+              << std::setw(10) << "max err" << std::setw(10) << "mean err"
               << std::setw(10) << "max RMS" << std::setw(10) << "mean RMS" << "\n";
     for (const auto &row : rows)
       {
@@ -395,6 +332,7 @@ namespace
                   << per_step_ms(p.t_error_estimate()) << std::setw(9) << per_step_ms(p.t_assembly())
                   << std::setw(9) << per_step_ms(p.t_factor()) << std::setw(9) << per_step_ms(p.t_iterations())
                   << std::setw(9) << per_step_ms(p.t_solve()) << std::setw(8) << format_number(row.factor_mib, 3)
+                  << std::setw(8) << format_number(row.cg_iteration_mb, 3) << std::setw(8) << format_number(row.cg_gbps, 3)
                   << std::setw(10) << error(row.error.max_error())
                   << std::setw(10) << error(row.error.mean_error()) << std::setw(10)
                   << error(row.error.max_rms_error()) << std::setw(10) << error(row.error.mean_rms_error())
@@ -443,7 +381,7 @@ namespace
     out << "model,threshold,steps,elements_updated_pct,flops_recomputed_pct,cg_iterations,seconds,"
            "seconds_per_step,t_rotations,t_error_estimate,t_assembly,t_factor,t_iterations,t_solve,"
            "max_error_vs_corotational,mean_error_vs_corotational,max_rms_error_vs_corotational,"
-           "mean_rms_error_vs_corotational,final_error_vs_corotational,factor_mib,failure\n";
+           "mean_rms_error_vs_corotational,final_error_vs_corotational,factor_mib,cg_iteration_mb,cg_gbps,failure\n";
     for (const auto &row : rows)
       {
         const auto per_step_ms = [&](const double seconds) {
@@ -461,6 +399,7 @@ namespace
             << format_number(e.max_error(), 3) << "," << format_number(e.mean_error(), 3) << ","
             << format_number(e.max_rms_error(), 3) << "," << format_number(e.mean_rms_error(), 3) << ","
             << format_number(e.last_error(), 3) << "," << format_number(row.factor_mib, 4) << ","
+            << format_number(row.cg_iteration_mb, 4) << "," << format_number(row.cg_gbps, 4) << ","
             << (row.failure.empty() ? "" : "\"" + row.failure + "\"") << "\n";
       }
   }
@@ -559,7 +498,8 @@ namespace
         if (row.phases.t_error_estimate() > 0 && row.steps > 0)
           estimate_seconds = estimate_seconds > 0 ? std::min(estimate_seconds, row.phases.t_error_estimate() / row.steps) :
                                                     row.phases.t_error_estimate() / row.steps;
-      print_kernel_costs(scene, reference.back(), estimate_seconds);
+      app::print_kernel_table(std::cout, {{app::simd_target(), app::time_kernels(scene, reference.back())}},
+                              scene.body().n_elements(), 1e9 * estimate_seconds / scene.body().n_elements());
     }
     write_file_atomically(csv_file, [&](std::ostream &out) { write_csv(rows, out); });
     std::cout << "table: " << csv_file << std::endl;

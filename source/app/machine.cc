@@ -1,5 +1,6 @@
 #include <warpchol/app/machine.h>
 #include <warpchol/base/format.h>
+#include <warpchol/base/simd.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/blas.h>
 
@@ -26,15 +27,7 @@ namespace warpchol::app
 
   std::string simd_target()
   {
-#if defined(__AVX512F__)
-    return "avx512";
-#elif defined(__AVX2__)
-    return "avx2";
-#elif defined(__SSE2__)
-    return "sse2";
-#else
-    return "none";
-#endif
+    return simd::current_target();
   }
 
   double measure_read_bandwidth()
@@ -60,7 +53,10 @@ namespace warpchol::app
 
   std::string describe_machine()
   {
-    return "machine: " + cpu_name() + ", SIMD target " + simd_target() + ", dgemm " +
+    std::string available;
+    for (const std::string &name : simd::available_targets())
+      available += (available.empty() ? "" : " ") + name;
+    return "machine: " + cpu_name() + ", SIMD target " + simd_target() + " (this CPU: " + available + "), dgemm " +
            format_number(cholesky::blas::measure_dgemm_gflops(), 3) + " GFLOP/s, read " +
            format_number(measure_read_bandwidth(), 3) + " GB/s (one thread)";
   }

@@ -745,6 +745,16 @@ namespace warpchol::app
               out << ", CG on the " << fem::to_string(strategy.iterate_on) << " matrix to "
                   << n(strategy.cg_tolerance, 2) << ", iterations per step mean "
                   << n(iterations_per_step);
+            // What an iteration moves and how fast: the iterating step is memory-bound.
+            if (timings && model.cg_iterations_run() > 0 && model.cg_seconds_run() > 0)
+              {
+                const auto bytes = model.cg_iteration_bytes();
+                out << " (an iteration moves " << n(bytes.total() * 1e-6) << " MB: factor read twice "
+                    << n(bytes.preconditioner * 1e-6) << ", product " << n(bytes.product * 1e-6) << ", vectors "
+                    << n(bytes.vectors * 1e-6) << "; at "
+                    << n(bytes.total() * static_cast<double>(model.cg_iterations_run()) / model.cg_seconds_run() * 1e-9)
+                    << " GB/s)";
+              }
             out << "; factor refreshes:";
             if (t.refreshes.empty())
               out << " 0";
@@ -763,6 +773,10 @@ namespace warpchol::app
             if (strategy.kind == fem::StepStrategy::Kind::automatic && beside > 0)
               out << "; refreshes beside the steps (one thread less for them) in " << beside << " of "
                   << beside + placement.steps_in(fem::RefreshPlacement::Where::in_the_steps) << " steps";
+            const auto &fallback = wcc->exact_fallback();
+            if (strategy.kind == fem::StepStrategy::Kind::automatic && fallback.exact_steps() > 0)
+              out << "; exact in " << fallback.exact_steps() << " steps where its own had cost more ("
+                  << fallback.fallbacks() << " times)";
             out << "\n";
           }
         if (integrator.surgery().active())

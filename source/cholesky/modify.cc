@@ -14,6 +14,11 @@
 
 #include "subtree_tasks.h"
 
+#include <warpchol/base/simd.h>
+
+// What every target shares, compiled once (this file is included again per SIMD target).
+#ifndef warpchol_cholesky_modify_shared
+#define warpchol_cholesky_modify_shared
 namespace warpchol::cholesky
 {
   namespace
@@ -26,20 +31,6 @@ namespace warpchol::cholesky
     constexpr Index lanes = 8;
     /** Supernodes whose own work exceeds this many flops split their rows over threads. */
     constexpr double threaded_supernode_flops = 2e6;
-
-    using Lanes = double __attribute__((vector_size(8 * lanes)));
-
-    Lanes load(const double *p)
-    {
-      Lanes v;
-      std::memcpy(&v, p, sizeof v);
-      return v;
-    }
-
-    void store(double *p, const Lanes &v)
-    {
-      std::memcpy(p, &v, sizeof v);
-    }
 
     /** Entries of L in the local columns [q, nc) of supernode s, diagonal included. */
     Index entries_from(const SupernodalSymbolic &symbolic, const Index s, const Index q)
@@ -68,238 +59,6 @@ namespace warpchol::cholesky
       return symbolic.row_index[symbolic.row_start[child] + symbolic.n_columns(child)] - symbolic.first_column[p];
     }
 
-    /** Lane k of a group holds k: which rows of a group a reflector may change. */
-    const Lanes lane_numbers = {0, 1, 2, 3, 4, 5, 6, 7};
-
-    /**
-     * The reflectors of one chunk of K columns of C on one supernode, and how they are
-     * applied: per local column j, tau_j, v_j (K values) and S v_j (K values).
-     *
-     * Rows go eight at a time (a group, one vector per column of L and of W), from the
-     * supernode's first changing column q on. A group that meets the diagonal block first
-     * takes the reflectors of the columns before it, then makes its own from its rows one
-     * by one, each applied at once to the group's rows below it (the others masked); the
-     * groups below the diagonal block take every reflector, a few side by side; the rows
-     * past the last whole group go through a copy padded with zeros to a group. Every row
-     * is thus computed by the same vector code, whatever its place: the same bits for any
-     * split of the rows.
-     */
-    template <int K>
-    struct ChunkKernel
-    {
-      static constexpr Index stride = 2 * K + 1;
-
-      double       *l;
-      Index         nr, nc;
-      /** The supernode's rows of W (ldw >= nr + lanes: zero rows pad the last group). */
-      double       *w;
-      Index         ldw;
-      const double *sign;
-      double       *reflectors;
-      /** Room for the last, partial group of rows: nc x lanes values. */
-      double       *tail;
-
-      /**
-       * Row groups of eight carried side by side: each reflector is a chain of dependent
-       * operations per group (the dot product, the new entry, the sum that updates w),
-       * and independent groups fill the gaps of one another's chains. As many as the
-       * registers hold with their K columns of W: a power of two, so that any split of
-       * the rows at multiples of 32 groups them alike.
-       */
-      static constexpr int groups = K <= 4 ? 4 : K <= 11 ? 2 : 1;
-
-      /** s = l + w . S v for one reflector, in two interleaved sums (the same order everywhere). */
-      template <typename Value>
-      static Value dot(const Value &old, const Value *carried, const double *scaled)
-      {
-        Value even = old;
-        if constexpr (K == 1)
-          return even + carried[0] * scaled[0];
-        else
-          {
-            Value odd = carried[1] * scaled[1];
-            even += carried[0] * scaled[0];
-            for (int t = 2; t + 1 < K; t += 2)
-              {
-                even += carried[t] * scaled[t];
-                odd += carried[t + 1] * scaled[t + 1];
-              }
-            if constexpr (K % 2 == 1)
-              even += carried[K - 1] * scaled[K - 1];
-            return even + odd;
-          }
-      }
-
-      /**
-       * Apply the reflectors [j_begin, j_end) to G groups of rows: those of L at
-       * @p rows (column stride @p ld), those of W from row @p w_row on.
-       */
-      template <int G>
-      void apply_to_groups(double *rows, const Index ld, const Index w_row, const Index j_begin,
-                           const Index j_end) const
-      {
-        Lanes carried[G][K];
-        for (int g = 0; g < G; ++g)
-          for (int t = 0; t < K; ++t)
-            carried[g][t] = load(w + t * ldw + w_row + g * lanes);
-        for (Index j = j_begin; j < j_end; ++j)
-          {
-            const double *r = reflectors + j * stride;
-            Lanes         sum[G];
-            for (int g = 0; g < G; ++g)
-              {
-                double     *column  = rows + j * ld + g * lanes;
-                const Lanes old     = load(column);
-                const Lanes changed = r[0] * dot(old, carried[g], r + 1 + K) - old;
-                store(column, changed);
-                sum[g] = old + changed;
-              }
-            for (int g = 0; g < G; ++g)
-              for (int t = 0; t < K; ++t)
-                carried[g][t] -= sum[g] * r[1 + t];
-          }
-        for (int g = 0; g < G; ++g)
-          for (int t = 0; t < K; ++t)
-            store(w + t * ldw + w_row + g * lanes, carried[g][t]);
-      }
-
-      /** Apply the reflectors [j_begin, j_end) to the whole groups of rows [row_begin, row_end) in place. */
-      void apply_to_rows(const Index row_begin, const Index row_end, const Index j_begin, const Index j_end) const
-      {
-        if (j_begin >= j_end)
-          return;
-        Index i = row_begin;
-        if constexpr (groups > 1)
-          for (; i + groups * lanes <= row_end; i += groups * lanes)
-            apply_to_groups<groups>(l + i, nr, i, j_begin, j_end);
-        for (; i + lanes <= row_end; i += lanes)
-          apply_to_groups<1>(l + i, nr, i, j_begin, j_end);
-      }
-
-      /**
-       * The reflector of column j from its row (L_jj = @p alpha, w_j = @p row_w):
-       * (L_jj, w_j) -> (r, 0); returns r. Throws NotPositiveDefinite (column
-       * @p first_column + j) if r^2 falls to the tolerance.
-       */
-      double make_reflector(const Index j, const double alpha, const double *row_w, const double tolerance,
-                            const Index first_column) const
-      {
-        double r2 = alpha * alpha, held = alpha * alpha;
-        for (int t = 0; t < K; ++t)
-          {
-            r2 += sign[t] * row_w[t] * row_w[t];
-            if (sign[t] > 0)
-              held += row_w[t] * row_w[t];
-          }
-        if (!(r2 > tolerance * held) || !std::isfinite(r2))
-          throw NotPositiveDefinite(first_column + j, r2);
-        const double r = std::sqrt(r2), denominator = alpha + r;
-        double      *reflector = reflectors + j * stride;
-        reflector[0]           = 1. + alpha / r;
-        for (int t = 0; t < K; ++t)
-          {
-            reflector[1 + t]     = row_w[t] / denominator;
-            reflector[1 + K + t] = sign[t] * reflector[1 + t];
-          }
-        return r;
-      }
-
-      /**
-       * A group of rows that meets the diagonal block (rows from @p i0, those of L at
-       * @p rows with column stride @p ld): the reflectors [q, i0), then those of its own
-       * rows, each made from its row and applied to the rows below it in the group.
-       */
-      void diagonal_group(double *rows, const Index ld, const Index i0, const Index q, const double tolerance,
-                          const Index first_column) const
-      {
-        apply_to_groups<1>(rows, ld, i0, q, std::min(i0, nc));
-        Lanes carried[K];
-        for (int t = 0; t < K; ++t)
-          carried[t] = load(w + t * ldw + i0);
-        for (Index j = i0; j < std::min(i0 + lanes, nc); ++j)
-          {
-            const int lane = static_cast<int>(j - i0);
-            double    row_w[K];
-            for (int t = 0; t < K; ++t)
-              row_w[t] = carried[t][lane];
-            double     *column = rows + j * ld;
-            const Lanes old    = load(column);
-            const double r     = make_reflector(j, old[lane], row_w, tolerance, first_column);
-            const double *reflector = reflectors + j * stride;
-            Lanes        changed    = reflector[0] * dot(old, carried, reflector + 1 + K) - old;
-            const Lanes  sum        = old + changed;
-            // Rows above j keep their values; row j becomes (r, 0) exactly; those below move.
-            const auto below = lane_numbers > static_cast<double>(lane);
-            changed          = below ? changed : old;
-            changed[lane]    = r;
-            store(column, changed);
-            for (int t = 0; t < K; ++t)
-              {
-                const Lanes moved = carried[t] - sum * reflector[1 + t];
-                carried[t]        = below ? moved : carried[t];
-                carried[t][lane]  = 0.;
-              }
-          }
-        for (int t = 0; t < K; ++t)
-          store(w + t * ldw + i0, carried[t]);
-      }
-
-      /**
-       * Modify the supernode from its local column q on, the rows below the diagonal
-       * block split over threads if @p threaded.
-       */
-      void run(const Index q, const double tolerance, const Index first_column, const bool threaded) const
-      {
-        const Index whole_end = q + (nr - q) / lanes * lanes;
-        Index       i0        = q;
-        for (; i0 < nc && i0 < whole_end; i0 += lanes)
-          diagonal_group(l + i0, nr, i0, q, tolerance, first_column);
-        const Index rows_below = whole_end - i0;
-        if (threaded && rows_below > 4 * lanes)
-          {
-            // Each row is computed alone, the same way whatever the split (blocks of
-            // multiples of 32 rows group them as one thread does): the same bits for any
-            // number of threads.
-            constexpr Index aligned = 4 * lanes;
-            const Index     block   = std::max<Index>(2 * aligned, (rows_below / (8 * aligned) + 1) * aligned);
-            tbb::parallel_for(Index(0), (rows_below + block - 1) / block, [&](const Index b) {
-              apply_to_rows(i0 + b * block, std::min(whole_end, i0 + (b + 1) * block), q, nc);
-            });
-          }
-        else if (rows_below > 0)
-          apply_to_rows(i0, whole_end, q, nc);
-        if (whole_end == nr)
-          return;
-        // The last rows, fewer than a group: through a copy padded with zero rows (which
-        // stay zero), its columns from q on.
-        const Index n_rows = nr - whole_end;
-        for (Index j = q; j < nc; ++j)
-          for (Index k = 0; k < lanes; ++k)
-            tail[j * lanes + k] = k < n_rows ? l[j * nr + whole_end + k] : 0.;
-        diagonal_group(tail, lanes, whole_end, q, tolerance, first_column);
-        for (Index j = q; j < nc; ++j)
-          for (Index k = 0; k < n_rows; ++k)
-            l[j * nr + whole_end + k] = tail[j * lanes + k];
-      }
-    };
-
-    /** ChunkKernel<K>::run for the K of @p n_columns (1 to chunk_columns). */
-    template <int K>
-    void run_chunk(const Index n_columns, double *l, const Index nr, const Index nc, double *w, const Index ldw,
-                   const double *sign, double *reflectors, double *tail, const Index q, const double tolerance,
-                   const Index first_column, const bool threaded)
-    {
-      if constexpr (K < chunk_columns)
-        if (n_columns > K)
-          {
-            run_chunk<K + 1>(n_columns, l, nr, nc, w, ldw, sign, reflectors, tail, q, tolerance, first_column,
-                             threaded);
-            return;
-          }
-      const ChunkKernel<K> kernel{l, nr, nc, w, ldw, sign, reflectors, tail};
-      kernel.run(q, tolerance, first_column, threaded);
-    }
-
     /** What one thread needs to modify a supernode. */
     struct Workspace
     {
@@ -311,6 +70,13 @@ namespace warpchol::cholesky
       std::vector<double> signs;
       std::vector<Index>  active;
     };
+    /**
+     * Applies the reflectors of one chunk of @p n_columns (1 to chunk_columns) columns of C
+     * to a supernode (ChunkKernel), on the SIMD target chosen at run time.
+     */
+    void run_chunk(Index n_columns, double *l, Index nr, Index nc, double *w, Index ldw, const double *sign,
+                   double *reflectors, double *tail, Index q, double tolerance, Index first_column, bool threaded);
+
   } // namespace
 
   struct ModificationWorkspace::Buffers
@@ -567,8 +333,8 @@ namespace warpchol::cholesky
               q = std::min(q, entry_row[active[a]] - f);
             const bool threaded =
               joined && supernode_modification_flops(symbolic, s, q, size) > threaded_supernode_flops;
-            run_chunk<1>(size, block, nr, nc, workspace.w.data() + a0 * ldw, ldw, workspace.signs.data() + a0,
-                         workspace.reflectors.data(), workspace.tail.data(), q, settings.pivot_tolerance, f, threaded);
+            run_chunk(size, block, nr, nc, workspace.w.data() + a0 * ldw, ldw, workspace.signs.data() + a0,
+                      workspace.reflectors.data(), workspace.tail.data(), q, settings.pivot_tolerance, f, threaded);
             flops += supernode_modification_flops(symbolic, s, q, size);
             a0 += size;
           }
@@ -735,3 +501,292 @@ namespace warpchol::cholesky
     return run.run();
   }
 } // namespace warpchol::cholesky
+#endif
+
+// The kernel that applies the reflectors, once per SIMD target (Highway).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "cholesky/modify.cc"
+#include <hwy/foreach_target.h>
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace warpchol::cholesky::HWY_NAMESPACE
+{
+  namespace
+  {
+    using Lanes = double __attribute__((vector_size(8 * lanes)));
+
+    Lanes load(const double *p)
+    {
+      Lanes v;
+      std::memcpy(&v, p, sizeof v);
+      return v;
+    }
+
+    void store(double *p, const Lanes &v)
+    {
+      std::memcpy(p, &v, sizeof v);
+    }
+
+    /** Lane k of a group holds k: which rows of a group a reflector may change. */
+    const Lanes lane_numbers = {0, 1, 2, 3, 4, 5, 6, 7};
+
+    /**
+     * The reflectors of one chunk of K columns of C on one supernode, and how they are
+     * applied: per local column j, tau_j, v_j (K values) and S v_j (K values).
+     *
+     * Rows go eight at a time (a group, one vector per column of L and of W), from the
+     * supernode's first changing column q on. A group that meets the diagonal block first
+     * takes the reflectors of the columns before it, then makes its own from its rows one
+     * by one, each applied at once to the group's rows below it (the others masked); the
+     * groups below the diagonal block take every reflector, a few side by side; the rows
+     * past the last whole group go through a copy padded with zeros to a group. Every row
+     * is thus computed by the same vector code, whatever its place: the same bits for any
+     * split of the rows.
+     */
+    template <int K>
+    struct ChunkKernel
+    {
+      static constexpr Index stride = 2 * K + 1;
+
+      double       *l;
+      Index         nr, nc;
+      /** The supernode's rows of W (ldw >= nr + lanes: zero rows pad the last group). */
+      double       *w;
+      Index         ldw;
+      const double *sign;
+      double       *reflectors;
+      /** Room for the last, partial group of rows: nc x lanes values. */
+      double       *tail;
+
+      /**
+       * Row groups of eight carried side by side: each reflector is a chain of dependent
+       * operations per group (the dot product, the new entry, the sum that updates w),
+       * and independent groups fill the gaps of one another's chains. As many as the
+       * registers hold with their K columns of W: a power of two, so that any split of
+       * the rows at multiples of 32 groups them alike.
+       */
+      static constexpr int groups = K <= 4 ? 4 : K <= 11 ? 2 : 1;
+
+      /** s = l + w . S v for one reflector, in two interleaved sums (the same order everywhere). */
+      template <typename Value>
+      static Value dot(const Value &old, const Value *carried, const double *scaled)
+      {
+        Value even = old;
+        if constexpr (K == 1)
+          return even + carried[0] * scaled[0];
+        else
+          {
+            Value odd = carried[1] * scaled[1];
+            even += carried[0] * scaled[0];
+            for (int t = 2; t + 1 < K; t += 2)
+              {
+                even += carried[t] * scaled[t];
+                odd += carried[t + 1] * scaled[t + 1];
+              }
+            if constexpr (K % 2 == 1)
+              even += carried[K - 1] * scaled[K - 1];
+            return even + odd;
+          }
+      }
+
+      /**
+       * Apply the reflectors [j_begin, j_end) to G groups of rows: those of L at
+       * @p rows (column stride @p ld), those of W from row @p w_row on.
+       */
+      template <int G>
+      void apply_to_groups(double *rows, const Index ld, const Index w_row, const Index j_begin,
+                           const Index j_end) const
+      {
+        Lanes carried[G][K];
+        for (int g = 0; g < G; ++g)
+          for (int t = 0; t < K; ++t)
+            carried[g][t] = load(w + t * ldw + w_row + g * lanes);
+        for (Index j = j_begin; j < j_end; ++j)
+          {
+            const double *r = reflectors + j * stride;
+            Lanes         sum[G];
+            for (int g = 0; g < G; ++g)
+              {
+                double     *column  = rows + j * ld + g * lanes;
+                const Lanes old     = load(column);
+                const Lanes changed = r[0] * dot(old, carried[g], r + 1 + K) - old;
+                store(column, changed);
+                sum[g] = old + changed;
+              }
+            for (int g = 0; g < G; ++g)
+              for (int t = 0; t < K; ++t)
+                carried[g][t] -= sum[g] * r[1 + t];
+          }
+        for (int g = 0; g < G; ++g)
+          for (int t = 0; t < K; ++t)
+            store(w + t * ldw + w_row + g * lanes, carried[g][t]);
+      }
+
+      /** Apply the reflectors [j_begin, j_end) to the whole groups of rows [row_begin, row_end) in place. */
+      void apply_to_rows(const Index row_begin, const Index row_end, const Index j_begin, const Index j_end) const
+      {
+        if (j_begin >= j_end)
+          return;
+        Index i = row_begin;
+        if constexpr (groups > 1)
+          for (; i + groups * lanes <= row_end; i += groups * lanes)
+            apply_to_groups<groups>(l + i, nr, i, j_begin, j_end);
+        for (; i + lanes <= row_end; i += lanes)
+          apply_to_groups<1>(l + i, nr, i, j_begin, j_end);
+      }
+
+      /**
+       * The reflector of column j from its row (L_jj = @p alpha, w_j = @p row_w):
+       * (L_jj, w_j) -> (r, 0); returns r. Throws NotPositiveDefinite (column
+       * @p first_column + j) if r^2 falls to the tolerance.
+       */
+      double make_reflector(const Index j, const double alpha, const double *row_w, const double tolerance,
+                            const Index first_column) const
+      {
+        double r2 = alpha * alpha, held = alpha * alpha;
+        for (int t = 0; t < K; ++t)
+          {
+            r2 += sign[t] * row_w[t] * row_w[t];
+            if (sign[t] > 0)
+              held += row_w[t] * row_w[t];
+          }
+        if (!(r2 > tolerance * held) || !std::isfinite(r2))
+          throw NotPositiveDefinite(first_column + j, r2);
+        const double r = std::sqrt(r2), denominator = alpha + r;
+        double      *reflector = reflectors + j * stride;
+        reflector[0]           = 1. + alpha / r;
+        for (int t = 0; t < K; ++t)
+          {
+            reflector[1 + t]     = row_w[t] / denominator;
+            reflector[1 + K + t] = sign[t] * reflector[1 + t];
+          }
+        return r;
+      }
+
+      /**
+       * A group of rows that meets the diagonal block (rows from @p i0, those of L at
+       * @p rows with column stride @p ld): the reflectors [q, i0), then those of its own
+       * rows, each made from its row and applied to the rows below it in the group.
+       */
+      void diagonal_group(double *rows, const Index ld, const Index i0, const Index q, const double tolerance,
+                          const Index first_column) const
+      {
+        apply_to_groups<1>(rows, ld, i0, q, std::min(i0, nc));
+        Lanes carried[K];
+        for (int t = 0; t < K; ++t)
+          carried[t] = load(w + t * ldw + i0);
+        for (Index j = i0; j < std::min(i0 + lanes, nc); ++j)
+          {
+            const int lane = static_cast<int>(j - i0);
+            double    row_w[K];
+            for (int t = 0; t < K; ++t)
+              row_w[t] = carried[t][lane];
+            double     *column = rows + j * ld;
+            const Lanes old    = load(column);
+            const double r     = make_reflector(j, old[lane], row_w, tolerance, first_column);
+            const double *reflector = reflectors + j * stride;
+            Lanes        changed    = reflector[0] * dot(old, carried, reflector + 1 + K) - old;
+            const Lanes  sum        = old + changed;
+            // Rows above j keep their values; row j becomes (r, 0) exactly; those below move.
+            const auto below = lane_numbers > static_cast<double>(lane);
+            changed          = below ? changed : old;
+            changed[lane]    = r;
+            store(column, changed);
+            for (int t = 0; t < K; ++t)
+              {
+                const Lanes moved = carried[t] - sum * reflector[1 + t];
+                carried[t]        = below ? moved : carried[t];
+                carried[t][lane]  = 0.;
+              }
+          }
+        for (int t = 0; t < K; ++t)
+          store(w + t * ldw + i0, carried[t]);
+      }
+
+      /**
+       * Modify the supernode from its local column q on, the rows below the diagonal
+       * block split over threads if @p threaded.
+       */
+      void run(const Index q, const double tolerance, const Index first_column, const bool threaded) const
+      {
+        const Index whole_end = q + (nr - q) / lanes * lanes;
+        Index       i0        = q;
+        for (; i0 < nc && i0 < whole_end; i0 += lanes)
+          diagonal_group(l + i0, nr, i0, q, tolerance, first_column);
+        const Index rows_below = whole_end - i0;
+        if (threaded && rows_below > 4 * lanes)
+          {
+            // Each row is computed alone, the same way whatever the split (blocks of
+            // multiples of 32 rows group them as one thread does): the same bits for any
+            // number of threads.
+            constexpr Index aligned = 4 * lanes;
+            const Index     block   = std::max<Index>(2 * aligned, (rows_below / (8 * aligned) + 1) * aligned);
+            tbb::parallel_for(Index(0), (rows_below + block - 1) / block, [&](const Index b) {
+              apply_to_rows(i0 + b * block, std::min(whole_end, i0 + (b + 1) * block), q, nc);
+            });
+          }
+        else if (rows_below > 0)
+          apply_to_rows(i0, whole_end, q, nc);
+        if (whole_end == nr)
+          return;
+        // The last rows, fewer than a group: through a copy padded with zero rows (which
+        // stay zero), its columns from q on.
+        const Index n_rows = nr - whole_end;
+        for (Index j = q; j < nc; ++j)
+          for (Index k = 0; k < lanes; ++k)
+            tail[j * lanes + k] = k < n_rows ? l[j * nr + whole_end + k] : 0.;
+        diagonal_group(tail, lanes, whole_end, q, tolerance, first_column);
+        for (Index j = q; j < nc; ++j)
+          for (Index k = 0; k < n_rows; ++k)
+            l[j * nr + whole_end + k] = tail[j * lanes + k];
+      }
+    };
+
+    /** ChunkKernel<K>::run for the K of @p n_columns (1 to chunk_columns). */
+    template <int K>
+    void run_chunk(const Index n_columns, double *l, const Index nr, const Index nc, double *w, const Index ldw,
+                   const double *sign, double *reflectors, double *tail, const Index q, const double tolerance,
+                   const Index first_column, const bool threaded)
+    {
+      if constexpr (K < chunk_columns)
+        if (n_columns > K)
+          {
+            run_chunk<K + 1>(n_columns, l, nr, nc, w, ldw, sign, reflectors, tail, q, tolerance, first_column,
+                             threaded);
+            return;
+          }
+      const ChunkKernel<K> kernel{l, nr, nc, w, ldw, sign, reflectors, tail};
+      kernel.run(q, tolerance, first_column, threaded);
+    }
+
+  } // namespace
+
+  /** run_chunk() on this target. */
+  void ModifyChunk(const Index n_columns, double *l, const Index nr, const Index nc, double *w, const Index ldw,
+                   const double *sign, double *reflectors, double *tail, const Index q, const double tolerance,
+                   const Index first_column, const bool threaded)
+  {
+    run_chunk<1>(n_columns, l, nr, nc, w, ldw, sign, reflectors, tail, q, tolerance, first_column, threaded);
+  }
+} // namespace warpchol::cholesky::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace warpchol::cholesky
+{
+  HWY_EXPORT(ModifyChunk);
+
+  namespace
+  {
+    void run_chunk(const Index n_columns, double *l, const Index nr, const Index nc, double *w, const Index ldw,
+                   const double *sign, double *reflectors, double *tail, const Index q, const double tolerance,
+                   const Index first_column, const bool threaded)
+    {
+      simd::use_target_from_environment();
+      HWY_DYNAMIC_DISPATCH(ModifyChunk)(n_columns, l, nr, nc, w, ldw, sign, reflectors, tail, q, tolerance,
+                                        first_column, threaded);
+    }
+  } // namespace
+} // namespace warpchol::cholesky
+#endif

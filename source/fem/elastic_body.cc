@@ -14,6 +14,11 @@
 #include <cmath>
 #include <mutex>
 
+#include <warpchol/base/simd.h>
+
+// What every target shares, compiled once (this file is included again per SIMD target).
+#ifndef warpchol_fem_elastic_body_shared
+#define warpchol_fem_elastic_body_shared
 namespace warpchol::fem
 {
   double Material::lame_lambda() const
@@ -435,78 +440,6 @@ namespace warpchol::fem
     return volumes[e] * (stress(displacement_gradient) * inverse_rest_edges[e].transpose());
   }
 
-  void ElasticBody::corotated_forces_of_lanes(const unsigned int first, const unsigned int count,
-                                              const Matrix3 *gradients, const Matrix3 *rotations,
-                                              Matrix3 *forces, double *energies, double *force_norms) const
-  {
-    // Entry i of the 3x3 matrices of lane l at [i][l] (column-major i = row + 3 column);
-    // lanes past count repeat the last element and are not stored.
-    constexpr unsigned int lanes = force_lanes;
-    alignas(64) double f[9][lanes], r[9][lanes], d[9][lanes], volume[lanes];
-    for (unsigned int l = 0; l < lanes; ++l)
-      {
-        const unsigned int k = std::min(l, count - 1);
-        for (unsigned int i = 0; i < 9; ++i)
-          {
-            f[i][l] = gradients[k].data()[i];
-            r[i][l] = rotations[k].data()[i];
-            d[i][l] = inverse_rest_edges[first + k].data()[i];
-          }
-        volume[l] = volumes[first + k];
-      }
-    alignas(64) double g[9][lanes], stress_volume[9][lanes], local[9][lanes], world[9][lanes];
-    alignas(64) double energy[lanes], norm[lanes];
-    // G = R^T F - I.
-    for (unsigned int i = 0; i < 3; ++i)
-      for (unsigned int j = 0; j < 3; ++j)
-        for (unsigned int l = 0; l < lanes; ++l)
-          g[i + 3 * j][l] = r[3 * i][l] * f[3 * j][l] + r[1 + 3 * i][l] * f[1 + 3 * j][l] +
-                            r[2 + 3 * i][l] * f[2 + 3 * j][l] - (i == j ? 1. : 0.);
-    // V sigma with sigma = lambda tr(eps) I + 2 mu eps, eps = sym(G); the energy V/2 sigma : G.
-    for (unsigned int l = 0; l < lanes; ++l)
-      {
-        const double trace = g[0][l] + g[4][l] + g[8][l];
-        energy[l]          = 0;
-        for (unsigned int i = 0; i < 3; ++i)
-          for (unsigned int j = 0; j < 3; ++j)
-            {
-              const double sigma = mu * (g[i + 3 * j][l] + g[j + 3 * i][l]) + (i == j ? lambda * trace : 0.);
-              stress_volume[i + 3 * j][l] = volume[l] * sigma;
-              energy[l] += 0.5 * stress_volume[i + 3 * j][l] * g[i + 3 * j][l];
-            }
-      }
-    // Local forces V sigma Dm^-T, world forces -R (V sigma Dm^-T).
-    for (unsigned int i = 0; i < 3; ++i)
-      for (unsigned int j = 0; j < 3; ++j)
-        for (unsigned int l = 0; l < lanes; ++l)
-          local[i + 3 * j][l] = stress_volume[i][l] * d[j][l] + stress_volume[i + 3][l] * d[j + 3][l] +
-                                stress_volume[i + 6][l] * d[j + 6][l];
-    for (unsigned int i = 0; i < 3; ++i)
-      for (unsigned int j = 0; j < 3; ++j)
-        for (unsigned int l = 0; l < lanes; ++l)
-          world[i + 3 * j][l] = -(r[i][l] * local[3 * j][l] + r[i + 3][l] * local[1 + 3 * j][l] +
-                                  r[i + 6][l] * local[2 + 3 * j][l]);
-    // The norm of the 12 nodal forces (rotations keep norms): vertex 0's is minus the sum.
-    for (unsigned int l = 0; l < lanes; ++l)
-      {
-        double sum = 0;
-        for (unsigned int i = 0; i < 3; ++i)
-          {
-            const double row = world[i][l] + world[i + 3][l] + world[i + 6][l];
-            sum += row * row + world[i][l] * world[i][l] + world[i + 3][l] * world[i + 3][l] +
-                   world[i + 6][l] * world[i + 6][l];
-          }
-        norm[l] = std::sqrt(sum);
-      }
-    for (unsigned int l = 0; l < count; ++l)
-      {
-        for (unsigned int i = 0; i < 9; ++i)
-          forces[l].data()[i] = world[i][l];
-        energies[l]    = energy[l];
-        force_norms[l] = norm[l];
-      }
-  }
-
   void ElasticBody::gather_element_forces(const std::vector<Matrix3> &element_forces,
                                           std::vector<Vector3>       &out) const
   {
@@ -681,29 +614,6 @@ namespace warpchol::fem
     return energies;
   }
 
-  void ElasticBody::add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
-                                                  const std::vector<Vector3> &v,
-                                                  std::vector<Vector3>       &out,
-                                                  std::vector<Matrix3>       &work) const
-  {
-    // R_e K_e R_e^T v_e: the gradient of v in the element's frame is R_e^T grad v.
-    work.resize(n_elements());
-    dealii::parallel::apply_to_subranges(
-      0u, n_elements(),
-      [&](const unsigned int begin, const unsigned int end) {
-        for (unsigned int e = begin; e < end; ++e)
-          {
-            const Matrix3 gradient = field_gradient(e, v);
-            work[e] = element_rotations ?
-                        Matrix3((*element_rotations)[e] *
-                                stiffness_forces(e, (*element_rotations)[e].transpose() * gradient)) :
-                        stiffness_forces(e, gradient);
-          }
-      },
-      512);
-    gather_element_forces(work, out);
-  }
-
   void ElasticBody::add_mass_times(const std::vector<Vector3> &velocities,
                                    std::vector<Vector3>       &out) const
   {
@@ -751,3 +661,145 @@ namespace warpchol::fem
     return fe_mapping;
   }
 } // namespace warpchol::fem
+#endif
+
+// The corotated forces of a group of elements, once per SIMD target (Highway).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "fem/elastic_body.cc"
+#include <hwy/foreach_target.h>
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace warpchol::fem::HWY_NAMESPACE
+{
+  /**
+   * ElasticBody::corotated_forces_of_lanes() on this target, for the elements whose
+   * inverse rest edges and volumes start at @p inverse_rest_edges and @p volumes. With
+   * @p product, the corotated stiffness times the field whose gradients are @p gradients:
+   * G = R^T F and the forces +R (V sigma Dm^-T); else G = R^T F - I and -R (V sigma Dm^-T).
+   */
+  void CorotatedForces(const unsigned int count, const Matrix3 *gradients, const Matrix3 *rotations,
+                       const Matrix3 *inverse_rest_edges, const double *volumes, const double mu, const double lambda,
+                       const bool product, Matrix3 *forces, double *energies, double *force_norms)
+  {
+    // Entry i of the 3x3 matrices of lane l at [i][l] (column-major i = row + 3 column);
+    // lanes past count repeat the last element and are not stored.
+    constexpr unsigned int lanes = force_lanes;
+    const double identity = product ? 0. : 1.;
+    const double sign     = product ? 1. : -1.;
+    alignas(64) double f[9][lanes], r[9][lanes], d[9][lanes], volume[lanes];
+    for (unsigned int l = 0; l < lanes; ++l)
+      {
+        const unsigned int k = std::min(l, count - 1);
+        for (unsigned int i = 0; i < 9; ++i)
+          {
+            f[i][l] = gradients[k].data()[i];
+            r[i][l] = rotations[k].data()[i];
+            d[i][l] = inverse_rest_edges[k].data()[i];
+          }
+        volume[l] = volumes[k];
+      }
+    alignas(64) double g[9][lanes], stress_volume[9][lanes], local[9][lanes], world[9][lanes];
+    alignas(64) double energy[lanes], norm[lanes];
+    // G = R^T F - I (R^T F for a product).
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        for (unsigned int l = 0; l < lanes; ++l)
+          g[i + 3 * j][l] = r[3 * i][l] * f[3 * j][l] + r[1 + 3 * i][l] * f[1 + 3 * j][l] +
+                            r[2 + 3 * i][l] * f[2 + 3 * j][l] - (i == j ? identity : 0.);
+    // V sigma with sigma = lambda tr(eps) I + 2 mu eps, eps = sym(G); the energy V/2 sigma : G.
+    for (unsigned int l = 0; l < lanes; ++l)
+      {
+        const double trace = g[0][l] + g[4][l] + g[8][l];
+        energy[l]          = 0;
+        for (unsigned int i = 0; i < 3; ++i)
+          for (unsigned int j = 0; j < 3; ++j)
+            {
+              const double sigma = mu * (g[i + 3 * j][l] + g[j + 3 * i][l]) + (i == j ? lambda * trace : 0.);
+              stress_volume[i + 3 * j][l] = volume[l] * sigma;
+              energy[l] += 0.5 * stress_volume[i + 3 * j][l] * g[i + 3 * j][l];
+            }
+      }
+    // Local forces V sigma Dm^-T, world forces -R (V sigma Dm^-T).
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        for (unsigned int l = 0; l < lanes; ++l)
+          local[i + 3 * j][l] = stress_volume[i][l] * d[j][l] + stress_volume[i + 3][l] * d[j + 3][l] +
+                                stress_volume[i + 6][l] * d[j + 6][l];
+    for (unsigned int i = 0; i < 3; ++i)
+      for (unsigned int j = 0; j < 3; ++j)
+        for (unsigned int l = 0; l < lanes; ++l)
+          world[i + 3 * j][l] = sign * (r[i][l] * local[3 * j][l] + r[i + 3][l] * local[1 + 3 * j][l] +
+                                        r[i + 6][l] * local[2 + 3 * j][l]);
+    // The norm of the 12 nodal forces (rotations keep norms): vertex 0's is minus the sum.
+    for (unsigned int l = 0; l < lanes; ++l)
+      {
+        double sum = 0;
+        for (unsigned int i = 0; i < 3; ++i)
+          {
+            const double row = world[i][l] + world[i + 3][l] + world[i + 6][l];
+            sum += row * row + world[i][l] * world[i][l] + world[i + 3][l] * world[i + 3][l] +
+                   world[i + 6][l] * world[i + 6][l];
+          }
+        norm[l] = std::sqrt(sum);
+      }
+    for (unsigned int l = 0; l < count; ++l)
+      {
+        for (unsigned int i = 0; i < 9; ++i)
+          forces[l].data()[i] = world[i][l];
+        if (energies != nullptr)
+          energies[l] = energy[l];
+        if (force_norms != nullptr)
+          force_norms[l] = norm[l];
+      }
+  }
+
+} // namespace warpchol::fem::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace warpchol::fem
+{
+  HWY_EXPORT(CorotatedForces);
+
+  void ElasticBody::corotated_forces_of_lanes(const unsigned int first, const unsigned int count,
+                                              const Matrix3 *gradients, const Matrix3 *rotations,
+                                              Matrix3 *forces, double *energies, double *force_norms) const
+  {
+    simd::use_target_from_environment();
+    HWY_DYNAMIC_DISPATCH(CorotatedForces)(count, gradients, rotations, inverse_rest_edges.data() + first,
+                                          volumes.data() + first, mu, lambda, false, forces, energies, force_norms);
+  }
+
+  void ElasticBody::add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
+                                                  const std::vector<Vector3> &v,
+                                                  std::vector<Vector3>       &out,
+                                                  std::vector<Matrix3>       &work) const
+  {
+    // R_e K_e R_e^T v_e: the gradient of v in the element's frame is R_e^T grad v; the
+    // elements force_lanes at a time through the SIMD kernel of the forces.
+    work.resize(n_elements());
+    simd::use_target_from_environment();
+    const auto kernel = HWY_DYNAMIC_DISPATCH(CorotatedForces);
+    dealii::parallel::apply_to_subranges(
+      0u, n_elements(),
+      [&](const unsigned int begin, const unsigned int end) {
+        std::array<Matrix3, force_lanes> gradients, rotations;
+        for (unsigned int first = begin; first < end; first += force_lanes)
+          {
+            const unsigned int count = std::min(force_lanes, end - first);
+            for (unsigned int k = 0; k < count; ++k)
+              {
+                gradients[k] = field_gradient(first + k, v);
+                rotations[k] = element_rotations ? (*element_rotations)[first + k] : Matrix3::Identity();
+              }
+            kernel(count, gradients.data(), rotations.data(), inverse_rest_edges.data() + first,
+                   volumes.data() + first, mu, lambda, true, work.data() + first, nullptr, nullptr);
+          }
+      },
+      512);
+    gather_element_forces(work, out);
+  }
+
+} // namespace warpchol::fem
+#endif

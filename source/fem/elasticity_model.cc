@@ -529,6 +529,8 @@ namespace warpchol::fem
     const auto record = [&]() {
       last_cg_iterations = control.last_step();
       last_cg_seconds    = stopwatch.seconds();
+      total_cg_iterations += control.last_step();
+      total_cg_seconds += last_cg_seconds;
       statistics.cg_iterations += control.last_step();
       statistics.stages.add(stage::solve, solve_seconds);
       statistics.stages.add(stage::cg_iterations, last_cg_seconds - solve_seconds);
@@ -545,6 +547,48 @@ namespace warpchol::fem
     record();
     y.assign(solution.begin(), solution.end());
     return control.last_step();
+  }
+
+  double ElasticityModel::IterationBytes::total() const
+  {
+    return preconditioner + product + vectors;
+  }
+
+  ElasticityModel::IterationBytes ElasticityModel::cg_iteration_bytes() const
+  {
+    IterationBytes bytes;
+    const auto    &settings = cholesky_solver.settings();
+    if (settings.method == cholesky::FactorizationMethod::supernodal)
+      {
+        const auto  &structure = cholesky_solver.supernodal_symbolic();
+        const double value     = settings.single_precision_preconditioner ? sizeof(float) : sizeof(double);
+        bytes.preconditioner   = 2. * (static_cast<double>(structure.n_stored_values()) * value +
+                                     static_cast<double>(structure.row_index.size()) * sizeof(Index));
+      }
+    else
+      bytes.preconditioner =
+        2. * static_cast<double>(cholesky_solver.statistics().nnz_l) * (sizeof(double) + sizeof(Index));
+    const double n = static_cast<double>(body.n_unknowns());
+    if (strategy.iterate_on == StepStrategy::Target::warp_canceling)
+      bytes.product = static_cast<double>(system.lower().values.size()) * (sizeof(double) + sizeof(Index)) +
+                      2 * n * sizeof(double);
+    else
+      bytes.product = static_cast<double>(body.n_elements()) *
+                        (3 * sizeof(Matrix3) + sizeof(double) + 4 * sizeof(unsigned int) + 4 * sizeof(Vector3)) +
+                      static_cast<double>(body.n_elements()) * 4 * (sizeof(unsigned int) + sizeof(unsigned char)) +
+                      n * sizeof(double);
+    bytes.vectors = 10 * n * sizeof(double);
+    return bytes;
+  }
+
+  unsigned long ElasticityModel::cg_iterations_run() const
+  {
+    return total_cg_iterations;
+  }
+
+  double ElasticityModel::cg_seconds_run() const
+  {
+    return total_cg_seconds;
   }
 
   void ElasticityModel::target_times(const dealii::Vector<double> &y, dealii::Vector<double> &out) const

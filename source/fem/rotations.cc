@@ -7,6 +7,11 @@
 #include <algorithm>
 #include <cmath>
 
+#include <warpchol/base/simd.h>
+
+// What every target shares, compiled once (this file is included again per SIMD target).
+#ifndef warpchol_fem_rotations_shared
+#define warpchol_fem_rotations_shared
 namespace warpchol::fem
 {
   Matrix3 rotation_by_svd(const Matrix3 &deformation_gradient)
@@ -74,6 +79,31 @@ namespace warpchol::fem
     return rotation_by_svd(deformation_gradient);
   }
 
+  std::size_t RotationPaths::total() const
+  {
+    return lanes + newton + svd;
+  }
+
+  RotationPaths &RotationPaths::operator+=(const RotationPaths &other)
+  {
+    lanes += other.lanes;
+    newton += other.newton;
+    svd += other.svd;
+    return *this;
+  }
+
+} // namespace warpchol::fem
+#endif
+
+// The batched polar decomposition, once per SIMD target (Highway's foreach_target).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "fem/rotations.cc"
+#include <hwy/foreach_target.h>
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace warpchol::fem::HWY_NAMESPACE
+{
   namespace
   {
     /** Matrices side by side: entry i (column-major) of lane l is value[i][l]. */
@@ -146,20 +176,8 @@ namespace warpchol::fem
     }
   } // namespace
 
-  std::size_t RotationPaths::total() const
-  {
-    return lanes + newton + svd;
-  }
-
-  RotationPaths &RotationPaths::operator+=(const RotationPaths &other)
-  {
-    lanes += other.lanes;
-    newton += other.newton;
-    svd += other.svd;
-    return *this;
-  }
-
-  void rotations_of(const Matrix3 *gradients, Matrix3 *rotations, const std::size_t count, RotationPaths *paths)
+  /** rotations_of() on this target. */
+  void RotationsOf(const Matrix3 *gradients, Matrix3 *rotations, const std::size_t count, RotationPaths *paths)
   {
     RotationPaths taken;
     for (std::size_t k = 0; k < count; k += lanes)
@@ -232,4 +250,18 @@ namespace warpchol::fem
     if (paths != nullptr)
       *paths += taken;
   }
+} // namespace warpchol::fem::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace warpchol::fem
+{
+  HWY_EXPORT(RotationsOf);
+
+  void rotations_of(const Matrix3 *gradients, Matrix3 *rotations, const std::size_t count, RotationPaths *paths)
+  {
+    simd::use_target_from_environment();
+    HWY_DYNAMIC_DISPATCH(RotationsOf)(gradients, rotations, count, paths);
+  }
 } // namespace warpchol::fem
+#endif

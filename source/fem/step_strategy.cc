@@ -277,4 +277,121 @@ namespace warpchol::fem
       iterations = iterations_after_top >= 0 ? iterations_after_top : iterations_after_all + 1;
     return refresh_seconds + iterations * seconds_per_iteration;
   }
+  bool ExactFallback::runs_exact() const
+  {
+    return exact;
+  }
+
+  void ExactFallback::set_exact_estimate(const double seconds)
+  {
+    estimate = seconds;
+  }
+
+  unsigned int ExactFallback::exact_steps() const
+  {
+    return exact_count;
+  }
+
+  unsigned int ExactFallback::fallbacks() const
+  {
+    return fallback_count;
+  }
+
+  void ExactFallback::record_step(const double seconds, const bool exact_step)
+  {
+    if (exact_step)
+      exact_seconds = exact_seconds < 0 ? seconds : 0.7 * exact_seconds + 0.3 * seconds;
+    if (exact)
+      ++exact_count;
+    if (++steps < first_counted_step)
+      return;
+    ++phase_steps;
+    if (exact)
+      {
+        if (phase_steps < phase_length)
+          return;
+        phase_steps = 0;
+        if (probing)
+          {
+            // The probe measured an exact step: fall back for a stretch if the own steps
+            // still cost more, else they go on as if nothing happened.
+            probing = false;
+            if (own_seconds > (1 + margin) * exact_seconds)
+              {
+                ++fallback_count;
+                phase_length = stretch;
+                return;
+              }
+            exact = false;
+            return;
+          }
+        // A stretch is over: the strategy's own steps get a window again.
+        exact         = false;
+        after_stretch = true;
+        return;
+      }
+    phase_seconds += seconds;
+    if (phase_steps < window)
+      return;
+    own_seconds   = phase_seconds / phase_steps;
+    phase_seconds = 0;
+    phase_steps   = 0;
+    const bool   measured  = exact_seconds > 0;
+    const double reference = measured ? exact_seconds : estimate;
+    const bool   own_loses = reference > 0 && own_seconds > (1 + margin) * reference;
+    if (!own_loses)
+      {
+        // The own steps won (again): the next fall-back, if any, starts short.
+        if (after_stretch)
+          stretch = shortest_stretch;
+        after_stretch = false;
+        return;
+      }
+    exact = true;
+    if (!measured)
+      {
+        probing      = true;
+        phase_length = probe;
+        return;
+      }
+    if (after_stretch)
+      stretch = std::min(2 * stretch, longest_stretch);
+    after_stretch = false;
+    ++fallback_count;
+    phase_length = stretch;
+  }
+
+  void ExactFallback::save(BinaryWriter &writer) const
+  {
+    writer.write(exact);
+    writer.write(steps);
+    writer.write(phase_steps);
+    writer.write(phase_seconds);
+    writer.write(phase_length);
+    writer.write(probing);
+    writer.write(stretch);
+    writer.write(after_stretch);
+    writer.write(own_seconds);
+    writer.write(exact_seconds);
+    writer.write(estimate);
+    writer.write(exact_count);
+    writer.write(fallback_count);
+  }
+
+  void ExactFallback::load(BinaryReader &reader)
+  {
+    reader.read(exact);
+    reader.read(steps);
+    reader.read(phase_steps);
+    reader.read(phase_seconds);
+    reader.read(phase_length);
+    reader.read(probing);
+    reader.read(stretch);
+    reader.read(after_stretch);
+    reader.read(own_seconds);
+    reader.read(exact_seconds);
+    reader.read(estimate);
+    reader.read(exact_count);
+    reader.read(fallback_count);
+  }
 } // namespace warpchol::fem

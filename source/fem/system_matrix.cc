@@ -9,6 +9,11 @@
 #include <algorithm>
 #include <numeric>
 
+#include <warpchol/base/simd.h>
+
+// What every target shares, compiled once (this file is included again per SIMD target).
+#ifndef warpchol_fem_system_matrix_shared
+#define warpchol_fem_system_matrix_shared
 namespace warpchol::fem
 {
   SystemCoefficients SystemCoefficients::implicit_euler(const double time_step,
@@ -123,122 +128,12 @@ namespace warpchol::fem
       Lane diagonal[n_blocks];
     };
 
-    LaneInputs gather_inputs(const ElasticBody &body, const SystemCoefficients &coefficients,
-                             const unsigned int *elements, const unsigned int count)
-    {
-      LaneInputs   in;
-      const double lambda = coefficients.stiffness * body.lame_lambda();
-      const double mu     = coefficients.stiffness * body.lame_mu();
-      const bool   lumped = body.mass_matrix_type() == MassMatrix::lumped;
-      Lane         mass[n_blocks];
-      for (unsigned int l = 0; l < lanes; ++l)
-        {
-          const unsigned int e         = elements[std::min(l, count - 1)];
-          const Matrix3     &gradients = body.rest_shape_gradients(e);
-          for (unsigned int a = 1; a < 4; ++a)
-            for (unsigned int i = 0; i < 3; ++i)
-              in.g[a][i][l] = gradients(a - 1, i);
-          // A cut element has no stiffness (and no mass: body.element_mass() is zero).
-          const double volume  = body.element_volume(e) * body.element_stiffness_scale(e);
-          in.lambda_volume[l] = lambda * volume;
-          in.mu_volume[l]     = mu * volume;
-          const auto &m       = body.element_mass(e);
-          for (unsigned int k = 0; k < n_blocks; ++k)
-            mass[k][l] = lumped && block_row[k] != block_column[k] ? 0. :
-                                                                     coefficients.mass * m(block_row[k], block_column[k]);
-        }
-      for (unsigned int i = 0; i < 3; ++i)
-        in.g[0][i] = -(in.g[1][i] + in.g[2][i] + in.g[3][i]);
-      for (unsigned int k = 0; k < n_blocks; ++k)
-        {
-          const unsigned int a = block_row[k], b = block_column[k];
-          in.diagonal[k] =
-            in.mu_volume * (in.g[a][0] * in.g[b][0] + in.g[a][1] * in.g[b][1] + in.g[a][2] * in.g[b][2]) + mass[k];
-        }
-      return in;
-    }
-
     /**
      * The blocks of the contributions of @p elements[0 .. count) in @p frames, lane by lane
-     * (lanes past count repeat the last element): with g_a the shape function gradients,
-     * V the volume, lambda and mu the material's,
-     *   B_ab = c_K V (lambda u_aa u_bb^T + mu u_ab u_ba^T + mu (g_a.g_b) T_a T_b^T) + c_M m_ab T_a T_b^T
-     * with u_ab = T_a g_b. Where every T_a is the same rotation R, T_a T_b^T = I and
-     * u_ab = R g_b: the rotated and rest cases skip the products of frames.
+     * (lanes past count repeat the last element), on the SIMD target chosen at run time.
      */
     void form_blocks(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
-                     const unsigned int *elements, const unsigned int count, LaneBlocks &out)
-    {
-      const LaneInputs in = gather_inputs(body, coefficients, elements, count);
-      if (frames.kind != ElementFrames::Kind::warped)
-        {
-          // h_a = R g_a (R = I at rest), and lambda V h_a, mu V h_a.
-          Lane h[4][3], lambda_h[4][3], mu_h[4][3];
-          if (frames.kind == ElementFrames::Kind::rest)
-            std::copy(&in.g[0][0], &in.g[0][0] + 12, &h[0][0]);
-          else
-            {
-              Lane r[9];
-              for (unsigned int l = 0; l < lanes; ++l)
-                {
-                  const Matrix3 &rotation = (*frames.element_rotations)[elements[std::min(l, count - 1)]];
-                  for (unsigned int i = 0; i < 9; ++i)
-                    r[i][l] = rotation.data()[i];
-                }
-              for (unsigned int a = 0; a < 4; ++a)
-                for (unsigned int i = 0; i < 3; ++i)
-                  h[a][i] = r[i] * in.g[a][0] + r[i + 3] * in.g[a][1] + r[i + 6] * in.g[a][2];
-            }
-          for (unsigned int a = 0; a < 4; ++a)
-            for (unsigned int i = 0; i < 3; ++i)
-              {
-                lambda_h[a][i] = in.lambda_volume * h[a][i];
-                mu_h[a][i]     = in.mu_volume * h[a][i];
-              }
-          for (unsigned int k = 0; k < n_blocks; ++k)
-            {
-              const unsigned int a = block_row[k], b = block_column[k];
-              for (unsigned int j = 0; j < 3; ++j)
-                for (unsigned int i = 0; i < 3; ++i)
-                  {
-                    out.value[k][i + 3 * j] = lambda_h[a][i] * h[b][j] + mu_h[b][i] * h[a][j];
-                    if (i == j)
-                      out.value[k][i + 3 * j] += in.diagonal[k];
-                  }
-            }
-          return;
-        }
-
-      Lane t[4][9];
-      for (unsigned int l = 0; l < lanes; ++l)
-        {
-          const auto &element_frames = (*frames.vertex_frames)[elements[std::min(l, count - 1)]];
-          for (unsigned int a = 0; a < 4; ++a)
-            for (unsigned int i = 0; i < 9; ++i)
-              t[a][i][l] = element_frames[a].data()[i];
-        }
-      // u[a][b] = T_a g_b.
-      Lane u[4][4][3];
-      for (unsigned int a = 0; a < 4; ++a)
-        for (unsigned int b = 0; b < 4; ++b)
-          for (unsigned int i = 0; i < 3; ++i)
-            u[a][b][i] = t[a][i] * in.g[b][0] + t[a][i + 3] * in.g[b][1] + t[a][i + 6] * in.g[b][2];
-      for (unsigned int k = 0; k < n_blocks; ++k)
-        {
-          const unsigned int a = block_row[k], b = block_column[k];
-          for (unsigned int j = 0; j < 3; ++j)
-            for (unsigned int i = 0; i < 3; ++i)
-              {
-                Lane value = in.lambda_volume * u[a][a][i] * u[b][b][j] + in.mu_volume * u[a][b][i] * u[b][a][j];
-                // (T_a T_b^T)(i, j): the identity on the diagonal blocks.
-                if (a != b)
-                  value += in.diagonal[k] * (t[a][i] * t[b][j] + t[a][i + 3] * t[b][j + 3] + t[a][i + 6] * t[b][j + 6]);
-                else if (i == j)
-                  value += in.diagonal[k];
-                out.value[k][i + 3 * j] = value;
-              }
-        }
-    }
+                     const unsigned int *elements, const unsigned int count, LaneBlocks &out);
 
     /** The blocks of the elements' dense matrices from @p element_matrix, lane by lane. */
     auto function_blocks(const SystemMatrix::ElementMatrixFunction &element_matrix)
@@ -699,3 +594,160 @@ namespace warpchol::fem
     dealii_current      = false;
   }
 } // namespace warpchol::fem
+#endif
+
+// The blocks of a group of elements, once per SIMD target (Highway).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "fem/system_matrix.cc"
+#include <hwy/foreach_target.h>
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace warpchol::fem::HWY_NAMESPACE
+{
+  namespace
+  {
+    LaneInputs gather_inputs(const ElasticBody &body, const SystemCoefficients &coefficients,
+                             const unsigned int *elements, const unsigned int count)
+    {
+      LaneInputs   in;
+      const double lambda = coefficients.stiffness * body.lame_lambda();
+      const double mu     = coefficients.stiffness * body.lame_mu();
+      const bool   lumped = body.mass_matrix_type() == MassMatrix::lumped;
+      Lane         mass[n_blocks];
+      for (unsigned int l = 0; l < lanes; ++l)
+        {
+          const unsigned int e         = elements[std::min(l, count - 1)];
+          const Matrix3     &gradients = body.rest_shape_gradients(e);
+          for (unsigned int a = 1; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              in.g[a][i][l] = gradients(a - 1, i);
+          // A cut element has no stiffness (and no mass: body.element_mass() is zero).
+          const double volume  = body.element_volume(e) * body.element_stiffness_scale(e);
+          in.lambda_volume[l] = lambda * volume;
+          in.mu_volume[l]     = mu * volume;
+          const auto &m       = body.element_mass(e);
+          for (unsigned int k = 0; k < n_blocks; ++k)
+            mass[k][l] = lumped && block_row[k] != block_column[k] ? 0. :
+                                                                     coefficients.mass * m(block_row[k], block_column[k]);
+        }
+      for (unsigned int i = 0; i < 3; ++i)
+        in.g[0][i] = -(in.g[1][i] + in.g[2][i] + in.g[3][i]);
+      for (unsigned int k = 0; k < n_blocks; ++k)
+        {
+          const unsigned int a = block_row[k], b = block_column[k];
+          in.diagonal[k] =
+            in.mu_volume * (in.g[a][0] * in.g[b][0] + in.g[a][1] * in.g[b][1] + in.g[a][2] * in.g[b][2]) + mass[k];
+        }
+      return in;
+    }
+
+    /**
+     * The blocks of the contributions of @p elements[0 .. count) in @p frames, lane by lane
+     * (lanes past count repeat the last element): with g_a the shape function gradients,
+     * V the volume, lambda and mu the material's,
+     *   B_ab = c_K V (lambda u_aa u_bb^T + mu u_ab u_ba^T + mu (g_a.g_b) T_a T_b^T) + c_M m_ab T_a T_b^T
+     * with u_ab = T_a g_b. Where every T_a is the same rotation R, T_a T_b^T = I and
+     * u_ab = R g_b: the rotated and rest cases skip the products of frames.
+     */
+    void form_blocks_here(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
+                          const unsigned int *elements, const unsigned int count, LaneBlocks &out)
+    {
+      const LaneInputs in = gather_inputs(body, coefficients, elements, count);
+      if (frames.kind != ElementFrames::Kind::warped)
+        {
+          // h_a = R g_a (R = I at rest), and lambda V h_a, mu V h_a.
+          Lane h[4][3], lambda_h[4][3], mu_h[4][3];
+          if (frames.kind == ElementFrames::Kind::rest)
+            std::copy(&in.g[0][0], &in.g[0][0] + 12, &h[0][0]);
+          else
+            {
+              Lane r[9];
+              for (unsigned int l = 0; l < lanes; ++l)
+                {
+                  const Matrix3 &rotation = (*frames.element_rotations)[elements[std::min(l, count - 1)]];
+                  for (unsigned int i = 0; i < 9; ++i)
+                    r[i][l] = rotation.data()[i];
+                }
+              for (unsigned int a = 0; a < 4; ++a)
+                for (unsigned int i = 0; i < 3; ++i)
+                  h[a][i] = r[i] * in.g[a][0] + r[i + 3] * in.g[a][1] + r[i + 6] * in.g[a][2];
+            }
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 3; ++i)
+              {
+                lambda_h[a][i] = in.lambda_volume * h[a][i];
+                mu_h[a][i]     = in.mu_volume * h[a][i];
+              }
+          for (unsigned int k = 0; k < n_blocks; ++k)
+            {
+              const unsigned int a = block_row[k], b = block_column[k];
+              for (unsigned int j = 0; j < 3; ++j)
+                for (unsigned int i = 0; i < 3; ++i)
+                  {
+                    out.value[k][i + 3 * j] = lambda_h[a][i] * h[b][j] + mu_h[b][i] * h[a][j];
+                    if (i == j)
+                      out.value[k][i + 3 * j] += in.diagonal[k];
+                  }
+            }
+          return;
+        }
+
+      Lane t[4][9];
+      for (unsigned int l = 0; l < lanes; ++l)
+        {
+          const auto &element_frames = (*frames.vertex_frames)[elements[std::min(l, count - 1)]];
+          for (unsigned int a = 0; a < 4; ++a)
+            for (unsigned int i = 0; i < 9; ++i)
+              t[a][i][l] = element_frames[a].data()[i];
+        }
+      // u[a][b] = T_a g_b.
+      Lane u[4][4][3];
+      for (unsigned int a = 0; a < 4; ++a)
+        for (unsigned int b = 0; b < 4; ++b)
+          for (unsigned int i = 0; i < 3; ++i)
+            u[a][b][i] = t[a][i] * in.g[b][0] + t[a][i + 3] * in.g[b][1] + t[a][i + 6] * in.g[b][2];
+      for (unsigned int k = 0; k < n_blocks; ++k)
+        {
+          const unsigned int a = block_row[k], b = block_column[k];
+          for (unsigned int j = 0; j < 3; ++j)
+            for (unsigned int i = 0; i < 3; ++i)
+              {
+                Lane value = in.lambda_volume * u[a][a][i] * u[b][b][j] + in.mu_volume * u[a][b][i] * u[b][a][j];
+                // (T_a T_b^T)(i, j): the identity on the diagonal blocks.
+                if (a != b)
+                  value += in.diagonal[k] * (t[a][i] * t[b][j] + t[a][i + 3] * t[b][j + 3] + t[a][i + 6] * t[b][j + 6]);
+                else if (i == j)
+                  value += in.diagonal[k];
+                out.value[k][i + 3 * j] = value;
+              }
+        }
+    }
+
+  } // namespace
+
+  /** form_blocks() on this target. */
+  void FormBlocks(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
+                  const unsigned int *elements, const unsigned int count, LaneBlocks &out)
+  {
+    form_blocks_here(body, coefficients, frames, elements, count, out);
+  }
+} // namespace warpchol::fem::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace warpchol::fem
+{
+  HWY_EXPORT(FormBlocks);
+
+  namespace
+  {
+    void form_blocks(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
+                     const unsigned int *elements, const unsigned int count, LaneBlocks &out)
+    {
+      simd::use_target_from_environment();
+      HWY_DYNAMIC_DISPATCH(FormBlocks)(body, coefficients, frames, elements, count, out);
+    }
+  } // namespace
+} // namespace warpchol::fem
+#endif

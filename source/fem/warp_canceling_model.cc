@@ -128,6 +128,9 @@ namespace warpchol::fem
         const auto &factor_statistics = cholesky_solver.statistics();
         cost_model.record_factorization(factor_statistics.method_flops, factor_statistics.factorize_seconds);
         cost_model.record_exact_step(setup_seconds() - factor_statistics.analyze_seconds, 0);
+        // The fall-back's first estimate of an exact step must not be high, or a losing
+        // scene is never caught: the factorization alone, a lower bound of an exact step.
+        fallback.set_exact_estimate(factor_statistics.factorize_seconds);
       }
     solve_frame = &elastic_state.nodal_rotations;
     // At rest every frame is the identity.
@@ -159,10 +162,16 @@ namespace warpchol::fem
     return placement;
   }
 
+  const ExactFallback &WarpCancelingModel::exact_fallback() const
+  {
+    return fallback;
+  }
+
   bool WarpCancelingModel::refreshes_beside_the_steps() const
   {
+    // While auto's steps run exact, no refresh beside them: each step makes the factor exact.
     return background && (strategy.kind == StepStrategy::Kind::background ||
-                          placement.current() == RefreshPlacement::Where::beside_the_steps);
+                          (placement.current() == RefreshPlacement::Where::beside_the_steps && !fallback.runs_exact()));
   }
 
   double WarpCancelingModel::update_threshold() const
@@ -309,6 +318,8 @@ namespace warpchol::fem
     writer.write(given_up);
     writer.write(last_step_changed);
     placement.save(writer);
+    fallback.save(writer);
+    writer.write(last_step_fallback);
     if (background)
       background->save(writer);
   }
@@ -337,6 +348,8 @@ namespace warpchol::fem
       give_up_target();
     reader.read(last_step_changed);
     placement.load(reader);
+    fallback.load(reader);
+    reader.read(last_step_fallback);
     if (background)
       background->load(reader);
   }
@@ -372,13 +385,16 @@ namespace warpchol::fem
     // auto with a refresh beside the steps: where its refreshes go is measured on whole steps.
     if (step_count > 0 && background && strategy.kind == StepStrategy::Kind::automatic)
       placement.record_step(last_step_prepare_seconds + last_solve_seconds);
+    // auto against exact steps, on whole steps too.
+    if (step_count > 0 && strategy.kind == StepStrategy::Kind::automatic)
+      fallback.record_step(last_step_prepare_seconds + last_solve_seconds, last_step_exact);
     // The step runs on the threads the integrator gave it: so do the solver and the assembly.
     const unsigned int limited = step_threads();
     step_thread_count          = limited > 0 ? limited : given_threads;
     cholesky_solver.set_thread_count(step_thread_count);
     system.set_thread_count(step_thread_count);
     last_refresh = cholesky::Refresh::none;
-    if (target > 0 && last_velocity_error >= 0)
+    if (target > 0 && last_velocity_error >= 0 && !last_step_fallback)
       {
         // The last step's error against exact corotation steers this step's threshold
         // (in logarithms, a gain of 0.7 on an error that grows like the threshold to a
@@ -439,7 +455,8 @@ namespace warpchol::fem
       }
     statistics.update_threshold = adapted_threshold;
     ++step_count;
-    exact_this_step = false;
+    exact_this_step    = false;
+    last_step_fallback = false;
 
     evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
     record_no_refactorization(statistics);
@@ -485,7 +502,7 @@ namespace warpchol::fem
               record_updates(false);
             return;
           }
-        if (took)
+        if (took && !(automatic && fallback.runs_exact()))
           {
             // A factor exact for the rotations of a few steps ago: iterate on it.
             statistics.choice            = "background";
@@ -497,6 +514,16 @@ namespace warpchol::fem
     if (threshold == 0)
       {
         // Every element is updated: exact corotation, assembled and factored in full.
+        exact_step(statistics);
+        return;
+      }
+    // auto's own steps cost more than exact ones of late: exact steps, whatever the matrix
+    // CG iterates on (an exact step is the exact path's step: a direct solve).
+    if (automatic && fallback.runs_exact())
+      {
+        statistics.choice            = "exact";
+        statistics.predicted_seconds = cost_model.predicted_exact_seconds();
+        last_step_fallback           = true;
         exact_step(statistics);
         return;
       }

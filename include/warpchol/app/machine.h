@@ -6,14 +6,17 @@
  * @file
  * What a benchmark prints about the machine it ran on, so that its figures can be read
  * against the machine's ceilings: the CPU, the SIMD instructions the kernels were built
- * for, dgemm's flop rate and the memory's read bandwidth on one thread.
+ * run on, dgemm's flop rate and the memory's read bandwidth on one thread.
  */
 namespace warpchol::app
 {
   /** The CPU's model name (/proc/cpuinfo), or "unknown CPU". */
   std::string cpu_name();
 
-  /** The widest SIMD instruction set the element and update kernels were compiled for: avx512, avx2, sse2 or none. */
+  /**
+   * The SIMD target the element and update kernels run on (chosen at run time, or forced by
+   * WARPCHOL_SIMD_TARGET): avx512, avx2, sse4 or baseline on x86-64.
+   */
   std::string simd_target();
 
   /**
@@ -23,7 +26,8 @@ namespace warpchol::app
   double measure_read_bandwidth();
 
   /**
-   * One line: "machine: CPU, SIMD target T, dgemm G GFLOP/s, read B GB/s (one thread)",
+   * One line: "machine: CPU, SIMD target T (this CPU: targets), dgemm G GFLOP/s, read B GB/s
+   * (one thread)",
    * measured now (about half a second).
    */
   std::string describe_machine();

@@ -287,6 +287,26 @@ namespace warpchol::fem
     double setup_seconds() const;
 
     /**
+     * What one iteration of preconditioned CG moves through memory, in bytes read and
+     * written, counted from the sizes of what it reads: the preconditioner's factor read
+     * twice (the forward and the backward solve: its values, in the precision the
+     * preconditioner keeps them, and its row indices), the product (the assembled A's lower
+     * triangle, or the matrix-free corotated product: per element its rotation, inverse
+     * rest edges, volume and vertices, the 4 vertices' values, its forces written and read
+     * back by the gather), and CG's own passes over its vectors (ten of n doubles).
+     */
+    struct IterationBytes
+    {
+      double preconditioner = 0, product = 0, vectors = 0;
+      double total() const;
+    };
+    IterationBytes cg_iteration_bytes() const;
+
+    /** CG iterations run so far, and their seconds (products, solves, vector operations). */
+    unsigned long cg_iterations_run() const;
+    double        cg_seconds_run() const;
+
+    /**
      * Write what the model carries from step to step to a checkpoint: A, its element
      * contributions and the factor as it is (if matrix_carries_over()), the update record
      * and what the last solve measured; a derived model adds its own (save_model_state()).
@@ -389,6 +409,8 @@ namespace warpchol::fem
     /** What the last solve() did: its CG iterations and their seconds (solves included). */
     unsigned int             last_cg_iterations = 0;
     double                   last_cg_seconds    = 0;
+    unsigned long            total_cg_iterations = 0;
+    double                   total_cg_seconds    = 0;
     /** The seconds of the last solve(), direct or by CG, refreshes after a failed CG included. */
     double                   last_solve_seconds = 0;
     /**

@@ -236,4 +236,65 @@ namespace warpchol::fem
     double       mean_seconds[2] = {-1., -1.};
     unsigned int counts[2]       = {0, 0};
   };
+  /**
+   * What keeps the automatic strategy from losing to the exact path: it compares, over
+   * windows of steps, what its own steps cost (whatever they chose: refreshes, CG, its own
+   * exact steps) with what an exact step costs (every element updated, A assembled and
+   * factored in full, a direct solve: the exact path's step), both measured in the same run.
+   * When a window of its own steps cost more than (1 + margin) times an exact step, the
+   * steps run exact for a stretch; then its own steps get a window again. The stretch
+   * doubles each time they lose again (up to a longest one) and starts short when they win
+   * (the run has changed): hysteresis, so that a tie does not flip every window. Before any
+   * exact step was measured the set-up's numeric factorization stands for one (a lower
+   * bound: a step that wins clearly is never compared with more); a fall-back on that
+   * estimate is a probe of two exact steps, after which the measured costs decide.
+   */
+  class ExactFallback
+  {
+  public:
+    /** Whether the next step should be exact. */
+    bool runs_exact() const;
+
+    /** The set-up's numeric factorization took @p seconds: the estimate of an exact step until one is measured. */
+    void set_exact_estimate(double seconds);
+
+    /**
+     * A step cost @p seconds (its whole work: element pass, refresh, solve); @p exact: it
+     * was an exact step, run by the fall-back or chosen by the strategy itself.
+     */
+    void record_step(double seconds, bool exact);
+
+    /** Steps run exact by the fall-back, and how many times it fell back. */
+    unsigned int exact_steps() const;
+    unsigned int fallbacks() const;
+
+    void save(BinaryWriter &writer) const;
+    void load(BinaryReader &reader);
+
+  private:
+    /** Steps of a window of the strategy's own; the first steps of a run (set-up, calibration) are not counted. */
+    static constexpr unsigned int window = 8, first_counted_step = 3;
+    /** The exact steps after a fall-back on an estimate, and the stretches, at first and at the most. */
+    static constexpr unsigned int probe = 2, shortest_stretch = 16, longest_stretch = 1024;
+    /** Own steps must cost more than this much over an exact one to fall back. */
+    static constexpr double margin = 0.05;
+
+    bool         exact          = false;
+    unsigned int steps          = 0;
+    unsigned int phase_steps    = 0;
+    double       phase_seconds  = 0;
+    /** The length of the current run of exact steps, and whether it is a probe. */
+    unsigned int phase_length   = 0;
+    bool         probing        = false;
+    unsigned int stretch        = shortest_stretch;
+    /** Whether the last window of own steps came after a stretch of exact ones. */
+    bool         after_stretch  = false;
+    /** The mean of the last window of own steps. */
+    double       own_seconds    = -1;
+    /** The moving average of measured exact steps (negative: none yet), and the set-up's estimate. */
+    double       exact_seconds  = -1;
+    double       estimate       = -1;
+    unsigned int exact_count    = 0;
+    unsigned int fallback_count = 0;
+  };
 } // namespace warpchol::fem

@@ -136,6 +136,9 @@ namespace warpchol::fem
     /** auto with a background refresh: where it placed the refreshes (steps run each way). */
     const RefreshPlacement &refresh_placement() const;
 
+    /** auto's fall-back to exact steps where its own cost more (ExactFallback). */
+    const ExactFallback &exact_fallback() const;
+
   protected:
     /**
      * At a threshold strictly between 0 and inf, A is re-assembled in part and its factor
@@ -218,6 +221,9 @@ namespace warpchol::fem
     unsigned int step_thread_count;
     /** auto with a background refresh: in the steps or beside them, as measured. */
     RefreshPlacement placement;
+    ExactFallback    fallback;
+    /** Whether the last step was run exact by the fall-back (its error says nothing of the threshold). */
+    bool last_step_fallback = false;
     /** The whole of the last prepare_step() (element pass included), in seconds. */
     double last_step_prepare_seconds = 0;
     /** The steps prepared so far (the step being prepared is step_count). */

@@ -1,0 +1,183 @@
+// Every SIMD target this CPU runs gives the results of the baseline (scalar) kernels to
+// 1e-13 relative: the batched polar decomposition, the fused element pass (forces and
+// energy), the corotated product, the assembly of A (rest, rotated, warped) and the update
+// kernel of the factor (ranks 1 to 33: one and several chunks of columns). The targets are
+// forced as WARPCHOL_SIMD_TARGET forces them (simd::use_target()); the list the machine
+// runs is not printed (it differs by CPU), only that the baseline is among them.
+
+#include "modification_tests.h"
+#include "tests.h"
+
+#include <warpchol/base/simd.h>
+#include <warpchol/cholesky/sparse_cholesky.h>
+#include <warpchol/fem/elastic_body.h>
+#include <warpchol/fem/mesh_generators.h>
+#include <warpchol/fem/rotations.h>
+#include <warpchol/fem/system_matrix.h>
+#include <warpchol/sparse/conversions.h>
+
+#include <deal.II/grid/tria.h>
+
+#include <Eigen/Geometry>
+
+using namespace warpchol;
+
+namespace
+{
+  /** What the kernels computed on one target, flattened. */
+  struct Results
+  {
+    std::vector<double> rotations, forces, energies, product, rest, rotated, warped, factors;
+  };
+
+  double relative_difference(const std::vector<double> &a, const std::vector<double> &b)
+  {
+    if (a.size() != b.size())
+      return 1;
+    double largest = 0, difference = 0;
+    for (std::size_t k = 0; k < b.size(); ++k)
+      {
+        largest    = std::max(largest, std::abs(b[k]));
+        difference = std::max(difference, std::abs(a[k] - b[k]));
+      }
+    return largest > 0 ? difference / largest : difference;
+  }
+
+  void append(std::vector<double> &out, const fem::Matrix3 &m)
+  {
+    out.insert(out.end(), m.data(), m.data() + 9);
+  }
+
+  Results compute(const fem::ElasticBody &body, const sparse::CSCMatrix &spd)
+  {
+    Results        results;
+    tests::Random  random(11);
+    // Gradients of every kind: near rotations, stretched, inverted and flat (the SVD path).
+    std::vector<fem::Matrix3> gradients(203), rotations(203);
+    for (std::size_t k = 0; k < gradients.size(); ++k)
+      {
+        for (unsigned int i = 0; i < 9; ++i)
+          gradients[k].data()[i] = (k % 3 == 0 ? 0.05 : 0.6) * (2 * random.uniform() - 1);
+        const fem::Vector3 axis(random.uniform(), random.uniform() - 0.5, 1);
+        gradients[k] += Eigen::AngleAxisd(3 * random.uniform(), axis.normalized()).toRotationMatrix();
+        if (k % 17 == 5)
+          gradients[k].col(2) = -gradients[k].col(2);
+        if (k % 29 == 7)
+          gradients[k].col(1) = gradients[k].col(0);
+      }
+    fem::rotations_of(gradients.data(), rotations.data(), gradients.size());
+    for (const auto &rotation : rotations)
+      append(results.rotations, rotation);
+
+    // The body deformed: a twist and a stretch.
+    std::vector<fem::Vector3> positions = body.rest_positions(), velocities(body.n_vertices());
+    for (unsigned int v = 0; v < body.n_vertices(); ++v)
+      {
+        const fem::Vector3 x = positions[v];
+        positions[v]         = Eigen::AngleAxisd(0.8 * x[0], fem::Vector3::UnitX()) * x;
+        positions[v][0] *= 1.1;
+        velocities[v] = fem::Vector3(random.uniform(), random.uniform(), random.uniform());
+      }
+    fem::ElasticBody::State state;
+    body.evaluate(positions, fem::ElasticBody::Rotations::elements_and_vertices, state);
+    for (const auto &force : state.forces)
+      results.forces.insert(results.forces.end(), force.data(), force.data() + 3);
+    results.energies.push_back(state.elastic_energy);
+    std::vector<fem::Vector3> product(body.n_vertices(), fem::Vector3::Zero());
+    std::vector<fem::Matrix3> work;
+    body.add_corotated_stiffness_times(&state.element_rotations, velocities, product, work);
+    for (const auto &value : product)
+      results.product.insert(results.product.end(), value.data(), value.data() + 3);
+
+    // The assembly of A in each kind of frame.
+    const fem::SystemCoefficients coefficients = fem::SystemCoefficients::implicit_euler(0.01, 0.1, 0.05);
+    fem::SystemMatrix             system(body, coefficients);
+    system.assemble(fem::ElementFrames::rest());
+    results.rest = system.lower().values;
+    system.assemble(fem::ElementFrames::rotated(state.element_rotations));
+    results.rotated = system.lower().values;
+    std::vector<std::array<fem::Matrix3, 4>> frames(body.n_elements());
+    for (unsigned int e = 0; e < body.n_elements(); ++e)
+      for (unsigned int a = 0; a < 4; ++a)
+        frames[e][a] = state.nodal_rotations[body.element_vertices(e)[a]].transpose() * state.element_rotations[e];
+    system.assemble(fem::ElementFrames::warped(frames));
+    results.warped = system.lower().values;
+
+    // The update kernel: ranks of one chunk of columns, of several, and a downdate.
+    cholesky::SparseCholesky base(tests::supernodal_metis());
+    base.analyze(spd);
+    base.factorize(spd);
+    const sparse::CSCMatrix full = sparse::to_full_storage(spd);
+    for (const Index rank : {1, 5, 16, 33})
+      {
+        std::vector<std::vector<Index>> rows;
+        for (Index t = 0; t < rank; ++t)
+          rows.push_back(tests::clique_from(full, (37 * t + 11) % spd.n_cols, 6));
+        const sparse::CSCMatrix c = tests::dense_columns(spd, rows, 0.3, 100 + rank);
+        cholesky::SparseCholesky solver = base;
+        solver.update(c);
+        const auto &updated = solver.factor().values;
+        results.factors.insert(results.factors.end(), updated.begin(), updated.end());
+        solver.downdate(c);
+        const auto &restored = solver.factor().values;
+        results.factors.insert(results.factors.end(), restored.begin(), restored.end());
+      }
+    return results;
+  }
+} // namespace
+
+int main()
+{
+  dealii::Triangulation<3> triangulation;
+  fem::BoxGeometry         box;
+  box.upper_corner = dealii::Point<3>(1, 0.12, 0.15);
+  box.subdivisions = {{12, 2, 3}};
+  fem::create_box(triangulation, box);
+  std::vector<bool> fixed(triangulation.n_vertices(), false);
+  for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+    fixed[v] = triangulation.get_vertices()[v][0] < 1e-12;
+  const fem::ElasticBody  body(triangulation, fem::Material{1e5, 0.45, 1000}, fem::MassMatrix::consistent, fixed);
+  const sparse::CSCMatrix spd = tests::random_spd(600, 6, 3);
+
+  const std::vector<std::string> targets = simd::available_targets();
+  tests::check("the baseline is available", !targets.empty() && targets.back() == "baseline");
+  simd::use_target("baseline");
+  tests::check("forced to the baseline", simd::current_target() == "baseline");
+  const Results reference = compute(body, spd);
+
+  bool all_agree = true;
+  for (const std::string &target : targets)
+    {
+      simd::use_target(target);
+      const Results results = compute(body, spd);
+      const std::pair<const char *, double> differences[] = {
+        {"rotations", relative_difference(results.rotations, reference.rotations)},
+        {"forces", relative_difference(results.forces, reference.forces)},
+        {"energy", relative_difference(results.energies, reference.energies)},
+        {"product", relative_difference(results.product, reference.product)},
+        {"assembly at rest", relative_difference(results.rest, reference.rest)},
+        {"assembly rotated", relative_difference(results.rotated, reference.rotated)},
+        {"assembly warped", relative_difference(results.warped, reference.warped)},
+        {"updated factors", relative_difference(results.factors, reference.factors)}};
+      for (const auto &[what, difference] : differences)
+        if (!(difference <= 1e-13))
+          {
+            all_agree = false;
+            std::cout << target << ": " << what << " differs from the baseline by " << difference << std::endl;
+          }
+    }
+  tests::check("every target agrees with the baseline to 1e-13", all_agree);
+
+  // A target the CPU cannot run (or that does not exist) is refused, naming the available ones.
+  try
+    {
+      simd::use_target("avx1024");
+      tests::check("an unknown target is refused", false);
+    }
+  catch (const std::invalid_argument &error)
+    {
+      tests::check("an unknown target is refused", std::string(error.what()).find("baseline") != std::string::npos);
+    }
+  simd::use_target("best");
+  tests::check("best is the first available", simd::current_target() == targets.front());
+}
