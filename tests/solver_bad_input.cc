@@ -76,6 +76,12 @@ int main()
     cholesky::SparseCholesky solver;
     solver.factorize(a);
   });
+  tests::expect_error("NaN below the diagonal, both triangles stored", [] {
+    sparse::CSCMatrix a = sparse::to_full_storage(from_market(tridiagonal));
+    a.values[1]         = std::numeric_limits<double>::quiet_NaN(); // A(1,0)
+    cholesky::SparseCholesky solver;
+    solver.factorize(a);
+  });
   tests::expect_error("-inf at a later load", [] {
     sparse::CSCMatrix        a = from_market(tridiagonal);
     cholesky::SparseCholesky solver;
