@@ -4,16 +4,21 @@
 # makes WORK_DIR/venv (--system-site-packages: Debian's NumPy and SciPy), pip installs
 # SOURCE_DIR/python into it with no index and no build isolation (nothing downloaded),
 # the extension module taken from BUILD_DIR's target warpchol_python (setup.py,
-# WARPCHOL_CMAKE_BUILD_DIR), then, from WORK_DIR, checks that warpchol is imported from
-# the environment with its stubs, solves, and runs python/test_warpchol.py there.
+# WARPCHOL_CMAKE_BUILD_DIR) or, with BUILD_DIR "", built from nothing in WORK_DIR as a
+# user's pip install builds it (about 2 minutes on two cores); then, from WORK_DIR, checks
+# that warpchol is imported from the environment with its stubs, solves, and runs
+# python/test_warpchol.py there.
 set -eu
 python=$1 source_dir=$2 build_dir=$3 work=$4
 rm -rf "$work"
 mkdir -p "$work"
-unset PYTHONPATH PIP_INDEX_URL PIP_EXTRA_INDEX_URL PIP_FIND_LINKS
+unset PYTHONPATH PIP_INDEX_URL PIP_EXTRA_INDEX_URL PIP_FIND_LINKS WARPCHOL_CMAKE_BUILD_DIR
 "$python" -m venv --system-site-packages "$work/venv"
-WARPCHOL_CMAKE_BUILD_DIR=$build_dir WARPCHOL_BUILD_BASE=$work/setuptools \
-  "$work/venv/bin/python" -m pip install --no-build-isolation --no-index --no-cache-dir \
+if [ -n "$build_dir" ]; then
+  export WARPCHOL_CMAKE_BUILD_DIR="$build_dir"
+fi
+WARPCHOL_BUILD_BASE=$work/setuptools \
+  "$work/venv/bin/python" -m pip install --isolated --no-build-isolation --no-index --no-cache-dir \
   --disable-pip-version-check --no-input "$source_dir/python"
 cd "$work"
 "$work/venv/bin/python" - "$work/venv" <<'PYTHON'

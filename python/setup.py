@@ -5,10 +5,11 @@ tree of the repository above and copied into the package.
     python3 -m pip install --no-build-isolation --no-index ./python
 
 Environment:
-  WARPCHOL_CMAKE_BUILD_DIR  an existing, configured build tree of the repository (build/):
-                            its warpchol_python target is brought up to date and taken,
-                            instead of configuring and compiling the solver anew (minutes);
-                            it must have been configured for this interpreter's version
+  WARPCHOL_CMAKE_BUILD_DIR  an existing, configured build tree of the repository (build/;
+                            a relative path is taken from the repository's root): its
+                            warpchol_python target is brought up to date and taken, instead
+                            of configuring and compiling the solver anew (minutes); it must
+                            have been configured for this interpreter's version
   WARPCHOL_BUILD_BASE       where setuptools and the new CMake build tree go (default:
                             python/build, inside the source tree)
   CMAKE_BUILD_PARALLEL_LEVEL  parallel compile jobs (default: the machine's cores)
@@ -41,7 +42,8 @@ class CMakeBuild(build_ext):
     def build_extension(self, extension):
         reused = os.environ.get("WARPCHOL_CMAKE_BUILD_DIR")
         if reused:
-            build_tree = Path(reused).resolve()
+            # pip runs this file in python/: a relative path is the repository's (build).
+            build_tree = (REPOSITORY / reused).resolve()
             if not (build_tree / "CMakeCache.txt").is_file():
                 sys.exit(f"warpchol: WARPCHOL_CMAKE_BUILD_DIR={reused} is not a configured CMake build tree")
         else:
