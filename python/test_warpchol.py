@@ -5,10 +5,17 @@ one, unsorted or int64 indices, one or several right-hand sides; a partial
 refactorization recomputes part of the factor and equals a fresh factorization; update()
 and downdate() by C in any SciPy format equal a fresh factorization of A + C C^T and A,
 a downdate to an indefinite matrix raises NotPositiveDefinite and leaves the factor as it
-was; bad input raises the module's exceptions with one-line messages; the README's
-snippet runs and prints what the README shows.
+was; a matrix whose pattern is a subset of the analyzed one (explicit zeros dropped) gives
+the factor of the full pattern with explicit zeros, to the bit; bad input raises the
+module's exceptions with one-line messages (a NaN, an infinity and an entry outside the
+analyzed pattern each its own, naming the entry as the user stores it); the inverse as a
+SciPy LinearOperator; every call documented; the README's snippet runs and prints what
+the README shows.
 
-    PYTHONPATH=build/python python3 python/test_warpchol.py    (ctest -R python)
+    PYTHONPATH=build/python python3 python/test_warpchol.py    (ctest -R python/warpchol)
+
+python/install_venv.sh runs it again in a virtual environment that pip installed the
+package into (ctest -R python/install_venv).
 """
 
 import contextlib
@@ -195,19 +202,205 @@ class Errors(unittest.TestCase):
 
         solver = warpchol.SparseCholesky()
         solver.factorize(a)
-        self.expect(warpchol.MatrixError, "pattern differs", lambda: solver.refactorize(laplacian(6), [0]))
+        self.expect(warpchol.MatrixError, r"matrix is 36x36, the analyzed one 25x25",
+                    lambda: solver.refactorize(laplacian(6), [0]))
         solver.factorize(a.tocsr())  # the same arrays: for a symmetric matrix, the same matrix
         self.expect(warpchol.InputError, r"changed column 25 out of range \[0, 25\)",
                     lambda: solver.refactorize(a, [25]))
         self.expect(ValueError, r"shape \(24\), expected \(25,\)", lambda: solver.solve(np.ones(24)))
         nan = a.copy()
         nan.data[3] = np.nan
-        self.expect(warpchol.MatrixError, "not finite", lambda: solver.refactorize(nan, [0]))
+        self.expect(warpchol.MatrixError, r"^matrix entry A\(\d+,\d+\) is NaN$", lambda: solver.refactorize(nan, [0]))
         # The failed load dropped the factor; the next refactorization factors in full.
         self.expect(warpchol.Error, "without a valid factorization", lambda: solver.solve(np.ones(25)))
         solver.refactorize(a, [0])
         self.assertEqual(solver.columns_recomputed, 25)
         self.assertLess(relative_error(solver.solve(np.ones(25)), spla.spsolve(a, np.ones(25))), 1e-10)
+
+
+class SubsetPattern(unittest.TestCase):
+    """A matrix that lost explicit zeros (SciPy's arithmetic drops them) is the analyzed
+    pattern with zeros there; an entry outside it, a NaN and an infinity are refused, each
+    with its own one-line message naming the entry as the user stores it."""
+
+    expect = Errors.expect
+
+    def setUp(self):
+        self.a = laplacian(20)
+        self.b = np.sin(np.arange(self.a.shape[0]) * 0.37) + 1.0
+        # The analyzed pattern: a's, with explicit zeros at the couplings of 10 with 11 (their
+        # values cancelled) and of 200 with 243 (not yet assembled).
+        self.a.eliminate_zeros()
+        entries = self.a.tocoo()
+        values = entries.data.copy()
+        values[((entries.row == 10) & (entries.col == 11)) | ((entries.row == 11) & (entries.col == 10))] = 0.0
+        self.full = sp.csc_matrix((np.append(values, [0.0, 0.0]),
+                                   (np.append(entries.row, [200, 243]), np.append(entries.col, [243, 200]))),
+                                  shape=self.a.shape)
+        self.assertEqual(self.full.nnz, self.a.nnz + 2)
+        self.assertEqual(np.count_nonzero(self.full.data == 0.0), 4)
+        self.a = self.full.copy()
+        self.a.eliminate_zeros()
+
+    def subset(self, matrix, format):
+        """matrix in format, without its stored zeros, as SciPy's arithmetic leaves it."""
+        subset = matrix.asformat(format, copy=True)
+        subset.eliminate_zeros()
+        return subset
+
+    def test_subset_gives_the_factor_of_the_full_pattern(self):
+        # A + D with a diagonal D: SciPy drops the explicit zeros on the way.
+        d = sp.diags(np.linspace(0.1, 1.0, self.a.shape[0]))
+        summed = (self.full + d).tocsc()
+        self.assertEqual(summed.nnz, self.full.nnz - 4)
+        with_zeros = self.full.copy()
+        with_zeros.setdiag(with_zeros.diagonal() + d.diagonal())
+        self.assertEqual(with_zeros.nnz, self.full.nnz)
+        for format, triangle in [("csc", None), ("csr", None), ("csc", "lower"), ("csr", "upper")]:
+            with self.subTest(format=format, triangle=triangle):
+                cut = {None: lambda m: m, "lower": sp.tril, "upper": sp.triu}[triangle]
+                analyzed = cut(self.full).asformat(format)
+                reference = warpchol.SparseCholesky()
+                reference.analyze(analyzed)
+                reference.factorize(cut(with_zeros).asformat(format))
+                solver = warpchol.SparseCholesky()
+                solver.analyze(analyzed)
+                given = self.subset(cut(summed), format)
+                self.assertEqual(given.nnz, analyzed.nnz - (4 if triangle is None else 2))
+                solver.factorize(given)
+                x = solver.solve(self.b)
+                np.testing.assert_array_equal(x, reference.solve(self.b))
+                self.assertLess(relative_error(x, spla.spsolve(with_zeros, self.b)), 1e-10)
+                # refactorize() takes a subset too: the same factor, to the bit, as the same
+                # calls on the full pattern with explicit zeros.
+                columns = np.arange(150, 160)
+                changed = scaled_block(summed, columns, 2.0)
+                changed_with_zeros = scaled_block(with_zeros, columns, 2.0)
+                for change_method in ("recompute", "update", "auto"):
+                    partial = warpchol.SparseCholesky(change_method=change_method)
+                    partial.analyze(analyzed)
+                    partial.factorize(given)
+                    partial.refactorize(self.subset(cut(changed), format), columns)
+                    self.assertLess(partial.columns_recomputed, partial.n)
+                    reference = warpchol.SparseCholesky(change_method=change_method)
+                    reference.analyze(analyzed)
+                    reference.factorize(cut(with_zeros).asformat(format))
+                    reference.refactorize(cut(changed_with_zeros).asformat(format), columns)
+                    x = partial.solve(self.b)
+                    np.testing.assert_array_equal(x, reference.solve(self.b))
+                    self.assertLess(relative_error(x, spla.spsolve(changed_with_zeros, self.b)), 1e-10)
+
+    def test_entry_outside_the_pattern(self):
+        solver = warpchol.SparseCholesky()
+        solver.factorize(self.a)
+        outside = self.a.tolil()
+        outside[3, 250] = outside[250, 3] = 0.5
+        outside = outside.tocsc()
+        self.expect(warpchol.MatrixError,
+                    r"^matrix entry A\((3,250|250,3)\) lies outside the analyzed pattern \(analyze the new pattern first\)$",
+                    lambda: solver.factorize(outside))
+        lower = warpchol.SparseCholesky()
+        lower.factorize(sp.tril(self.a, format="csr"))
+        # As the user stores it: row 250, column 3 of a CSR lower triangle.
+        self.expect(warpchol.MatrixError, r"^matrix entry A\(250,3\) lies outside the analyzed pattern",
+                    lambda: lower.refactorize(sp.tril(outside, format="csr"), [3]))
+        upper = warpchol.SparseCholesky()
+        upper.factorize(sp.triu(self.a, format="csc"))
+        self.expect(warpchol.MatrixError, r"^matrix entry A\(3,250\) lies outside the analyzed pattern",
+                    lambda: upper.factorize(sp.triu(outside, format="csc")))
+        # After a refused matrix, the analyzed pattern still takes a subset of it.
+        solver.factorize(self.subset(self.full, "csc"))
+        self.assertLess(relative_error(solver.solve(self.b), spla.spsolve(self.a, self.b)), 1e-10)
+
+    def test_nan_and_infinity_named_as_such(self):
+        for format in ("csc", "csr"):
+            for value, what in [(np.nan, "NaN"), (np.inf, r"infinite \(inf\)"), (-np.inf, r"infinite \(-inf\)")]:
+                for i, j in [(5, 5), (5, 6), (6, 5), (25, 5)]:
+                    with self.subTest(format=format, value=value, entry=(i, j)):
+                        solver = warpchol.SparseCholesky()
+                        solver.analyze(self.full)
+                        bad = self.full.asformat(format, copy=True)
+                        bad[i, j] = value
+                        # Not "not symmetric": the bad value is named as what it is.
+                        self.expect(warpchol.MatrixError, rf"^matrix entry A\({i},{j}\) is {what}$",
+                                    lambda: solver.factorize(bad))
+                        solver.factorize(self.full)
+                        self.expect(warpchol.MatrixError, rf"^matrix entry A\({i},{j}\) is {what}$",
+                                    lambda: solver.refactorize(bad, [i, j]))
+        # In a subset pattern too.
+        solver = warpchol.SparseCholesky()
+        solver.analyze(self.full)
+        bad = self.subset(self.full, "csc")
+        bad[7, 7] = np.nan
+        self.expect(warpchol.MatrixError, r"^matrix entry A\(7,7\) is NaN$", lambda: solver.factorize(bad))
+
+
+class ScipyInterface(unittest.TestCase):
+    """What a SciPy or scikit-sparse user reaches for: cholesky(A), factor(b), the inverse
+    as a LinearOperator, documentation on every call."""
+
+    def setUp(self):
+        self.a = laplacian(15)
+        self.b = np.cos(np.arange(self.a.shape[0]) * 0.1)
+
+    def test_cholesky_and_call(self):
+        solver = warpchol.cholesky(self.a, ordering="amd")
+        self.assertIsInstance(solver, warpchol.SparseCholesky)
+        self.assertEqual(solver.shape, self.a.shape)
+        np.testing.assert_array_equal(solver(self.b), solver.solve(self.b))
+        self.assertLess(relative_error(solver(self.b), spla.spsolve(self.a, self.b)), 1e-10)
+
+    def test_inverse_operator(self):
+        solver = warpchol.cholesky(self.a)
+        inverse = solver.inverse_operator()
+        self.assertIsInstance(inverse, spla.LinearOperator)
+        self.assertEqual(inverse.shape, self.a.shape)
+        self.assertEqual(inverse.dtype, np.float64)
+        np.testing.assert_array_equal(inverse @ self.b, solver.solve(self.b))
+        np.testing.assert_array_equal(inverse.rmatvec(self.b), solver.solve(self.b))
+        block = np.column_stack([self.b, 2 * self.b])
+        np.testing.assert_array_equal(inverse @ block, solver.solve(block))
+        # As a preconditioner: CG on a nearby matrix converges in a few iterations.
+        nearby = (self.a + sp.diags(np.full(self.a.shape[0], 0.05))).tocsc()
+        iterations = []
+        x, info = spla.cg(nearby, self.b, M=inverse, callback=lambda xk: iterations.append(1), tol=1e-10, atol=0.0)
+        self.assertEqual(info, 0)
+        self.assertLess(len(iterations), 15)
+        self.assertLess(relative_error(x, spla.spsolve(nearby, self.b)), 1e-8)
+        # Shift-invert: the smallest eigenvalue of A.
+        smallest = spla.eigsh(spla.aslinearoperator(self.a), k=1, sigma=0, OPinv=inverse, which="LM")[0][0]
+        self.assertAlmostEqual(smallest, np.linalg.eigvalsh(self.a.toarray())[0], places=8)
+
+    def test_documented(self):
+        self.assertIn("refactorize", warpchol.__doc__)
+        self.assertIn("scikit-sparse", warpchol.__doc__)
+        for name in warpchol.__all__:
+            self.assertTrue(getattr(warpchol, name).__doc__, name)
+            self.assertEqual(getattr(warpchol, name).__module__, "warpchol", name)
+        for name in ("analyze", "factorize", "refactorize", "update", "downdate", "solve", "__call__",
+                     "inverse_operator", "n", "shape", "storage", "flops", "flops_recomputed",
+                     "columns_recomputed", "timings", "statistics"):
+            with self.subTest(name):
+                documentation = getattr(warpchol.SparseCholesky, name).__doc__
+                self.assertTrue(documentation and len(documentation.strip()) > 10, name)
+        text = io.StringIO()
+        with contextlib.redirect_stdout(text):
+            help(warpchol)
+        for name in ("SparseCholesky", "cholesky", "update", "downdate", "inverse_operator", "NotPositiveDefinite"):
+            self.assertIn(name, text.getvalue())
+
+    def test_stubs_name_every_call(self):
+        stubs = os.path.join(os.path.dirname(warpchol.__file__), "_warpchol.pyi")
+        with open(stubs) as file:
+            text = file.read()
+        for name in ("analyze", "factorize", "refactorize", "update", "downdate", "solve", "__call__",
+                     "inverse_operator", "n", "shape", "storage", "flops", "flops_recomputed",
+                     "columns_recomputed", "timings", "statistics"):
+            self.assertRegex(text, rf"def {name}\(self", name)
+        for name in warpchol.__all__:
+            if name != "cholesky":
+                self.assertRegex(text, rf"class {name}\b", name)
+        self.assertTrue(os.path.isfile(os.path.join(os.path.dirname(warpchol.__file__), "py.typed")))
 
 
 class UpdateDowndate(unittest.TestCase):

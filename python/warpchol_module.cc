@@ -1,28 +1,34 @@
-// The Python module warpchol: cholesky::SparseCholesky on SciPy sparse matrices (CSC or
-// CSR; both triangles of a symmetric matrix stored, or one) and NumPy arrays.
+// The extension module warpchol._warpchol, which the package warpchol (src/warpchol)
+// re-exports: cholesky::SparseCholesky on SciPy sparse matrices (CSC or CSR; both
+// triangles of a symmetric matrix stored, or one) and NumPy arrays.
 //
 //   solver = warpchol.SparseCholesky()          # supernodal, METIS
 //   solver.analyze(A); solver.factorize(A)      # or solver.factorize(A) alone
-//   x = solver.solve(b)
-//   solver.refactorize(A, changed_columns)      # A: the same pattern, new values
+//   x = solver.solve(b)                         # or solver(b)
+//   solver.refactorize(A, changed_columns)      # A: the analyzed pattern (or part of it), new values
 //   solver.update(C); solver.downdate(C)        # the factor of A + C C^T, of A - C C^T
+//   solver.inverse_operator()                   # A^-1 as a SciPy LinearOperator
 //
 // The matrix's arrays are read where SciPy keeps them: at analyze() its pattern becomes
 // the solver's CSC form; afterwards each call compares the pattern with the analyzed one
 // (memcmp) and the solver reads the values from SciPy's array, without a copy, where their
 // order is the solver's (SciPy's indices sorted and no triangle to swap, the common case;
-// else they are copied once, into the CSC form). Solves write into a new array, without a
-// copy of the right-hand side when it is float64 and contiguous (column-major for several).
+// else they are copied once, into the CSC form). A pattern that is a subset of the
+// analyzed one (arithmetic drops explicit zeros) has its values placed in the analyzed
+// order first, zeros where it has no entry. Solves write into a new array, without a copy
+// of the right-hand side when it is float64 and contiguous (column-major for several).
 
 #include <warpchol/base/exceptions.h>
 #include <warpchol/cholesky/ordering.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/sparse/csc_matrix.h>
+#include <warpchol/sparse/pattern_subset.h>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <numeric>
@@ -106,9 +112,10 @@ namespace warpchol::python
       return py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(data);
     }
 
-    std::string size_text(const Index n_rows, const Index n_cols, const Index n_entries)
+    /** The values of an index array (int32 or int64) as Index. */
+    std::vector<Index> index_vector(const py::array &array)
     {
-      return std::to_string(n_rows) + "x" + std::to_string(n_cols) + ", " + std::to_string(n_entries) + " entries";
+      return visit_indices(array, [&](const auto *values) { return std::vector<Index>(values, values + array.size()); });
     }
   } // namespace
 
@@ -141,7 +148,7 @@ namespace warpchol::python
         analyze(matrix);
       const Values                 values = values_of(matrix);
       const py::gil_scoped_release unlocked;
-      solver.factorize(csc, values.data);
+      name_non_finite(values, [&] { solver.factorize(csc, values.data); });
     }
 
     /** Partial refactorization after the entries of @p changed_columns changed. */
@@ -155,7 +162,7 @@ namespace warpchol::python
       const std::vector<Index>     changed(columns.data(), columns.data() + columns.size());
       const Values                 values = values_of(matrix);
       const py::gil_scoped_release unlocked;
-      solver.refactorize(csc, values.data, changed);
+      name_non_finite(values, [&] { solver.refactorize(csc, values.data, changed); });
     }
 
     /**
@@ -287,9 +294,12 @@ namespace warpchol::python
       csc.n_rows = csc.n_cols = n;
       csc.storage             = n_above > 0 && n_below > 0 ? sparse::Storage::full : sparse::Storage::lower;
       csc.values.assign(nnz, 0.);
-      // Copies of the user's index arrays as they are, which later matrices' are compared with.
+      // Copies of the user's index arrays as they are, which later matrices' are compared with
+      // (and a subset's entries placed among).
       analyzed_indptr  = arrays.indptr.attr("copy")();
       analyzed_indices = arrays.indices.attr("copy")();
+      analyzed_start   = column_start;
+      analyzed_rows    = row_index;
       source.clear();
       if (sorted && !transpose)
         return;
@@ -324,34 +334,56 @@ namespace warpchol::python
         }
     }
 
-    /** Where a matrix's values are, for the solver: in SciPy's array (kept alive here) or in csc. */
+    /**
+     * Where a matrix's values are, for the solver: in SciPy's array (kept alive here) or in
+     * csc; and in the order of the analyzed user arrays (SciPy's, or subset_values).
+     */
     struct Values
     {
       py::array_t<double, py::array::c_style> array;
-      const double                           *data = nullptr;
+      const double                           *data       = nullptr;
+      const double                           *user_order = nullptr;
+      /** Whether the matrix's arrays are a CSR matrix's (entries named (column, row) as read). */
+      bool transposed = false;
     };
 
     /**
-     * The values of @p matrix, after checking that its arrays hold the analyzed pattern, in
-     * the order of the solver's CSC form: SciPy's own array where that order is the user's
-     * (no copy), else copied into the CSC form's.
+     * The values of @p matrix in the order of the solver's CSC form: SciPy's own array where
+     * the pattern is the analyzed one in the solver's order (no copy), else copied into the
+     * CSC form's. A pattern that is a subset of the analyzed one has its values placed in
+     * the analyzed order first, zeros where it has no entry; an entry outside it, NaN or
+     * infinity raise MatrixError naming the entry.
      */
     Values values_of(const py::object &matrix)
     {
       const SciPyArrays arrays = arrays_of(matrix);
       const Index       n = csc.n_cols, nnz = csc.n_nonzeros();
-      const bool        same_pattern = arrays.n_rows == n && arrays.n_cols == n &&
-                                same_indices(arrays.indptr, analyzed_indptr) &&
-                                same_indices(arrays.indices, analyzed_indices);
-      if (!same_pattern)
-        throw MatrixError("matrix pattern differs from the analyzed one (" +
-                          size_text(arrays.n_rows, arrays.n_cols, arrays.indices.size()) + "; analyzed " +
-                          size_text(n, n, nnz) + ")");
+      if (arrays.n_rows != n || arrays.n_cols != n)
+        throw MatrixError("matrix is " + std::to_string(arrays.n_rows) + "x" + std::to_string(arrays.n_cols) +
+                          ", the analyzed one " + std::to_string(n) + "x" + std::to_string(n) +
+                          " (analyze the new matrix first)");
       Values values{float64_values(arrays.data)};
-      if (values.array.ndim() != 1 || values.array.size() != nnz)
+      values.transposed = arrays.format == "csr";
+      if (values.array.ndim() != 1 || values.array.size() != arrays.indices.size())
         throw MatrixError("the matrix has " + std::to_string(values.array.size()) + " values for " +
-                          std::to_string(nnz) + " entries");
+                          std::to_string(arrays.indices.size()) + " entries");
       values.data = values.array.data();
+      if (!same_indices(arrays.indptr, analyzed_indptr) || !same_indices(arrays.indices, analyzed_indices))
+        {
+          // Another pattern: a subset of the analyzed one, or refused naming an entry outside.
+          if (arrays.indptr.ndim() != 1 || arrays.indptr.size() != n + 1)
+            throw MatrixError("the matrix's indptr has " + std::to_string(arrays.indptr.size()) +
+                              " entries, expected " + std::to_string(n + 1));
+          const std::vector<Index> indptr = index_vector(arrays.indptr), indices = index_vector(arrays.indices);
+          const std::vector<Index> places =
+            sparse::places_in_pattern(n, analyzed_start.data(), analyzed_rows.data(), indptr.data(), indices.data(),
+                                      static_cast<Index>(indices.size()), values.transposed);
+          subset_values.assign(nnz, 0.);
+          for (std::size_t k = 0; k < places.size(); ++k)
+            subset_values[places[k]] = values.data[k];
+          values.data = subset_values.data();
+        }
+      values.user_order = values.data;
       if (!source.empty())
         {
           for (Index p = 0; p < nnz; ++p)
@@ -359,6 +391,38 @@ namespace warpchol::python
           values.data = csc.values.data();
         }
       return values;
+    }
+
+    /**
+     * @p factor(), which loads @p values into the solver; a MatrixError it raises while the
+     * values hold a NaN or an infinity is told as that, naming the entry as the user stores
+     * it (the solver names it in its own CSC form, which may be the user's transpose).
+     */
+    template <typename Factor>
+    void name_non_finite(const Values &values, const Factor &factor)
+    {
+      try
+        {
+          factor();
+        }
+      catch (const NotPositiveDefinite &)
+        {
+          throw;
+        }
+      catch (const MatrixError &)
+        {
+          const Index nnz = static_cast<Index>(analyzed_rows.size());
+          for (Index p = 0; p < nnz; ++p)
+            if (!std::isfinite(values.user_order[p]))
+              {
+                const Index column =
+                  std::upper_bound(analyzed_start.begin(), analyzed_start.end(), p) - analyzed_start.begin() - 1;
+                const Index row = analyzed_rows[p];
+                throw MatrixError(values.transposed ? sparse::non_finite_entry_message(column, row, values.user_order[p]) :
+                                                      sparse::non_finite_entry_message(row, column, values.user_order[p]));
+              }
+          throw;
+        }
     }
 
     cholesky::SparseCholesky solver;
@@ -369,6 +433,11 @@ namespace warpchol::python
      */
     py::array analyzed_indptr;
     py::array analyzed_indices;
+    /** The same arrays as Index, as read (CSC; a CSR matrix's read as its transpose). */
+    std::vector<Index> analyzed_start;
+    std::vector<Index> analyzed_rows;
+    /** The values of a matrix whose pattern is a subset of the analyzed one, in the analyzed user order. */
+    std::vector<double> subset_values;
     /** The solver's form of the matrix: full storage, or the lower triangle. */
     sparse::CSCMatrix csc;
     /** source[p]: the place in the user's values of csc.values[p]; empty where it is p. */
@@ -376,54 +445,102 @@ namespace warpchol::python
   };
 } // namespace warpchol::python
 
-PYBIND11_MODULE(warpchol, module)
+PYBIND11_MODULE(_warpchol, module)
 {
   using warpchol::python::SciPyCholesky;
-  module.doc() = "warpchol: a sparse Cholesky solver that refactorizes in part, on SciPy sparse matrices";
+  module.doc() = "The extension module of the package warpchol (import warpchol; help(warpchol)).";
+  module.attr("__version__") = WARPCHOL_VERSION;
 
   // The solver's errors, one line each, as Python exceptions of the same names.
   auto &error = py::register_exception<warpchol::Error>(module, "Error", PyExc_RuntimeError);
-  py::register_exception<warpchol::InputError>(module, "InputError", error.ptr());
+  auto &input_error = py::register_exception<warpchol::InputError>(module, "InputError", error.ptr());
   auto &matrix_error = py::register_exception<warpchol::MatrixError>(module, "MatrixError", error.ptr());
-  py::register_exception<warpchol::NotPositiveDefinite>(module, "NotPositiveDefinite", matrix_error.ptr());
+  auto &not_positive_definite =
+    py::register_exception<warpchol::NotPositiveDefinite>(module, "NotPositiveDefinite", matrix_error.ptr());
+  error.doc() = "Base class of warpchol's errors: a one-line message that says what is wrong and where.";
+  input_error.doc() = "An argument the solver cannot use: a column out of range, a C whose rows the factor does "
+                      "not couple, a call the method does not offer.";
+  matrix_error.doc() = "A matrix the solver cannot factor, naming the entry: not square, not symmetric, a NaN or an "
+                       "infinity, an entry outside the analyzed pattern.";
+  not_positive_definite.doc() = "A matrix that is not positive definite: names the column and its pivot.";
 
-  py::class_<SciPyCholesky>(module, "SparseCholesky", R"(A sparse Cholesky solver, A = P L L^T P^T, that refactorizes in part.
+  py::class_<SciPyCholesky> solver_class(module, "SparseCholesky", R"(A sparse Cholesky solver, A = P L L^T P^T, that refactorizes in part.
 
-A is a symmetric positive definite SciPy sparse matrix in CSC or CSR format, with both
-triangles stored or one. After analyze(A) and factorize(A), refactorize(A, changed_columns)
-takes A with the same pattern and new values in the listed columns (and, by symmetry,
-rows), and recomputes only the columns of L that depend on them, or updates the factor by
-the change where that is cheaper. update(C) and downdate(C) give the factor of A + C C^T
-and A - C C^T for a C of few columns, in place.
+A is a symmetric positive definite SciPy sparse matrix or array in CSC or CSR format, with
+both triangles stored or one. After analyze(A) and factorize(A), refactorize(A,
+changed_columns) takes A with new values in the listed columns (and, by symmetry, rows),
+and recomputes only the columns of L that depend on them, or updates the factor by the
+change where that is cheaper. update(C) and downdate(C) give the factor of A + C C^T and
+A - C C^T for a C of few columns, in place.
+
+factorize() and refactorize() take the analyzed pattern or a subset of it: the entries a
+matrix leaves out are zeros (SciPy's arithmetic drops explicit zeros, A + D with a
+diagonal D for one). An entry outside the analyzed pattern, a NaN or an infinity raise
+MatrixError naming the entry.
+
+solve(b), or solver(b), gives x with A x = b; inverse_operator() is A^-1 as a SciPy
+LinearOperator (for scipy.sparse.linalg's iterative solvers and eigensolvers).
 
 method: "supernodal" (default), "left" or "up"; ordering: "metis" (default), "amd" or
 "natural"; threads: threads of the supernodal factorization and solves; change_method: how
 refactorize() takes a change, "auto" (default: the cheaper of an update and a
 recomputation, by times measured as it goes), "flops" (the same at fixed rates: the same
-choice on any machine), "recompute" (never update) or "update" (whenever possible).)")
+choice on any machine), "recompute" (never update) or "update" (whenever possible).)");
+  solver_class
     .def(py::init<const std::string &, const std::string &, unsigned int, const std::string &>(),
          py::arg("method") = "supernodal", py::arg("ordering") = "metis", py::arg("threads") = 1,
-         py::arg("change_method") = "auto")
+         py::arg("change_method") = "auto",
+         "A solver with the given settings (see the class's documentation); nothing analyzed yet.")
     .def("analyze", &SciPyCholesky::analyze, py::arg("A"),
-         "Fill-reducing ordering and symbolic analysis of the pattern of A.")
+         "Fill-reducing ordering and symbolic analysis of the pattern of A (its values are not read). Raises "
+         "MatrixError for a matrix that is not square, a pattern that is not symmetric (both triangles stored) or "
+         "an entry stored twice.")
     .def("factorize", &SciPyCholesky::factorize, py::arg("A"),
-         "Numeric factorization of A (analyzing its pattern first if analyze() was not called).")
+         "Numeric factorization of A (analyzing its pattern first if analyze() was not called). A has the analyzed "
+         "pattern or a subset of it (the entries it leaves out are zeros). Raises NotPositiveDefinite naming the "
+         "column and its pivot, MatrixError naming an entry outside the analyzed pattern, a NaN, an infinity or an "
+         "asymmetric pair; the solver then holds no factor until the next factorization.")
     .def("refactorize", &SciPyCholesky::refactorize, py::arg("A"), py::arg("changed_columns"),
-         "Partial refactorization: A has the analyzed pattern and new values in changed_columns (and the same "
-         "rows); a column that changed without being listed is found and recomputed as well. A change of low rank "
-         "may be taken as an update of the factor instead, where that is cheaper (statistics[\"method\"]).")
+         "Partial refactorization: A has the analyzed pattern (or a subset of it, as factorize() takes) and new "
+         "values in changed_columns (and the same rows); a column that changed without being listed is found and "
+         "recomputed as well. A change of low rank may be taken as an update of the factor instead, where that is "
+         "cheaper (statistics[\"method\"]). Raises as factorize() does, and InputError for a column out of range.")
     .def(
       "update", [](SciPyCholesky &self, const py::object &c) { self.modify(c, 1.); }, py::arg("C"),
-      "The factor of A + C C^T, in place, without refactorizing (CHOLMOD's cholmod_updown): C is a SciPy sparse "
-      "matrix of n rows and k columns in any format (duplicates summed, stored zeros left out), each column's rows "
-      "coupled in the factor as the dofs of one element or one vertex are (InputError names two that are not). "
-      "Supernodal method, after a factorization.")
+      "The factor of A + C C^T, in place, without refactorizing (CHOLMOD's cholmod_updown, scikit-sparse's "
+      "update_inplace): C is a SciPy sparse matrix of n rows and k columns in any format (duplicates summed, "
+      "stored zeros left out), each column's rows coupled in the factor as the dofs of one element or one vertex "
+      "are (InputError names two that are not). Supernodal method, after a factorization; a later refactorize() "
+      "starts from A + C C^T.")
     .def(
       "downdate", [](SciPyCholesky &self, const py::object &c) { self.modify(c, -1.); }, py::arg("C"),
-      "The factor of A - C C^T, in place, as update(). Raises NotPositiveDefinite if A - C C^T is not positive "
-      "definite; the factor of A is then left as it was.")
-    .def("solve", &SciPyCholesky::solve, py::arg("b"), "x with A x = b, for b of shape (n,) or (n, k).")
-    .def_property_readonly("n", [](const SciPyCholesky &self) { return self.statistics().n; })
+      "The factor of A - C C^T, in place, as update() (scikit-sparse's update_inplace(C, subtract=True)). Raises "
+      "NotPositiveDefinite if A - C C^T is not positive definite; the factor of A is then left as it was.")
+    .def("solve", &SciPyCholesky::solve, py::arg("b"),
+         "x with A x = b, for b of shape (n,) or (n, k) (a new float64 array of b's shape). Raises Error without a "
+         "valid factorization, ValueError for b of another shape.")
+    .def("__call__", &SciPyCholesky::solve, py::arg("b"), "solve(b), as scikit-sparse's factor(b).")
+    .def(
+      "inverse_operator",
+      [](const py::object &self) {
+        const auto  n      = self.attr("n").cast<warpchol::Index>();
+        const auto  solve  = self.attr("solve");
+        const auto  linalg = py::module_::import("scipy.sparse.linalg");
+        // A^-1 is symmetric: its adjoint solves too.
+        return linalg.attr("LinearOperator")(py::make_tuple(n, n), py::arg("matvec") = solve,
+                                             py::arg("rmatvec") = solve, py::arg("matmat") = solve,
+                                             py::arg("rmatmat") = solve, py::arg("dtype") = py::dtype::of<double>());
+      },
+      "A^-1 as a scipy.sparse.linalg.LinearOperator of shape (n, n), float64: its products are solve()s with the "
+      "factor as it is at each product (a later refactorize() or update() is seen). For SciPy's iterative solvers "
+      "(a preconditioner M) and eigensolvers (shift-invert).")
+    .def_property_readonly(
+      "n", [](const SciPyCholesky &self) { return self.statistics().n; },
+      "Rows (and columns) of the analyzed matrix; 0 before analyze().")
+    .def_property_readonly(
+      "shape",
+      [](const SciPyCholesky &self) { return py::make_tuple(self.statistics().n, self.statistics().n); },
+      "(n, n), the shape of A.")
     .def_property_readonly("storage", &SciPyCholesky::storage,
                            "How the analyzed matrix stores its entries: \"full\" or \"lower\".")
     .def_property_readonly(
@@ -480,4 +597,8 @@ choice on any machine), "recompute" (never update) or "update" (whenever possibl
       "refactorize(), update() or downdate() brought the factor up to date (\"none\", \"update\", \"partial\" "
       "or \"full\"); update_rank, update_flops, partial_flops and the predicted seconds: what the last "
       "refactorize() weighed (0 and -1 where it weighed no update).");
+
+  // What help() and repr() show: the package's names, not the extension module's.
+  for (const char *name : {"Error", "InputError", "MatrixError", "NotPositiveDefinite", "SparseCholesky"})
+    module.attr(name).attr("__module__") = "warpchol";
 }

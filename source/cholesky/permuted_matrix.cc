@@ -2,6 +2,7 @@
 #include <warpchol/base/format.h>
 #include <warpchol/cholesky/ordering.h>
 #include <warpchol/cholesky/permuted_matrix.h>
+#include <warpchol/sparse/pattern_subset.h>
 
 #include <algorithm>
 #include <cmath>
@@ -13,9 +14,11 @@ namespace warpchol::cholesky
 {
   namespace
   {
-    std::string entry_name(const Index i, const Index j)
+    using sparse::entry_name;
+
+    std::string storage_name(const sparse::Storage storage)
     {
-      return "(" + std::to_string(i) + "," + std::to_string(j) + ")";
+      return storage == sparse::Storage::full ? "both triangles" : "the lower triangle";
     }
 
     std::string asymmetry_message(const Index i, const Index j)
@@ -128,30 +131,41 @@ namespace warpchol::cholesky
 
   std::vector<Index> PermutedMatrix::load(const sparse::CSCMatrix &matrix)
   {
-    check_pattern(matrix);
-    if (static_cast<Index>(matrix.values.size()) != matrix.n_nonzeros())
+    if (static_cast<Index>(matrix.values.size()) != static_cast<Index>(matrix.row_index.size()))
       throw MatrixError("matrix has " + std::to_string(matrix.values.size()) + " values for " +
-                        std::to_string(matrix.n_nonzeros()) + " entries");
-    return load_values(matrix.values.data());
+                        std::to_string(matrix.row_index.size()) + " entries");
+    return load_values(values_in_analyzed_order(matrix, matrix.values.data()));
   }
 
   std::vector<Index> PermutedMatrix::load(const sparse::CSCMatrix &matrix, const double *const values)
   {
-    check_pattern(matrix);
-    return load_values(values);
+    return load_values(values_in_analyzed_order(matrix, values));
   }
 
-  void PermutedMatrix::check_pattern(const sparse::CSCMatrix &matrix) const
+  const double *PermutedMatrix::values_in_analyzed_order(const sparse::CSCMatrix &matrix, const double *const values)
   {
-    if (matrix.n_rows != permuted_lower.n_rows || matrix.n_cols != permuted_lower.n_cols ||
-        matrix.storage != storage || matrix.column_start != analyzed_column_start ||
-        matrix.row_index != analyzed_row_index)
-      throw MatrixError("matrix pattern differs from the analyzed one (" +
-                        std::to_string(matrix.n_rows) + "x" + std::to_string(matrix.n_cols) + ", " +
-                        std::to_string(matrix.n_nonzeros()) + " entries; analyzed " +
-                        std::to_string(permuted_lower.n_rows) + "x" +
-                        std::to_string(permuted_lower.n_cols) + ", " +
-                        std::to_string(analyzed_row_index.size()) + " entries)");
+    const Index n = permuted_lower.n_cols;
+    if (matrix.n_rows != n || matrix.n_cols != n)
+      throw MatrixError("matrix is " + std::to_string(matrix.n_rows) + "x" + std::to_string(matrix.n_cols) +
+                        ", the analyzed one " + std::to_string(n) + "x" + std::to_string(n) +
+                        " (analyze the new matrix first)");
+    if (matrix.storage != storage)
+      throw MatrixError("matrix stores " + storage_name(matrix.storage) + ", the analyzed one " +
+                        storage_name(storage) + " (analyze the new matrix first)");
+    if (matrix.column_start == analyzed_column_start && matrix.row_index == analyzed_row_index)
+      return values;
+    // Another pattern: a subset of the analyzed one is that pattern with zeros where it
+    // has no entry (arithmetic drops explicit zeros); an entry outside is refused.
+    if (static_cast<Index>(matrix.column_start.size()) != n + 1)
+      throw MatrixError("invalid matrix: column_start has " + std::to_string(matrix.column_start.size()) +
+                        " entries, expected " + std::to_string(n + 1));
+    const std::vector<Index> places =
+      sparse::places_in_pattern(n, analyzed_column_start.data(), analyzed_row_index.data(), matrix.column_start.data(),
+                                matrix.row_index.data(), static_cast<Index>(matrix.row_index.size()));
+    subset_values.assign(analyzed_row_index.size(), 0.);
+    for (std::size_t k = 0; k < places.size(); ++k)
+      subset_values[places[k]] = values[k];
+    return subset_values.data();
   }
 
   void PermutedMatrix::refuse_value(const Index p, const double value) const
@@ -159,8 +173,7 @@ namespace warpchol::cholesky
     // The column of A's entry p: the last column that starts at or before it.
     const Index column =
       std::upper_bound(analyzed_column_start.begin(), analyzed_column_start.end(), p) - analyzed_column_start.begin() - 1;
-    throw MatrixError("value " + format_number(value) + " at entry " + entry_name(analyzed_row_index[p], column) +
-                      " is not finite");
+    throw MatrixError(sparse::non_finite_entry_message(analyzed_row_index[p], column, value));
   }
 
   std::vector<Index> PermutedMatrix::load_changed_values(const double *const values)
@@ -221,10 +234,10 @@ namespace warpchol::cholesky
       {
         const double value = values[source[k]];
         if (!std::isfinite(value))
-          throw MatrixError("value " + format_number(value) + " at entry " +
-                            entry_name(permutation[permuted_lower.row_index[k]],
-                                       permutation[entry_column[k]]) +
-                            " is not finite");
+          refuse_value(source[k], value);
+        // A twin that is not finite is named as such, not as an asymmetric pair.
+        if (mirror[k] != -1 && !std::isfinite(values[mirror[k]]))
+          refuse_value(mirror[k], values[mirror[k]]);
         if (!loaded || value != permuted_lower.values[k])
           if (changed_columns.empty() || changed_columns.back() != entry_column[k])
             changed_columns.push_back(entry_column[k]);

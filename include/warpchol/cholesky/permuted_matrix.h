@@ -31,10 +31,12 @@ namespace warpchol::cholesky
     void setup(const sparse::CSCMatrix &matrix, const std::vector<Index> &permutation);
 
     /**
-     * Copy the values of @p matrix into C. Throws MatrixError if the pattern differs from
-     * the one given to setup(), a value is not finite, or (full storage) A(i,j) differs
-     * from A(j,i) by more than 1e-10 sqrt(|A(i,i) A(j,j)|). Returns the columns of C
-     * (sorted) whose values differ from those of the previous load.
+     * Copy the values of @p matrix into C. Its pattern is the one given to setup() or a
+     * subset of it (the entries it leaves out are zeros: arithmetic drops explicit zeros).
+     * Throws MatrixError, naming the entry, for an entry outside that pattern, a value that
+     * is NaN or infinite, or (full storage) A(i,j) that differs from A(j,i) by more than
+     * 1e-10 sqrt(|A(i,i) A(j,j)|); and for another size or storage. Returns the columns of
+     * C (sorted) whose values differ from those of the previous load.
      */
     std::vector<Index> load(const sparse::CSCMatrix &matrix);
 
@@ -81,8 +83,14 @@ namespace warpchol::cholesky
     void load(BinaryReader &reader);
 
   private:
-    /** Throw MatrixError unless @p matrix has the pattern given to setup(). */
-    void check_pattern(const sparse::CSCMatrix &matrix) const;
+    /**
+     * The values of @p matrix (read from @p values) in the order of the entries of the
+     * pattern given to setup(): @p values itself where @p matrix has that pattern (the
+     * common case: a comparison of the arrays), else placed in subset_values, zeros where
+     * a subset of the pattern leaves entries out. Throws MatrixError for another size or
+     * storage and for an entry outside the pattern (naming it).
+     */
+    const double *values_in_analyzed_order(const sparse::CSCMatrix &matrix, const double *values);
 
     /** load() of values in the analyzed pattern's order, once the pattern is checked. */
     std::vector<Index> load_values(const double *values);
@@ -95,7 +103,7 @@ namespace warpchol::cholesky
      */
     std::vector<Index> load_changed_values(const double *values);
 
-    /** Throw MatrixError for the value of A's stored entry @p p, not finite. */
+    /** Throw MatrixError for the value of A's stored entry @p p, NaN or infinite (naming it as such). */
     [[noreturn]] void refuse_value(Index p, double value) const;
 
     sparse::CSCMatrix  permuted_lower;
@@ -109,6 +117,8 @@ namespace warpchol::cholesky
     sparse::Storage    storage = sparse::Storage::lower;
     std::vector<Index> analyzed_column_start;
     std::vector<Index> analyzed_row_index;
+    /** The values of a matrix whose pattern is a subset of the analyzed one, in the analyzed order. */
+    std::vector<double> subset_values;
     /** A's values at the last load, in A's order; the entry of C each of A's entries is (source or mirror). */
     std::vector<double> input_values;
     std::vector<Index>  entry_of_input;

@@ -202,9 +202,11 @@ namespace warpchol::cholesky
     void analyze(const sparse::CSCMatrix &matrix);
 
     /**
-     * Numeric factorization of @p matrix, which has the analyzed pattern. Throws
-     * NotPositiveDefinite naming the column (user numbering) and value of the failed
-     * pivot, MatrixError on another pattern, NaN/Inf or asymmetric values.
+     * Numeric factorization of @p matrix, which has the analyzed pattern or a subset of it:
+     * the entries it leaves out are zeros (arithmetic drops explicit zeros; CHOLMOD takes
+     * such a matrix too). Throws NotPositiveDefinite naming the column (user numbering) and
+     * value of the failed pivot, MatrixError naming the entry for one outside the analyzed
+     * pattern, a NaN, an infinity or an asymmetric pair, and for another size or storage.
      */
     void factorize(const sparse::CSCMatrix &matrix);
 
@@ -218,8 +220,9 @@ namespace warpchol::cholesky
 
     /**
      * Partial refactorization after the entries of @p changed_columns (user numbering) of
-     * @p matrix changed: recompute exactly the columns of L on the elimination-tree paths
-     * from those columns (permuted) to the root, reuse the others. A column of C whose
+     * @p matrix (the analyzed pattern or a subset of it, as factorize() takes) changed:
+     * recompute exactly the columns of L on the elimination-tree paths from those columns
+     * (permuted) to the root, reuse the others. A column of C whose
      * values changed without being listed is found while loading the values and recomputed
      * as well, so the factor always matches @p matrix.
      *
