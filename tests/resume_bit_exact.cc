@@ -4,7 +4,8 @@
 // and the summary. Scenes: WCC with partial refactorization beside its corotational
 // reference run; WCC with the factor refreshed below the top only (a stale factor, in
 // single precision, as CG's preconditioner); WCC refreshing its factor on a thread of its
-// own at a fixed lag, the checkpoint taken while a refresh is in flight; WCC adapting its
+// own at a fixed lag, the checkpoint taken while a refresh is in flight; WCC with cuts and
+// a grasp; WCC after a material change that left plastic strains; WCC adapting its
 // threshold to a target error; two bodies, one of them factored by CHOLMOD. Then what
 // resume refuses.
 
@@ -206,6 +207,14 @@ int main()
               "subsection Grasp\n  set Sphere center = -0.3, 0, 0\n  set Sphere radius = 0.1\n"
               "  set Velocity = 0, 0.5, 0\n  set Duration = 0.2\n  set Grasp time = 0.03\n"
               "  set Release time = 0.25\nend\n");
+  // A checkpoint at step 10 after a material change at step 6 that kept the strained
+  // region's stress: the plastic strains it left go on from the checkpoint.
+  check_scene("plastic", "  set Type = warp_canceling\n  set Update threshold = 0.3\n",
+              "subsection Material change\n  set Region = sphere\n  set Sphere center = 0.3, 0, 0\n"
+              "  set Sphere radius = 0.12\n  set Time = 0.05\n  set Stiffness factor = 1e4\n"
+              "  set Stress = continuous\nend\n"
+              // Its updates are close calls: chosen at fixed rates, not by measured times.
+              "subsection Solver\n  set Change method = flops\nend\n");
   check_scene("target_error",
               "  set Type = warp_canceling\n  set Update threshold = 0.3\n  set Target error = 0.01\n", "");
   check_scene("two_bodies", "  set Type = warp_canceling\n",

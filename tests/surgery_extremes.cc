@@ -2,7 +2,8 @@
 // one-line error: a cut that detaches a piece (it falls freely: A stays positive definite
 // through its mass), a cut that removes every element (every vertex a free particle), a
 // blade that misses the mesh (nothing is cut, the summary says so), jaws that close on no
-// vertex or on fixed ones only, a stiffness factor <= 0.
+// vertex or on fixed ones only, a stiffness factor <= 0, changes whose time falls after the
+// run's end (one warning line).
 
 #include "simulation_tests.h"
 
@@ -114,6 +115,25 @@ int main()
   }
 
   std::cout << "missing the mesh: " << run("missing.prm", box(blade(2.0))) << std::endl;
+
+  // A change whose time falls after the run's end (30 steps: 0.3 s) would silently be
+  // nothing: the summary warns in one line (issue 29).
+  {
+    tests::write_file("after_end.prm",
+                      box("subsection Material change\n  set Region = sphere\n  set Sphere center = 0.2, 0.05, 0.05\n"
+                          "  set Sphere radius = 0.05\n  set Time = 0.5\n  set Stiffness factor = 10\nend\n"
+                          "subsection Grasp\n  set Sphere center = 0.4, 0.05, 0.05\n  set Sphere radius = 0.02\n"
+                          "  set Grasp time = 0.6\nend\n"));
+    warpchol::app::Simulation simulation{warpchol::app::AllParameters("after_end.prm")};
+    std::ostringstream        summary;
+    simulation.run(summary);
+    const std::string text  = summary.str();
+    const auto        begin = text.find("warning:");
+    std::cout << "after the end: "
+              << (begin == std::string::npos ? "no warning" : text.substr(begin, text.find('\n', begin) - begin))
+              << std::endl;
+    tests::check("  one warning line", begin != std::string::npos && text.find("warning:", begin + 1) == std::string::npos);
+  }
 
   // Errors, through the program: one line, exit 2.
   const std::string jaws = "subsection Grasp\n  set Sphere radius = 0.02\n  set Grasp time = 0.05\n";

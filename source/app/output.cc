@@ -369,7 +369,7 @@ namespace warpchol::app
              "step,time,elements_updated,elements_updated_pct,refactorized,columns_recomputed_pct,"
              "flops_recomputed_pct,refresh,cg_iterations,t_rotations,t_error_estimate,t_assembly,"
              "t_factor,t_solve,t_iterations,t_step,kinetic_energy,elastic_energy,potential_energy,"
-             "tool_energy,total_energy,external_work,tool_work_on_body,energy_ratio,update_threshold,"
+             "tool_energy,total_energy,external_work,tool_work_on_body,change_energy,energy_ratio,update_threshold,"
              "velocity_error,choice,t_predicted,t_strategy,factor_lag,elements_cut,vertices_grasped,"
              "vertices_released,elements_changed,change_columns_pct,change_flops_pct,t_change,factor_method,"
              "update_rank,t_predicted_update,t_predicted_partial,t_predicted_full") +
@@ -391,6 +391,7 @@ namespace warpchol::app
          << s.t_factor() << "," << s.t_solve() << "," << s.t_iterations() << "," << row.step_seconds << "," << std::setprecision(10) << row.kinetic_energy << ","
          << row.elastic_energy << "," << row.potential_energy << "," << row.tool_energy << ","
          << row.total_energy << "," << row.external_work << "," << row.tool_work_on_body << ","
+         << row.change_energy << ","
          << std::setprecision(6) << row.energy_ratio << ",";
     // Empty where the model has no threshold or did not measure its error.
     if (s.update_threshold >= 0)

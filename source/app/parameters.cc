@@ -918,6 +918,10 @@ namespace warpchol::app
       prm.declare_entry("Stiffness factor", "1", Patterns::Anything(),
                         "The Young's modulus of the region's elements is multiplied by this (> 0): "
                         "cauterized tissue stiffens (> 1), torn tissue softens (< 1)");
+      prm.declare_entry("Stress", "continuous", Patterns::Selection("continuous|reset"),
+                        "continuous: the changed elements keep their stress at the change (a plastic "
+                        "strain takes up the rest), stiffened tissue holds its shape; reset: they keep "
+                        "their rest shape, a strained element's stress is multiplied by the factor");
       prm.leave_subsection();
     }
 
@@ -934,6 +938,7 @@ namespace warpchol::app
       if (!(stiffness_factor > 0))
         file.fail(prm, "Material change", "Stiffness factor",
                   "must be > 0: a Young's modulus E <= 0 has no stiffness (a cut removes elements)");
+      keep_stress = prm.get("Stress") == "continuous";
       prm.leave_subsection();
     }
 

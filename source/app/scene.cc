@@ -146,7 +146,8 @@ namespace warpchol::app
         std::vector<bool> inside(elastic_body->n_vertices(), false);
         for (const unsigned int v : select_vertices(all.material_change.region, "Material change"))
           inside[v] = true;
-        material_change = fem::MaterialChange{{}, all.material_change.time, all.material_change.stiffness_factor};
+        material_change = fem::MaterialChange{{}, all.material_change.time, all.material_change.stiffness_factor,
+                                              all.material_change.keep_stress};
         for (unsigned int e = 0; e < elastic_body->n_elements(); ++e)
           {
             const auto &vertices = elastic_body->element_vertices(e);

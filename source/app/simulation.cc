@@ -34,7 +34,8 @@ namespace warpchol::app
     }
 
     /** The first section of a checkpoint: its kind and the version of its layout. */
-    constexpr const char *checkpoint_format = "warpchol checkpoint 1";
+    /** 2: the body's plastic strains, the changes' energy (issue 29). */
+    constexpr const char *checkpoint_format = "warpchol checkpoint 2";
 
     /** "Model/Type" of the entry "Model/Type = corotational". */
     std::string entry_name(const std::string &entry)
@@ -351,6 +352,7 @@ namespace warpchol::app
         row.tool_energy       = integrator.tool_energy();
         row.total_energy      = integrator.total_energy();
         row.external_work     = integrator.external_work();
+        row.change_energy     = integrator.change_energy();
         row.tool_work_on_body = integrator.tool_work_on_body();
         row.energy_ratio      = simulated.energy_balance->ratio();
         row.error_vs_corotational     = error_vs_corotational;
@@ -626,10 +628,14 @@ namespace warpchol::app
                               simulated.scene->model().name();
     if (not_finite)
       throw SimulationError(where + " is not finite: the simulation diverged");
+    // What the changes of the body put in is named where there are any.
+    const bool   changes = integrator.surgery().active();
+    const double change  = integrator.change_energy();
     throw SimulationError(where + " grew to " + format_number(balance.held_energy(), 3) +
                           " J (start " + format_number(integrator.initial_energy(), 3) +
                           " J, work of the external loads " +
-                          format_number(balance.energy_put_in() - integrator.initial_energy(), 3) +
+                          format_number(balance.energy_put_in() - integrator.initial_energy() - change, 3) +
+                          (changes ? " J, changes of the body " + format_number(change, 3) : std::string()) +
                           " J), over Time stepping/Energy growth limit = " + format_number(limit) +
                           " times what was put in: the simulation diverged");
   }
@@ -820,6 +826,22 @@ namespace warpchol::app
     };
     out << "  energy at the end: kinetic " << energy(kinetic_energy) << ", elastic "
         << energy(elastic_energy) << "\n";
+    if (integrator.surgery().active())
+      {
+        // What the changes put in or took out, which the energy balance counts.
+        const fem::ChangeEnergy &change = integrator.surgery().change_energy();
+        out << "  energy of the changes: " << n(change.total()) << " J (material change " << n(change.material_changes)
+            << " J, cuts " << n(change.cuts) << " J, grasps and releases " << n(change.grasps) << " J)\n";
+        const std::vector<std::string> missed = integrator.surgery().events_not_reached();
+        if (!missed.empty() && simulated.stopped.empty())
+          {
+            out << "  warning: ";
+            for (std::size_t k = 0; k < missed.size(); ++k)
+              out << (k == 0 ? "" : k + 1 == missed.size() ? " and " : ", ") << missed[k];
+            out << (missed.size() == 1 ? " falls" : " fall") << " after the run's end (" << n(integrator.time(), 4)
+                << " s): " << (missed.size() == 1 ? "it" : "they") << " never happened\n";
+          }
+      }
     print_stages(out, simulated);
     if (timings)
       {

@@ -160,11 +160,31 @@ namespace warpchol::fem
     volumes[e] = rest_volumes[e] * stiffness_scale[e];
   }
 
+  void ElasticBody::scale_element_stiffness_keeping_stress(const unsigned int e, const double factor,
+                                                           const Matrix3 &displacement_gradient)
+  {
+    if (cut.at(e))
+      return;
+    scale_element_stiffness(e, factor);
+    if (plastic_strains.empty())
+      plastic_strains.assign(n_elements(), Matrix3::Zero());
+    // s' C (eps - eps_p') = s C (eps - eps_p) with s' = factor s: the elastic strain shrinks
+    // by the factor, the rest of the strain becomes plastic.
+    const Matrix3 strain = 0.5 * (displacement_gradient + displacement_gradient.transpose());
+    plastic_strains[e]   = strain - (strain - plastic_strains[e]) / factor;
+  }
+
+  Matrix3 ElasticBody::plastic_strain(const unsigned int e) const
+  {
+    return plastic_strains.empty() ? Matrix3::Zero() : plastic_strains[e];
+  }
+
   void ElasticBody::save_changes(BinaryWriter &writer) const
   {
     writer.section("body changes");
     writer.write(cut);
     writer.write(stiffness_scale);
+    writer.write(plastic_strains);
     writer.write(lumped_mass);
     writer.write(particle_mass);
     writer.write(live_elements);
@@ -175,11 +195,13 @@ namespace warpchol::fem
     reader.expect_section("body changes");
     reader.read(cut);
     reader.read(stiffness_scale);
+    reader.read(plastic_strains);
     reader.read(lumped_mass);
     reader.read(particle_mass);
     reader.read(live_elements);
     if (cut.size() != n_elements() || stiffness_scale.size() != n_elements() || lumped_mass.size() != n_vertices() ||
-        particle_mass.size() != n_vertices() || live_elements.size() != n_vertices())
+        particle_mass.size() != n_vertices() || live_elements.size() != n_vertices() ||
+        (!plastic_strains.empty() && plastic_strains.size() != n_elements()))
       reader.fail("the body's changes were written for another mesh");
     for (unsigned int e = 0; e < n_elements(); ++e)
       {
@@ -423,6 +445,22 @@ namespace warpchol::fem
                                             const std::vector<Vector3> &positions) const
   {
     return field_gradient(e, positions);
+  }
+
+  Matrix3 ElasticBody::displacement_gradient(const unsigned int e, const std::vector<Vector3> &positions,
+                                             const bool rotated) const
+  {
+    const Matrix3 gradient = deformation_gradient(e, positions);
+    Matrix3       rotation = Matrix3::Identity();
+    if (rotated)
+      rotations_of(&gradient, &rotation, 1);
+    return rotation.transpose() * gradient - Matrix3::Identity();
+  }
+
+  double ElasticBody::element_energy(const unsigned int e, const Matrix3 &displacement_gradient) const
+  {
+    const Matrix3 strain = 0.5 * (displacement_gradient + displacement_gradient.transpose()) - plastic_strain(e);
+    return 0.5 * volumes[e] * stress(strain).cwiseProduct(strain).sum();
   }
 
   Matrix3 ElasticBody::stress(const Matrix3 &displacement_gradient) const
@@ -679,8 +717,9 @@ namespace warpchol::fem::HWY_NAMESPACE
    * G = R^T F and the forces +R (V sigma Dm^-T); else G = R^T F - I and -R (V sigma Dm^-T).
    */
   void CorotatedForces(const unsigned int count, const Matrix3 *gradients, const Matrix3 *rotations,
-                       const Matrix3 *inverse_rest_edges, const double *volumes, const double mu, const double lambda,
-                       const bool product, Matrix3 *forces, double *energies, double *force_norms)
+                       const Matrix3 *inverse_rest_edges, const double *volumes, const Matrix3 *plastic_strains,
+                       const double mu, const double lambda, const bool product, Matrix3 *forces, double *energies,
+                       double *force_norms)
   {
     // Entry i of the 3x3 matrices of lane l at [i][l] (column-major i = row + 3 column);
     // lanes past count repeat the last element and are not stored.
@@ -707,6 +746,14 @@ namespace warpchol::fem::HWY_NAMESPACE
         for (unsigned int l = 0; l < lanes; ++l)
           g[i + 3 * j][l] = r[3 * i][l] * f[3 * j][l] + r[1 + 3 * i][l] * f[1 + 3 * j][l] +
                             r[2 + 3 * i][l] * f[2 + 3 * j][l] - (i == j ? identity : 0.);
+    // A change that kept the stress left a plastic strain: the elastic part is G - eps_p.
+    if (plastic_strains != nullptr)
+      for (unsigned int l = 0; l < lanes; ++l)
+        {
+          const Matrix3 &plastic = plastic_strains[std::min(l, count - 1)];
+          for (unsigned int i = 0; i < 9; ++i)
+            g[i][l] -= plastic.data()[i];
+        }
     // V sigma with sigma = lambda tr(eps) I + 2 mu eps, eps = sym(G); the energy V/2 sigma : G.
     for (unsigned int l = 0; l < lanes; ++l)
       {
@@ -768,7 +815,9 @@ namespace warpchol::fem
   {
     simd::use_target_from_environment();
     HWY_DYNAMIC_DISPATCH(CorotatedForces)(count, gradients, rotations, inverse_rest_edges.data() + first,
-                                          volumes.data() + first, mu, lambda, false, forces, energies, force_norms);
+                                          volumes.data() + first,
+                                          plastic_strains.empty() ? nullptr : plastic_strains.data() + first, mu,
+                                          lambda, false, forces, energies, force_norms);
   }
 
   void ElasticBody::add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
@@ -793,8 +842,9 @@ namespace warpchol::fem
                 gradients[k] = field_gradient(first + k, v);
                 rotations[k] = element_rotations ? (*element_rotations)[first + k] : Matrix3::Identity();
               }
+            // The product of the stiffness: a plastic strain shifts the forces, not the matrix.
             kernel(count, gradients.data(), rotations.data(), inverse_rest_edges.data() + first,
-                   volumes.data() + first, mu, lambda, true, work.data() + first, nullptr, nullptr);
+                   volumes.data() + first, nullptr, mu, lambda, true, work.data() + first, nullptr, nullptr);
           }
       },
       512);

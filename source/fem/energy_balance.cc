@@ -16,7 +16,7 @@ namespace warpchol::fem
     held   = integrator.kinetic_energy() + integrator.tool_energy() +
            (elastic == ElasticEnergy::current ? integrator.elastic_energy() :
                                                 integrator.elastic_energy_at_step_start());
-    put_in = integrator.initial_energy() + integrator.external_work() - potential;
+    put_in = integrator.initial_energy() + integrator.external_work() + integrator.change_energy() - potential;
     finite = finite && std::isfinite(held) && std::isfinite(put_in);
     if (std::isfinite(held))
       largest_held = std::max(largest_held, held);

@@ -162,7 +162,8 @@ namespace warpchol::fem
         if (operations.active())
           {
             const SystemChange change =
-              operations.changes_of_step(body, x, step, current_time, time_step, tool_diagonal, statistics);
+              operations.changes_of_step(body, x, v, model.uses_rotations(), step, current_time, time_step,
+                                         tool_diagonal, statistics);
             model.apply_change(change, statistics);
             // A cut moves mass: gravity follows it.
             for (const unsigned int e : change.elements)
@@ -349,6 +350,11 @@ namespace warpchol::fem
   double ImplicitEuler::external_work() const
   {
     return tool_work;
+  }
+
+  double ImplicitEuler::change_energy() const
+  {
+    return operations.change_energy().total();
   }
 
   double ImplicitEuler::tool_work_on_body() const

@@ -33,25 +33,45 @@ namespace warpchol::fem
     }
   } // namespace
 
+  double ChangeEnergy::total() const
+  {
+    return material_changes + cuts + grasps;
+  }
+
   SystemChange Surgery::changes_of_step(ElasticBody &body, const std::vector<Vector3> &positions,
+                                        const std::vector<Vector3> &velocities, const bool rotated,
                                         const unsigned int step, const double time, const double time_step,
                                         const std::vector<double> &tool_diagonal, StepStatistics &statistics)
   {
     SystemChange change;
     if (cut_step.empty())
       cut_step.assign(body.n_elements(), -1);
+    reached_time    = time + time_step;
     const auto tool = [&](const unsigned int v) { return tool_diagonal.empty() ? 0. : tool_diagonal[v]; };
+    const auto elastic_energy = [&](const unsigned int e) {
+      return body.element_energy(e, body.displacement_gradient(e, positions, rotated));
+    };
 
     if (blade)
       {
         std::vector<bool> is_cut(body.n_elements());
         for (unsigned int e = 0; e < body.n_elements(); ++e)
           is_cut[e] = body.element_is_cut(e);
-        for (const unsigned int e : elements_crossed(body, positions, *blade, time, time + time_step, is_cut))
+        const std::vector<unsigned int> crossed =
+          elements_crossed(body, positions, *blade, time, time + time_step, is_cut);
+        if (!crossed.empty())
           {
-            body.cut_element(e);
-            cut_step[e] = static_cast<int>(step);
-            change.elements.push_back(e);
+            // The removed elements take their elastic energy and their mass's share of
+            // the kinetic energy with them.
+            double removed = body.kinetic_energy(velocities);
+            for (const unsigned int e : crossed)
+              {
+                removed += elastic_energy(e);
+                body.cut_element(e);
+                cut_step[e] = static_cast<int>(step);
+                change.elements.push_back(e);
+              }
+            energy_of_changes.cuts -= removed - body.kinetic_energy(velocities);
           }
         statistics.elements_cut = change.elements.size();
         change.topology         = !change.elements.empty();
@@ -59,15 +79,27 @@ namespace warpchol::fem
 
     if (material_change && !material_changed && due(material_change->time, time, time_step))
       {
+        double added = 0;
         for (const unsigned int e : material_change->elements)
           if (!body.element_is_cut(e))
             {
-              body.scale_element_stiffness(e, material_change->factor);
+              const Matrix3 gradient = body.displacement_gradient(e, positions, rotated);
+              added -= body.element_energy(e, gradient);
+              if (material_change->keep_stress)
+                body.scale_element_stiffness_keeping_stress(e, material_change->factor, gradient);
+              else
+                body.scale_element_stiffness(e, material_change->factor);
+              added += body.element_energy(e, gradient);
               change.elements.push_back(e);
               ++statistics.elements_changed;
             }
+        energy_of_changes.material_changes += added;
         material_changed = true;
       }
+
+    // A grasp ties the vertices where they are (no energy), a release lets the springs'
+    // go: counted alike, as the springs' energy after minus before.
+    const double springs_before = spring_energy(positions, time);
 
     if (grasp && !closed && due(grasp->grasp_time, time, time_step))
       {
@@ -110,7 +142,25 @@ namespace warpchol::fem
         stiffness.clear();
         released = true;
       }
+    energy_of_changes.grasps += spring_energy(positions, time) - springs_before;
     return change;
+  }
+
+  const ChangeEnergy &Surgery::change_energy() const
+  {
+    return energy_of_changes;
+  }
+
+  std::vector<std::string> Surgery::events_not_reached() const
+  {
+    std::vector<std::string> events;
+    if (material_change && !material_changed)
+      events.push_back("the material change at " + format_number(material_change->time) + " s");
+    if (blade && blade->duration > 0 && !(reached_time > blade->begin))
+      events.push_back("the cut from " + format_number(blade->begin) + " s");
+    if (grasp && !closed)
+      events.push_back("the grasp at " + format_number(grasp->grasp_time) + " s");
+    return events;
   }
 
   void Surgery::add_spring_forces(const std::vector<Vector3> &positions, const double time,
@@ -191,6 +241,9 @@ namespace warpchol::fem
     writer.write(closed);
     writer.write(released);
     writer.write(material_changed);
+    writer.write(reached_time);
+    for (const double energy : {energy_of_changes.material_changes, energy_of_changes.cuts, energy_of_changes.grasps})
+      writer.write(energy);
   }
 
   void Surgery::load(BinaryReader &reader)
@@ -203,6 +256,9 @@ namespace warpchol::fem
     reader.read(closed);
     reader.read(released);
     reader.read(material_changed);
+    reader.read(reached_time);
+    for (double *energy : {&energy_of_changes.material_changes, &energy_of_changes.cuts, &energy_of_changes.grasps})
+      reader.read(*energy);
     if (anchors.size() != held.size() || stiffness.size() != held.size())
       reader.fail("the grasped vertices do not match their anchors (corrupt)");
   }

@@ -123,6 +123,8 @@ namespace warpchol::app
     /** Work of the tool's moving targets so far. */
     double                    external_work    = 0;
     double                    tool_work_on_body = 0;
+    /** Energy the changes of the body put in or took out so far (ImplicitEuler::change_energy()). */
+    double                    change_energy     = 0;
     /** fem::EnergyBalance::ratio(): held over put in. */
     double                    energy_ratio     = 0;
     /** Trajectory error against the corotational run (app::PositionError, worst vertex and

@@ -289,13 +289,16 @@ namespace warpchol::app
     /**
      * Subsection "Material change": at Time the Young's modulus of the elements whose
      * vertices all lie in Region is multiplied by Stiffness factor (cauterized tissue
-     * stiffens, torn tissue softens).
+     * stiffens, torn tissue softens). Stress: continuous keeps their stress at the change
+     * (a plastic strain takes up the rest), reset keeps their rest shape (the stress scales
+     * with the stiffness).
      */
     struct MaterialChange
     {
       RegionParameters region;
       double           time             = 0;
       double           stiffness_factor = 1;
+      bool             keep_stress      = true;
 
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);

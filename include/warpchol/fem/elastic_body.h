@@ -129,8 +129,22 @@ namespace warpchol::fem
     /** @{ */
     /** Cut element @p e (once); returns the vertices it leaves in no element. */
     std::vector<unsigned int> cut_element(unsigned int e);
-    /** Multiply the stiffness (Young's modulus) of element @p e by @p factor > 0. */
+    /**
+     * Multiply the stiffness (Young's modulus) of element @p e by @p factor > 0. Its rest
+     * shape stays: a strained element's stress is multiplied by @p factor too.
+     */
     void scale_element_stiffness(unsigned int e, double factor);
+    /**
+     * The same, keeping element @p e's stress at the displacement gradient
+     * @p displacement_gradient (displacement_gradient(): G = R_e^T F - I in its frame):
+     * its plastic strain eps_p moves to eps - (eps - eps_p) / @p factor, eps = sym(G), so
+     * that the new stiffness gives the old stress (issue 29). Stiffened tissue then resists
+     * further deformation from where it is instead of springing back to its rest shape;
+     * its elastic energy is divided by @p factor.
+     */
+    void scale_element_stiffness_keeping_stress(unsigned int e, double factor, const Matrix3 &displacement_gradient);
+    /** The plastic strain of element @p e in its frame: zero unless a change kept its stress. */
+    Matrix3 plastic_strain(unsigned int e) const;
     bool   element_is_cut(unsigned int e) const;
     /** The factor of element @p e's stiffness: 1 as built, 0 once cut. */
     double element_stiffness_scale(unsigned int e) const;
@@ -144,6 +158,19 @@ namespace warpchol::fem
 
     /** F = Ds Dm^-1 of element @p e: deformed edge vectors times inverse rest edge vectors. */
     Matrix3 deformation_gradient(unsigned int e, const std::vector<Vector3> &positions) const;
+
+    /**
+     * G = R^T F - I of element @p e at @p positions, the displacement gradient in its frame
+     * that the element kernels take: R the rotation of F (rotations_of(), the bits of
+     * evaluate()'s) if @p rotated, the identity if not (the linear model).
+     */
+    Matrix3 displacement_gradient(unsigned int e, const std::vector<Vector3> &positions, bool rotated) const;
+
+    /**
+     * The elastic energy V/2 sigma : (eps - eps_p) of element @p e at the displacement
+     * gradient @p displacement_gradient, with its stiffness scale and plastic strain.
+     */
+    double element_energy(unsigned int e, const Matrix3 &displacement_gradient) const;
 
     /**
      * The nodal forces K_e u_e of element @p e for a displacement u_e whose gradient (in
@@ -301,6 +328,11 @@ namespace warpchol::fem
     /** Per element, its volume as built. */
     std::vector<double>                      rest_volumes;
     std::vector<double>                      stiffness_scale;
+    /**
+     * Per element, its plastic strain in its frame (scale_element_stiffness_keeping_stress());
+     * empty while every one is zero, so that the kernels skip it.
+     */
+    std::vector<Matrix3>                     plastic_strains;
     std::vector<bool>                        cut;
     /** Per vertex, its elements that are not cut. */
     std::vector<unsigned int>                live_elements;

@@ -12,9 +12,11 @@ namespace warpchol::fem
    * The energy the body holds against the energy put into it, step after step.
    *
    * Held: kinetic + elastic + the tool's springs (never negative). Put in: the initial
-   * energy + the work of the tool's moving targets + the work of the constant loads
-   * (gravity, region forces: minus their potential). ImplicitEuler's inequality
-   *   total_energy <= initial_energy + external_work
+   * energy + the work of the tool's moving targets + the energy the changes of the body
+   * put in or took out at their steps (a stiffened strained region holds more: that is no
+   * divergence) + the work of the constant loads (gravity, region forces: minus their
+   * potential). ImplicitEuler's inequality
+   *   total_energy <= initial_energy + external_work + change_energy
    * says exactly held <= put in, and the ratio held / put in is the *energy ratio*: at most
    * 1 for a dissipative run (up to the linearization of the rotations), far above 1 for
    * one that diverges. Written this way the ratio has a positive denominator even when
@@ -47,7 +49,10 @@ namespace warpchol::fem
 
     /** Of the last record(): kinetic + elastic + the tool's springs (J). */
     double held_energy() const;
-    /** Of the last record(): initial energy + work of the tool and the constant loads (J). */
+    /**
+     * Of the last record(): initial energy + work of the tool and the constant loads + the
+     * changes' energy (J).
+     */
     double energy_put_in() const;
     /**
      * held / put in of the last record(); 0 while the body holds no energy (below the

@@ -159,6 +159,12 @@ namespace warpchol::fem
      */
     double external_work() const;
     /**
+     * The energy the changes of the body (cuts, grasps, material changes) put in or took
+     * out so far, each at its step (Surgery::change_energy()): with it the inequality reads
+     *   total_energy() <= initial_energy() + external_work() + change_energy().
+     */
+    double change_energy() const;
+    /**
      * Work done on the body so far by the tool's springs: per step, the force
      * k (target(t+dt) - x(t+dt)) the implicit step applied, times x(t+dt) - x(t), summed
      * over the grabbed vertices. Unlike external_work() it leaves out what the springs

@@ -8,6 +8,7 @@
 
 #include <limits>
 #include <optional>
+#include <string>
 #include <vector>
 
 /**
@@ -41,12 +42,34 @@ namespace warpchol::fem
     Vector3 offset(double time) const;
   };
 
-  /** At @p time the stiffness of @p elements is multiplied by @p factor (> 0). */
+  /**
+   * At @p time the stiffness of @p elements is multiplied by @p factor (> 0). With
+   * @p keep_stress their stress is unchanged at the change (a plastic strain takes up the
+   * rest, ElasticBody::scale_element_stiffness_keeping_stress()); without, they keep their
+   * rest shape and their stress is multiplied by @p factor.
+   */
   struct MaterialChange
   {
     std::vector<unsigned int> elements;
-    double                    time   = 0;
-    double                    factor = 1;
+    double                    time        = 0;
+    double                    factor      = 1;
+    bool                      keep_stress = true;
+  };
+
+  /**
+   * The energy the changes of the body put in (> 0) or took out (< 0) so far, each
+   * counted at its step as the energy held after it minus before it, at the same positions
+   * and velocities: a material change, the changed elements' elastic energy; a cut, the
+   * removed elements' elastic energy and the kinetic energy of the mass they took along;
+   * a grasp or a release, the springs' energy.
+   */
+  struct ChangeEnergy
+  {
+    double material_changes = 0;
+    double cuts             = 0;
+    double grasps           = 0;
+
+    double total() const;
   };
 
   /**
@@ -67,15 +90,29 @@ namespace warpchol::fem
 
     /**
      * Apply to @p body what happens during the step from @p time to @p time + @p time_step
-     * (step number @p step), with the body at @p positions: the elements the blade crosses
-     * are cut, the jaws close or open, the material changes. @p tool_diagonal is what the
-     * tool's springs add to each vertex's diagonal (dt^2 k; empty for none). Counts what it
-     * did in @p statistics (elements_cut, vertices_grasped, vertices_released,
-     * elements_changed). Throws InputError when the jaws close on no free vertex.
+     * (step number @p step), with the body at @p positions and @p velocities: the elements
+     * the blade crosses are cut, the jaws close or open, the material changes; the energy
+     * each puts in or takes out is added to change_energy(), its elastic part with the
+     * element rotations if @p rotated (the model's, ElasticityModel::uses_rotations()).
+     * @p tool_diagonal is what the tool's springs add to each vertex's diagonal (dt^2 k;
+     * empty for none). Counts what it did in @p statistics (elements_cut,
+     * vertices_grasped, vertices_released, elements_changed). Throws InputError when the
+     * jaws close on no free vertex.
      */
-    SystemChange changes_of_step(ElasticBody &body, const std::vector<Vector3> &positions, unsigned int step,
+    SystemChange changes_of_step(ElasticBody &body, const std::vector<Vector3> &positions,
+                                 const std::vector<Vector3> &velocities, bool rotated, unsigned int step,
                                  double time, double time_step, const std::vector<double> &tool_diagonal,
                                  StepStatistics &statistics);
+
+    /** The energy the changes put in or took out so far (the energy balance counts it). */
+    const ChangeEnergy &change_energy() const;
+
+    /**
+     * What was to happen but never did, the steps so far having ended before its time
+     * ("the material change at 0.5 s", "the cut from 0.4 s", "the grasp at 0.6 s"): for
+     * the summary's warning, since a time past the run's end is silently nothing.
+     */
+    std::vector<std::string> events_not_reached() const;
 
     /** forces[v] += k (target(@p time) - x_v) for each grasped vertex v. */
     void add_spring_forces(const std::vector<Vector3> &positions, double time, std::vector<Vector3> &forces) const;
@@ -113,5 +150,8 @@ namespace warpchol::fem
     std::vector<double>           stiffness;
     bool                          closed   = false;
     bool                          released = false;
+    /** The end of the last step applied so far. */
+    double                        reached_time = 0;
+    ChangeEnergy                  energy_of_changes;
   };
 } // namespace warpchol::fem
