@@ -87,6 +87,11 @@ namespace warpchol::fem
       blend(flop_rate, flops / seconds);
   }
 
+  double StepCostModel::factorization_seconds(const double flops) const
+  {
+    return flop_rate > 0 ? flops / flop_rate : -1.;
+  }
+
   void StepCostModel::record_iterations(const cholesky::Refresh refresh, const unsigned int iterations,
                                         const double seconds)
   {

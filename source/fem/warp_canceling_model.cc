@@ -128,9 +128,6 @@ namespace warpchol::fem
         const auto &factor_statistics = cholesky_solver.statistics();
         cost_model.record_factorization(factor_statistics.method_flops, factor_statistics.factorize_seconds);
         cost_model.record_exact_step(setup_seconds() - factor_statistics.analyze_seconds, 0);
-        // The fall-back's first estimate of an exact step must not be high, or a losing
-        // scene is never caught: the factorization alone, a lower bound of an exact step.
-        fallback.set_exact_estimate(factor_statistics.factorize_seconds);
       }
     solve_frame = &elastic_state.nodal_rotations;
     // At rest every frame is the identity.
@@ -385,9 +382,13 @@ namespace warpchol::fem
     // auto with a refresh beside the steps: where its refreshes go is measured on whole steps.
     if (step_count > 0 && background && strategy.kind == StepStrategy::Kind::automatic)
       placement.record_step(last_step_prepare_seconds + last_solve_seconds);
-    // auto against exact steps, on whole steps too.
+    // auto against exact steps, on whole steps too; until an exact step is measured, a
+    // full factorization at the rate measured so far stands for one (a lower bound).
     if (step_count > 0 && strategy.kind == StepStrategy::Kind::automatic)
-      fallback.record_step(last_step_prepare_seconds + last_solve_seconds, last_step_exact);
+      {
+        fallback.set_exact_estimate(cost_model.factorization_seconds(cholesky_solver.statistics().method_flops));
+        fallback.record_step(last_step_prepare_seconds + last_solve_seconds, last_step_exact);
+      }
     // The step runs on the threads the integrator gave it: so do the solver and the assembly.
     const unsigned int limited = step_threads();
     step_thread_count          = limited > 0 ? limited : given_threads;

@@ -146,6 +146,9 @@ namespace warpchol::fem
     /** The predicted seconds of a step whose refresh @p refresh costs @p refresh_seconds, then iterates. */
     double predicted_seconds(cholesky::Refresh refresh, double refresh_seconds) const;
 
+    /** The seconds a factorization of @p flops takes at the measured rate (negative before one was measured). */
+    double factorization_seconds(double flops) const;
+
     /** The predicted seconds of an exact step (negative before one was measured). */
     double predicted_exact_seconds() const;
     /** The predicted seconds of an iterating step @p staleness steps after the exact factor (negative if unknown). */
@@ -245,9 +248,11 @@ namespace warpchol::fem
    * steps run exact for a stretch; then its own steps get a window again. The stretch
    * doubles each time they lose again (up to a longest one) and starts short when they win
    * (the run has changed): hysteresis, so that a tie does not flip every window. Before any
-   * exact step was measured the set-up's numeric factorization stands for one (a lower
-   * bound: a step that wins clearly is never compared with more); a fall-back on that
-   * estimate is a probe of two exact steps, after which the measured costs decide.
+   * exact step was measured a full factorization at the measured flop rate stands for one
+   * (a lower bound: a step that wins clearly is never compared with more; the set-up's
+   * own factorization is not, its first touch of the factor's memory makes it slow); a
+   * fall-back on that estimate is a probe of two exact steps, after which the measured
+   * costs decide.
    */
   class ExactFallback
   {
@@ -255,7 +260,10 @@ namespace warpchol::fem
     /** Whether the next step should be exact. */
     bool runs_exact() const;
 
-    /** The set-up's numeric factorization took @p seconds: the estimate of an exact step until one is measured. */
+    /**
+     * A full factorization would take @p seconds (at the rate measured so far): the estimate
+     * of an exact step until one is measured, a lower bound of it.
+     */
     void set_exact_estimate(double seconds);
 
     /**
