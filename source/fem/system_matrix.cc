@@ -7,6 +7,7 @@
 #include <tbb/parallel_for.h>
 
 #include <algorithm>
+#include <cstring>
 #include <numeric>
 
 #include <warpchol/base/simd.h>
@@ -98,12 +99,12 @@ namespace warpchol::fem
 
   namespace
   {
-    /** Elements whose blocks are formed side by side (one AVX-512 register of doubles). */
+    /** Elements whose blocks are formed as a group (one AVX-512 register of doubles). */
     constexpr unsigned int lanes = 8;
     /**
      * One value of 8 elements: a vector of the compiler (GCC's and clang's vector
      * extension), so that every element goes through the very same instructions, whatever
-     * its lane, and each operation is one AVX-512 instruction (two AVX2 ones).
+     * its lane; each target forms it in parts of its own register width (form_part()).
      */
     using Lane = double __attribute__((vector_size(8 * lanes)));
     /** The blocks (a, b), a >= b, numbered k = a (a + 1) / 2 + b. */
@@ -115,17 +116,6 @@ namespace warpchol::fem
     struct LaneBlocks
     {
       Lane value[n_blocks][9];
-    };
-
-    /** What the blocks of 8 elements are made of, lane by lane. */
-    struct LaneInputs
-    {
-      /** g[a][i]: component i of the gradient of vertex a's shape function (g_0 = -g_1 - g_2 - g_3). */
-      Lane g[4][3];
-      /** c_K lambda V and c_K mu V. */
-      Lane lambda_volume, mu_volume;
-      /** c_K mu V (g_a . g_b) + c_M m_ab: what block k adds to its diagonal (times T_a T_b^T). */
-      Lane diagonal[n_blocks];
     };
 
     /**
@@ -607,17 +597,37 @@ namespace warpchol::fem::HWY_NAMESPACE
 {
   namespace
   {
-    LaneInputs gather_inputs(const ElasticBody &body, const SystemCoefficients &coefficients,
-                             const unsigned int *elements, const unsigned int count)
+    /**
+     * Elements a pass forms side by side on this target: one register of doubles (two on
+     * SSE4 and the baseline), so that the 48 products of frames and gradients of a warped
+     * element spill no more on AVX2's 16 registers than on AVX-512's 32. LaneBlocks holds
+     * eight elements: a group of eight is formed in 8 / width passes.
+     */
+    constexpr unsigned int width = HWY_LANES(double) >= 8 ? 8 : HWY_LANES(double) >= 4 ? 4 : 2;
+    using Part                   = double __attribute__((vector_size(8 * width)));
+
+    /** What the blocks of the lanes [first, first + width) of a group are made of, lane by lane. */
+    struct PartInputs
     {
-      LaneInputs   in;
+      /** g[a][i]: component i of the gradient of vertex a's shape function (g_0 = -g_1 - g_2 - g_3). */
+      Part g[4][3];
+      /** c_K lambda V and c_K mu V. */
+      Part lambda_volume, mu_volume;
+      /** c_K mu V (g_a . g_b) + c_M m_ab: what block k adds to its diagonal (times T_a T_b^T). */
+      Part diagonal[n_blocks];
+    };
+
+    PartInputs gather_inputs(const ElasticBody &body, const SystemCoefficients &coefficients,
+                             const unsigned int *elements, const unsigned int count, const unsigned int first)
+    {
+      PartInputs   in;
       const double lambda = coefficients.stiffness * body.lame_lambda();
       const double mu     = coefficients.stiffness * body.lame_mu();
       const bool   lumped = body.mass_matrix_type() == MassMatrix::lumped;
-      Lane         mass[n_blocks];
-      for (unsigned int l = 0; l < lanes; ++l)
+      Part         mass[n_blocks];
+      for (unsigned int l = 0; l < width; ++l)
         {
-          const unsigned int e         = elements[std::min(l, count - 1)];
+          const unsigned int e         = elements[std::min(first + l, count - 1)];
           const Matrix3     &gradients = body.rest_shape_gradients(e);
           for (unsigned int a = 1; a < 4; ++a)
             for (unsigned int i = 0; i < 3; ++i)
@@ -650,22 +660,26 @@ namespace warpchol::fem::HWY_NAMESPACE
      * with u_ab = T_a g_b. Where every T_a is the same rotation R, T_a T_b^T = I and
      * u_ab = R g_b: the rotated and rest cases skip the products of frames.
      */
-    void form_blocks_here(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
-                          const unsigned int *elements, const unsigned int count, LaneBlocks &out)
+    void form_part(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
+                   const unsigned int *elements, const unsigned int count, const unsigned int first, LaneBlocks &out)
     {
-      const LaneInputs in = gather_inputs(body, coefficients, elements, count);
+      const PartInputs in = gather_inputs(body, coefficients, elements, count, first);
+      // Entry (k, i) of lanes [first, first + width) of the group.
+      const auto store = [&](const unsigned int k, const unsigned int i, const Part &value) {
+        std::memcpy(reinterpret_cast<double *>(&out.value[k][i]) + first, &value, sizeof value);
+      };
       if (frames.kind != ElementFrames::Kind::warped)
         {
           // h_a = R g_a (R = I at rest), and lambda V h_a, mu V h_a.
-          Lane h[4][3], lambda_h[4][3], mu_h[4][3];
+          Part h[4][3], lambda_h[4][3], mu_h[4][3];
           if (frames.kind == ElementFrames::Kind::rest)
             std::copy(&in.g[0][0], &in.g[0][0] + 12, &h[0][0]);
           else
             {
-              Lane r[9];
-              for (unsigned int l = 0; l < lanes; ++l)
+              Part r[9];
+              for (unsigned int l = 0; l < width; ++l)
                 {
-                  const Matrix3 &rotation = (*frames.element_rotations)[elements[std::min(l, count - 1)]];
+                  const Matrix3 &rotation = (*frames.element_rotations)[elements[std::min(first + l, count - 1)]];
                   for (unsigned int i = 0; i < 9; ++i)
                     r[i][l] = rotation.data()[i];
                 }
@@ -685,24 +699,25 @@ namespace warpchol::fem::HWY_NAMESPACE
               for (unsigned int j = 0; j < 3; ++j)
                 for (unsigned int i = 0; i < 3; ++i)
                   {
-                    out.value[k][i + 3 * j] = lambda_h[a][i] * h[b][j] + mu_h[b][i] * h[a][j];
+                    Part value = lambda_h[a][i] * h[b][j] + mu_h[b][i] * h[a][j];
                     if (i == j)
-                      out.value[k][i + 3 * j] += in.diagonal[k];
+                      value += in.diagonal[k];
+                    store(k, i + 3 * j, value);
                   }
             }
           return;
         }
 
-      Lane t[4][9];
-      for (unsigned int l = 0; l < lanes; ++l)
+      Part t[4][9];
+      for (unsigned int l = 0; l < width; ++l)
         {
-          const auto &element_frames = (*frames.vertex_frames)[elements[std::min(l, count - 1)]];
+          const auto &element_frames = (*frames.vertex_frames)[elements[std::min(first + l, count - 1)]];
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int i = 0; i < 9; ++i)
               t[a][i][l] = element_frames[a].data()[i];
         }
       // u[a][b] = T_a g_b.
-      Lane u[4][4][3];
+      Part u[4][4][3];
       for (unsigned int a = 0; a < 4; ++a)
         for (unsigned int b = 0; b < 4; ++b)
           for (unsigned int i = 0; i < 3; ++i)
@@ -713,17 +728,24 @@ namespace warpchol::fem::HWY_NAMESPACE
           for (unsigned int j = 0; j < 3; ++j)
             for (unsigned int i = 0; i < 3; ++i)
               {
-                Lane value = in.lambda_volume * u[a][a][i] * u[b][b][j] + in.mu_volume * u[a][b][i] * u[b][a][j];
+                Part value = in.lambda_volume * u[a][a][i] * u[b][b][j] + in.mu_volume * u[a][b][i] * u[b][a][j];
                 // (T_a T_b^T)(i, j): the identity on the diagonal blocks.
                 if (a != b)
                   value += in.diagonal[k] * (t[a][i] * t[b][j] + t[a][i + 3] * t[b][j + 3] + t[a][i + 6] * t[b][j + 6]);
                 else if (i == j)
                   value += in.diagonal[k];
-                out.value[k][i + 3 * j] = value;
+                store(k, i + 3 * j, value);
               }
         }
     }
 
+
+    void form_blocks_here(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
+                          const unsigned int *elements, const unsigned int count, LaneBlocks &out)
+    {
+      for (unsigned int first = 0; first < lanes; first += width)
+        form_part(body, coefficients, frames, elements, count, first, out);
+    }
   } // namespace
 
   /** form_blocks() on this target. */
