@@ -35,13 +35,47 @@ namespace warpchol::fem
   {
     /** Elements (or vertices) whose rotations are computed together by rotations_of(). */
     constexpr unsigned int rotation_block = 64;
-    /** Elements whose forces corotated_forces_of_lanes() computes side by side. */
+    /** Elements whose forces CorotatedForces() computes side by side. */
     constexpr unsigned int force_lanes = 8;
 
     Vector3 to_vector(const dealii::Point<3> &point)
     {
       return {point[0], point[1], point[2]};
     }
+
+    /** What the fused element pass reads (per element arrays from element 0). */
+    struct FusedPassInput
+    {
+      /** The positions (or, for a product, the field the stiffness multiplies). */
+      const Vector3                     *positions;
+      const std::array<unsigned int, 4> *vertices;
+      const Matrix3                     *inverse_rest_edges;
+      const double                      *volumes;
+      /** nullptr where no change left a plastic strain (and for a product). */
+      const Matrix3 *plastic_strains;
+      double         mu, lambda;
+      /** The rotations to use where the pass does not compute them (nullptr: R = I). */
+      const Matrix3 *given_rotations;
+      /** The corotated stiffness times the field (CorotatedForces()) instead of the forces. */
+      bool product;
+    };
+
+    /** What it writes (per element, from element 0; energies and norms may be nullptr). */
+    struct FusedPassOutput
+    {
+      /** The rotations computed here (rotations_of()); nullptr: the given ones. */
+      Matrix3 *rotations;
+      Matrix3 *forces;
+      double  *energies, *force_norms;
+    };
+
+    /**
+     * The fused element pass over the elements [begin, end) on the SIMD target chosen at run
+     * time: F, R_e (computed or given), G = R_e^T F - I, the world forces and the energy; or
+     * the corotated stiffness times a field.
+     */
+    void fused_pass_range(const FusedPassInput &in, const FusedPassOutput &out, unsigned int begin, unsigned int end,
+                          RotationPaths &paths);
   } // namespace
 
   ElasticBody::ElasticBody(const dealii::Triangulation<3> &triangulation,
@@ -514,32 +548,25 @@ namespace warpchol::fem
     std::vector<double> energies(n_cells);
     state.rotation_paths = RotationPaths();
     std::mutex paths_mutex;
+    const FusedPassInput  input{positions.data(),
+                               vertices_of_element.data(),
+                               inverse_rest_edges.data(),
+                               volumes.data(),
+                               plastic_strains.empty() ? nullptr : plastic_strains.data(),
+                               mu,
+                               lambda,
+                               nullptr,
+                               false};
+    const FusedPassOutput output{rotate ? state.element_rotations.data() : nullptr, state.element_forces.data(),
+                                 energies.data(), state.element_force_norms.data()};
     // The fused element pass: F, R_e, G = R_e^T F - I, the local forces K_e u_e and the
     // world forces -R_e K_e u_e, the energy. Independent per element; the rotations of a
     // block of elements at once (rotations_of() interleaves them in SIMD lanes).
     dealii::parallel::apply_to_subranges(
       0u, n_cells,
       [&](const unsigned int begin, const unsigned int end) {
-        RotationPaths                       paths;
-        std::array<Matrix3, rotation_block> gradients, block_rotations;
-        for (unsigned int first = begin; first < end; first += rotation_block)
-          {
-            const unsigned int count = std::min(rotation_block, end - first);
-            for (unsigned int k = 0; k < count; ++k)
-              gradients[k] = deformation_gradient(first + k, positions);
-            if (rotate)
-              {
-                rotations_of(gradients.data(), block_rotations.data(), count, &paths);
-                std::copy(block_rotations.begin(), block_rotations.begin() + count,
-                          state.element_rotations.begin() + first);
-              }
-            else
-              std::fill(block_rotations.begin(), block_rotations.begin() + count, Matrix3::Identity());
-            for (unsigned int k = 0; k < count; k += force_lanes)
-              corotated_forces_of_lanes(first + k, std::min(force_lanes, count - k), gradients.data() + k,
-                                        block_rotations.data() + k, state.element_forces.data() + first + k,
-                                        energies.data() + first + k, state.element_force_norms.data() + first + k);
-          }
+        RotationPaths paths;
+        fused_pass_range(input, output, begin, end, paths);
         const std::lock_guard<std::mutex> lock(paths_mutex);
         state.rotation_paths += paths;
       },
@@ -604,22 +631,22 @@ namespace warpchol::fem
   {
     element_forces.resize(n_elements());
     energies.resize(n_elements());
-    std::vector<double> force_norms(n_elements());
+    std::vector<double>   force_norms(n_elements());
+    const FusedPassInput  input{positions.data(),
+                               vertices_of_element.data(),
+                               inverse_rest_edges.data(),
+                               volumes.data(),
+                               plastic_strains.empty() ? nullptr : plastic_strains.data(),
+                               mu,
+                               lambda,
+                               element_rotations ? element_rotations->data() : nullptr,
+                               false};
+    const FusedPassOutput output{nullptr, element_forces.data(), energies.data(), force_norms.data()};
     dealii::parallel::apply_to_subranges(
       0u, n_elements(),
       [&](const unsigned int begin, const unsigned int end) {
-        std::array<Matrix3, force_lanes> gradients, rotations;
-        for (unsigned int first = begin; first < end; first += force_lanes)
-          {
-            const unsigned int count = std::min(force_lanes, end - first);
-            for (unsigned int k = 0; k < count; ++k)
-              {
-                gradients[k] = deformation_gradient(first + k, positions);
-                rotations[k] = element_rotations ? (*element_rotations)[first + k] : Matrix3::Identity();
-              }
-            corotated_forces_of_lanes(first, count, gradients.data(), rotations.data(), element_forces.data() + first,
-                                      energies.data() + first, force_norms.data() + first);
-          }
+        RotationPaths paths;
+        fused_pass_range(input, output, begin, end, paths);
       },
       512);
   }
@@ -711,8 +738,12 @@ HWY_BEFORE_NAMESPACE();
 namespace warpchol::fem::HWY_NAMESPACE
 {
   /**
-   * ElasticBody::corotated_forces_of_lanes() on this target, for the elements whose
-   * inverse rest edges and volumes start at @p inverse_rest_edges and @p volumes. With
+   * The world forces -R K_e (R^T x_e - X_e) on vertices 1..3 (as columns; vertex 0's is
+   * minus their sum), the energy 1/2 u^T K_e u = V/2 sigma : eps and the norm of the 12
+   * nodal forces of the @p count (<= 8) elements whose deformation gradients, rotations,
+   * inverse rest edges and volumes start at @p gradients, @p rotations,
+   * @p inverse_rest_edges and @p volumes, side by side in SIMD lanes (their entries laid
+   * out lane by lane, as rotations_of() does): the hot loop of the fused pass. With
    * @p product, the corotated stiffness times the field whose gradients are @p gradients:
    * G = R^T F and the forces +R (V sigma Dm^-T); else G = R^T F - I and -R (V sigma Dm^-T).
    */
@@ -801,51 +832,84 @@ namespace warpchol::fem::HWY_NAMESPACE
       }
   }
 
+
+  /** rotations_of() on this target (fem/rotations.cc). */
+  void RotationsOf(const Matrix3 *gradients, Matrix3 *rotations, std::size_t count, RotationPaths *paths);
+
+  /** fused_pass_range() on this target: the gradients, rotations and forces of a range, all in its code. */
+  void FusedPassRange(const FusedPassInput &in, const FusedPassOutput &out, const unsigned int begin,
+                      const unsigned int end, RotationPaths &paths)
+  {
+    std::array<Matrix3, rotation_block> gradients, identities;
+    identities.fill(Matrix3::Identity());
+    for (unsigned int first = begin; first < end; first += rotation_block)
+      {
+        const unsigned int count = std::min(rotation_block, end - first);
+        // F = [x1 - x0, x2 - x0, x3 - x0] Dm^-1.
+        for (unsigned int k = 0; k < count; ++k)
+          {
+            const auto &v = in.vertices[first + k];
+            Matrix3     edges;
+            for (unsigned int a = 1; a < 4; ++a)
+              edges.col(a - 1) = in.positions[v[a]] - in.positions[v[0]];
+            gradients[k] = edges * in.inverse_rest_edges[first + k];
+          }
+        const Matrix3 *rotations = in.given_rotations != nullptr ? in.given_rotations + first : identities.data();
+        if (out.rotations != nullptr)
+          {
+            RotationsOf(gradients.data(), out.rotations + first, count, &paths);
+            rotations = out.rotations + first;
+          }
+        for (unsigned int k = 0; k < count; k += force_lanes)
+          CorotatedForces(std::min(force_lanes, count - k), gradients.data() + k, rotations + k,
+                          in.inverse_rest_edges + first + k, in.volumes + first + k,
+                          in.plastic_strains != nullptr ? in.plastic_strains + first + k : nullptr, in.mu, in.lambda,
+                          in.product, out.forces + first + k, out.energies ? out.energies + first + k : nullptr,
+                          out.force_norms ? out.force_norms + first + k : nullptr);
+      }
+  }
 } // namespace warpchol::fem::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
 #if HWY_ONCE
 namespace warpchol::fem
 {
-  HWY_EXPORT(CorotatedForces);
+  HWY_EXPORT(FusedPassRange);
 
-  void ElasticBody::corotated_forces_of_lanes(const unsigned int first, const unsigned int count,
-                                              const Matrix3 *gradients, const Matrix3 *rotations,
-                                              Matrix3 *forces, double *energies, double *force_norms) const
+  namespace
   {
-    simd::use_target_from_environment();
-    HWY_DYNAMIC_DISPATCH(CorotatedForces)(count, gradients, rotations, inverse_rest_edges.data() + first,
-                                          volumes.data() + first,
-                                          plastic_strains.empty() ? nullptr : plastic_strains.data() + first, mu,
-                                          lambda, false, forces, energies, force_norms);
-  }
+    void fused_pass_range(const FusedPassInput &in, const FusedPassOutput &out, const unsigned int begin,
+                          const unsigned int end, RotationPaths &paths)
+    {
+      simd::use_target_from_environment();
+      HWY_DYNAMIC_DISPATCH(FusedPassRange)(in, out, begin, end, paths);
+    }
+  } // namespace
+
 
   void ElasticBody::add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
                                                   const std::vector<Vector3> &v,
                                                   std::vector<Vector3>       &out,
                                                   std::vector<Matrix3>       &work) const
   {
-    // R_e K_e R_e^T v_e: the gradient of v in the element's frame is R_e^T grad v; the
-    // elements force_lanes at a time through the SIMD kernel of the forces.
+    // R_e K_e R_e^T v_e: the gradient of v in the element's frame is R_e^T grad v; a
+    // plastic strain shifts the forces, not the matrix.
     work.resize(n_elements());
-    simd::use_target_from_environment();
-    const auto kernel = HWY_DYNAMIC_DISPATCH(CorotatedForces);
+    const FusedPassInput  input{v.data(),
+                               vertices_of_element.data(),
+                               inverse_rest_edges.data(),
+                               volumes.data(),
+                               nullptr,
+                               mu,
+                               lambda,
+                               element_rotations ? element_rotations->data() : nullptr,
+                               true};
+    const FusedPassOutput output{nullptr, work.data(), nullptr, nullptr};
     dealii::parallel::apply_to_subranges(
       0u, n_elements(),
       [&](const unsigned int begin, const unsigned int end) {
-        std::array<Matrix3, force_lanes> gradients, rotations;
-        for (unsigned int first = begin; first < end; first += force_lanes)
-          {
-            const unsigned int count = std::min(force_lanes, end - first);
-            for (unsigned int k = 0; k < count; ++k)
-              {
-                gradients[k] = field_gradient(first + k, v);
-                rotations[k] = element_rotations ? (*element_rotations)[first + k] : Matrix3::Identity();
-              }
-            // The product of the stiffness: a plastic strain shifts the forces, not the matrix.
-            kernel(count, gradients.data(), rotations.data(), inverse_rest_edges.data() + first,
-                   volumes.data() + first, nullptr, mu, lambda, true, work.data() + first, nullptr, nullptr);
-          }
+        RotationPaths paths;
+        fused_pass_range(input, output, begin, end, paths);
       },
       512);
     gather_element_forces(work, out);

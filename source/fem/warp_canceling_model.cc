@@ -384,7 +384,8 @@ namespace warpchol::fem
       placement.record_step(last_step_prepare_seconds + last_solve_seconds);
     // auto against exact steps, on whole steps too; until an exact step is measured, a
     // full factorization at the rate measured so far stands for one (a lower bound).
-    if (step_count > 0 && strategy.kind == StepStrategy::Kind::automatic)
+    if (step_count > 0 && strategy.kind == StepStrategy::Kind::automatic &&
+        strategy.iterate_on == StepStrategy::Target::corotational)
       {
         fallback.set_exact_estimate(cost_model.factorization_seconds(cholesky_solver.statistics().method_flops));
         fallback.record_step(last_step_prepare_seconds + last_solve_seconds, last_step_exact);
@@ -518,9 +519,10 @@ namespace warpchol::fem
         exact_step(statistics);
         return;
       }
-    // auto's own steps cost more than exact ones of late: exact steps, whatever the matrix
-    // CG iterates on (an exact step is the exact path's step: a direct solve).
-    if (automatic && fallback.runs_exact())
+    // auto's own steps cost more than exact ones of late: exact steps (the exact path's
+    // step: a direct solve), where CG iterates on the corotational matrix (on the WCC
+    // matrix they would change the system being solved, as above).
+    if (automatic && strategy.iterate_on == StepStrategy::Target::corotational && fallback.runs_exact())
       {
         statistics.choice            = "exact";
         statistics.predicted_seconds = cost_model.predicted_exact_seconds();

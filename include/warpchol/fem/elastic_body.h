@@ -280,16 +280,6 @@ namespace warpchol::fem
     /** sigma = lambda tr(eps) I + 2 mu eps with eps = sym(@p displacement_gradient). */
     Matrix3 stress(const Matrix3 &displacement_gradient) const;
 
-    /**
-     * The world forces -R K_e (R^T x_e - X_e) on vertices 1..3 (as columns; vertex 0's is
-     * minus their sum), the energy 1/2 u^T K_e u = V/2 sigma : eps and the norm of the 12
-     * nodal forces of the @p count (<= 8) elements from @p first on, from their
-     * deformation gradients and rotations, side by side in SIMD lanes (their entries laid
-     * out lane by lane, as rotations_of() does): the hot loop of evaluate().
-     */
-    void corotated_forces_of_lanes(unsigned int first, unsigned int count, const Matrix3 *gradients,
-                                   const Matrix3 *rotations, Matrix3 *forces, double *energies,
-                                   double *force_norms) const;
 
     /** Per element, its world forces and energy at @p positions for the given rotations (I if null). */
     void forces_at_given_rotations(const std::vector<Vector3> &positions, const std::vector<Matrix3> *element_rotations,
