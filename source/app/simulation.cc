@@ -782,8 +782,10 @@ namespace warpchol::app
         if (integrator.surgery().active())
           {
             out << "  surgery: " << t.elements_cut << " elements cut";
-            if (t.elements_cut == 0 && scene.parameters().cut.active())
-              out << " (the blade crossed no element)";
+            const auto &cuts = scene.parameters().cuts;
+            if (t.elements_cut == 0 &&
+                std::any_of(cuts.begin(), cuts.end(), [](const parameters::Cut &cut) { return cut.active(); }))
+              out << (cuts.size() > 1 ? " (the blades crossed no element)" : " (the blade crossed no element)");
             out << ", " << t.vertices_grasped << " vertices grasped, " << t.vertices_released << " released, "
                 << t.elements_changed << " elements of changed material";
             if (t.change_steps > 0)
