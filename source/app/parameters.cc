@@ -1102,6 +1102,13 @@ namespace warpchol::app
                         "the trajectory error max_i |x_i - x_i(corotational)| and the RMS error "
                         "sqrt(mean_i |x_i - x_i(corotational)|^2), both over "
                         "max_i |x_i(corotational) - X_i|, in the log and the summary");
+      prm.declare_entry("Exact steps timed", "0", Patterns::Integer(0, 1000),
+                        "After the run, time this many steps of the exact corotational model (from "
+                        "rest, output off) and print what exact corotation costs a step on this "
+                        "machine and the run's speed-up over it; WCC then also estimates each "
+                        "step's velocity error against exact corotation (|A^-1 (b - B v)| / |v|, "
+                        "B the exact matrix, A the factor's: one product and one solve a step). 0: "
+                        "none");
       prm.declare_entry("Checkpoint interval", "0", Patterns::Integer(0),
                         "Write the whole state of the run (positions, velocities, the model's "
                         "matrix, stored rotations and factor, the tool, the log so far) to "
@@ -1127,6 +1134,7 @@ namespace warpchol::app
       else if (progress == "false" || progress == "no")
         progress = "off";
       compare_with_corotational = prm.get_bool("Compare with corotational");
+      exact_steps_timed         = prm.get_integer("Exact steps timed");
       checkpoint_interval       = prm.get_integer("Checkpoint interval");
       prm.leave_subsection();
     }

@@ -358,6 +358,12 @@ namespace warpchol::app
       /** Run the exact corotational model alongside and log the trajectory error. */
       bool         compare_with_corotational = false;
       /**
+       * > 0: after the run, time this many steps of the exact corotational model (from
+       * rest, on this machine) and print what exact corotation would have cost, the
+       * speed-up, and WCC's per-step velocity error against it (measured every step).
+       */
+      unsigned int exact_steps_timed = 0;
+      /**
        * Write the state of the run to SCENE/checkpoint.bin every this many steps (0:
        * never), from which "warpchol FILE --resume" goes on.
        */
