@@ -860,7 +860,7 @@ namespace warpchol::app
     if (simulated.exact_step_seconds >= 0 && t.steps > 0)
       {
         // The run's steps without the error estimate, which only the comparison asks for.
-        const double own = (t.step_seconds - t.stages.seconds(stage::velocity_error)) / t.steps;
+        const double own = (t.step_seconds - t.stages.seconds(fem::stage::velocity_error)) / t.steps;
         if (timings)
           out << "  exact corotation: " << n(1e3 * simulated.exact_step_seconds) << " ms a step on this machine ("
               << parameters.output.exact_steps_timed
