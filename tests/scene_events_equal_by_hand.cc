@@ -21,7 +21,8 @@ namespace
   {
     return tests::without_subsection(
              tests::small_torus_scene("  set Type = warp_canceling\n  set Update threshold = 0.3\n"), "Tool") +
-           "subsection Solver\n  set Ordering = metis\n  set Change method = flops\nend\n" + events;
+           "subsection Solver\n  set Ordering = metis\n  set Change method = flops\nend\n"
+           "subsection Time stepping\n  set Number of steps = 25\nend\n" + events;
   }
 
   // The blade of Cut 2 and the jaws of Grasp 2, as a device would record them.
@@ -31,7 +32,7 @@ namespace
                                          0.00,  -0.2, 0.33, 0.00,  0.2, 0.33,  //
                                          0.05,  -0.2, 0.31, 0.05,  0.2, 0.30,  //
                                          0.15,  -0.2, 0.30, 0.15,  0.2, 0.30};
-  const std::vector<double> jaws_times{0.07, 0.1, 0.13, 0.2};
+  const std::vector<double> jaws_times{0.07, 0.1, 0.13, 0.3};
   const std::vector<double> jaws_values{0.23, 0, 0.21, 0.23, 0.02, 0.21, 0.22, 0.05, 0.2, 0.22, 0.06, 0.2};
 
   std::string csv(const std::vector<double> &times, const std::vector<double> &values)
