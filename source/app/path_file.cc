@@ -77,8 +77,8 @@ namespace warpchol::app
             (c == 0 ? times : values).push_back(value);
           }
         if (times.size() > 1 && !(times.back() > times[times.size() - 2]))
-          throw InputError(where + "time " + format_number(times.back(), 17) + " s is not after the previous sample's " +
-                           format_number(times[times.size() - 2], 17) + " s (line " + std::to_string(previous_line) +
+          throw InputError(where + "time " + format_number(times.back(), 12) + " s is not after the previous sample's " +
+                           format_number(times[times.size() - 2], 12) + " s (line " + std::to_string(previous_line) +
                            "): times must increase");
         if (times.size() == 1)
           result.first_line = number;
