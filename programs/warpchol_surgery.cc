@@ -325,9 +325,9 @@ namespace
                                fem::to_string(parameters.model.strategy.kind) + ")",
                              parameters));
     app::AllParameters unchanged = parameters;
-    unchanged.cut.duration       = 0;
-    unchanged.grasp.sphere_radius = 0;
-    unchanged.material_change.region.kind = "none";
+    unchanged.cuts.clear();
+    unchanged.grasps.clear();
+    unchanged.material_changes.clear();
     runs.push_back(run_scene("the same without the changes", unchanged));
     app::AllParameters recomputing = parameters;
     recomputing.solver.settings.change_method = cholesky::ChangeMethod::recompute;

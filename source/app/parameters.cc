@@ -162,6 +162,60 @@ namespace warpchol::app
       if (!(prm.get_double(entry) > 0))
         file.fail(prm, subsection, entry, "must be > 0");
     }
+
+    /** The entry "Path file" of an instrument, in the current subsection; @p effect: what it does. */
+    void declare_path_file(ParameterHandler &prm, const std::string &effect)
+    {
+      prm.declare_entry("Path file", "", Patterns::Anything(),
+                        "A recorded path (CSV, relative to this file; empty: none), linear between its "
+                        "samples: " + effect);
+    }
+
+    /** The entry "Path file" (trimmed); with one, the instrument must not also move with @p velocity. */
+    std::string parse_path_file(ParameterHandler &prm, const ParameterFileLocator &file,
+                                const std::string &subsection, const fem::Vector3 &velocity)
+    {
+      const std::string name = trim(prm.get("Path file"));
+      if (!name.empty() && velocity.norm() > 0)
+        file.fail(prm, subsection, "Velocity", "must be 0 with a Path file: the path moves the instrument");
+      return name;
+    }
+
+    /**
+     * The numbered events a parameter file's @p text holds ("subsection Cut 2", "Grasp 3",
+     * "Material change 2", ...), in the order of their numbers: they are declared as the
+     * first ones are, so that any number of them can be set. A number below 2 is left
+     * undeclared (the first event is the subsection without a number): ParameterHandler
+     * names it as an unknown subsection.
+     */
+    std::vector<std::string> numbered_events(const std::string &text, const std::string &kind)
+    {
+      std::vector<unsigned long> numbers;
+      std::istringstream         lines(text);
+      for (std::string line; std::getline(lines, line);)
+        {
+          std::istringstream words(line);
+          std::string        word, name;
+          if (!(words >> word) || word != "subsection")
+            continue;
+          std::getline(words, name);
+          name = trim(name);
+          if (name.size() <= kind.size() + 1 || name.compare(0, kind.size() + 1, kind + " ") != 0)
+            continue;
+          const std::string number = trim(name.substr(kind.size() + 1));
+          if (number.empty() || number.size() > 6 ||
+              !std::all_of(number.begin(), number.end(), [](const unsigned char c) { return std::isdigit(c); }) ||
+              number[0] == '0' || std::stoul(number) < 2)
+            continue;
+          numbers.push_back(std::stoul(number));
+        }
+      std::sort(numbers.begin(), numbers.end());
+      numbers.erase(std::unique(numbers.begin(), numbers.end()), numbers.end());
+      std::vector<std::string> names;
+      for (const unsigned long n : numbers)
+        names.push_back(kind + " " + std::to_string(n));
+      return names;
+    }
   } // namespace
 
   // ---------------------------------------------------------------------------------------
@@ -814,6 +868,8 @@ namespace warpchol::app
                         "rest positions");
       prm.declare_entry("Duration", "0", Patterns::Double(0),
                         "Time (s) after which the targets stop and hold");
+      declare_path_file(prm, "the targets move as its positions do from time 0 (its samples must "
+                             "cover the run), instead of with Velocity");
       prm.leave_subsection();
     }
 
@@ -826,17 +882,18 @@ namespace warpchol::app
       duration         = prm.get_double("Duration");
       if (region.kind != "none")
         require_positive(prm, file, "Tool", "Spring stiffness");
+      path.file_name = parse_path_file(prm, file, "Tool", velocity);
       prm.leave_subsection();
     }
 
     bool Cut::active() const
     {
-      return duration > 0 && velocity.norm() > 0;
+      return duration > 0 && (velocity.norm() > 0 || !path.file_name.empty());
     }
 
-    void Cut::declare_parameters(ParameterHandler &prm)
+    void Cut::declare_parameters(ParameterHandler &prm, const std::string &subsection)
     {
-      prm.enter_subsection("Cut");
+      prm.enter_subsection(subsection);
       prm.declare_entry("Blade start", "0, 0, 0", vector_pattern,
                         "One end of the blade's cutting edge (m) at Start time");
       prm.declare_entry("Blade end", "0, 0, 0", vector_pattern, "The other end of the cutting edge (m)");
@@ -846,24 +903,31 @@ namespace warpchol::app
       prm.declare_entry("Start time", "0", Patterns::Double(0), "When the blade starts moving (s)");
       prm.declare_entry("Duration", "0", Patterns::Double(0),
                         "How long it moves (s); 0: no cut");
+      declare_path_file(prm, "lines of time, start x, y, z, end x, y, z: the edge follows it from Start "
+                             "time for Duration, instead of Blade start, Blade end and Velocity");
       prm.leave_subsection();
     }
 
-    void Cut::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    void Cut::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file, const std::string &subsection)
     {
-      prm.enter_subsection("Cut");
-      blade_start = get_vector(prm, "Blade start");
-      blade_end   = get_vector(prm, "Blade end");
-      velocity    = get_vector(prm, "Velocity");
-      start_time  = prm.get_double("Start time");
-      duration    = prm.get_double("Duration");
-      if (duration > 0 && !((blade_end - blade_start).norm() > 0))
-        file.fail(prm, "Cut", "Blade end", "must differ from Blade start: the edge has no length");
-      if (duration > 0 && !(velocity.norm() > 0))
-        file.fail(prm, "Cut", "Velocity", "must not be zero while the blade cuts (Duration > 0)");
-      if (duration > 0 && velocity.cross(blade_end - blade_start).norm() <= 1e-12 * velocity.norm() *
-                                                                             (blade_end - blade_start).norm())
-        file.fail(prm, "Cut", "Velocity", "runs along the edge: the blade would sweep no area");
+      this->subsection = subsection;
+      prm.enter_subsection(subsection);
+      blade_start    = get_vector(prm, "Blade start");
+      blade_end      = get_vector(prm, "Blade end");
+      velocity       = get_vector(prm, "Velocity");
+      start_time     = prm.get_double("Start time");
+      duration       = prm.get_double("Duration");
+      path.file_name = parse_path_file(prm, file, subsection, velocity);
+      if (path.file_name.empty())
+        {
+          if (duration > 0 && !((blade_end - blade_start).norm() > 0))
+            file.fail(prm, subsection, "Blade end", "must differ from Blade start: the edge has no length");
+          if (duration > 0 && !(velocity.norm() > 0))
+            file.fail(prm, subsection, "Velocity", "must not be zero while the blade cuts (Duration > 0)");
+          if (duration > 0 && velocity.cross(blade_end - blade_start).norm() <=
+                                1e-12 * velocity.norm() * (blade_end - blade_start).norm())
+            file.fail(prm, subsection, "Velocity", "runs along the edge: the blade would sweep no area");
+        }
       prm.leave_subsection();
     }
 
@@ -872,9 +936,9 @@ namespace warpchol::app
       return sphere_radius > 0;
     }
 
-    void Grasp::declare_parameters(ParameterHandler &prm)
+    void Grasp::declare_parameters(ParameterHandler &prm, const std::string &subsection)
     {
-      prm.enter_subsection("Grasp");
+      prm.enter_subsection(subsection);
       prm.declare_entry("Sphere center", "0, 0, 0", vector_pattern, "Centre of the jaws at time 0 (m)");
       prm.declare_entry("Sphere radius", "0", Patterns::Double(0),
                         "Radius of the jaws (m): at Grasp time the free vertices within it are "
@@ -891,12 +955,17 @@ namespace warpchol::app
                         "Stiffness (N/m) of the spring tying each grasped vertex to the jaws; 0: "
                         "a penalty spring, 1e6 times the vertex's mass over dt^2, which holds it to "
                         "the jaws within a millionth of its motion");
+      declare_path_file(prm, "lines of time, x, y, z of the jaws' centre: they close around its position "
+                             "at Grasp time and follow it until Release time, instead of Sphere center "
+                             "and Velocity");
       prm.leave_subsection();
     }
 
-    void Grasp::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    void Grasp::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file,
+                                 const std::string &subsection)
     {
-      prm.enter_subsection("Grasp");
+      this->subsection = subsection;
+      prm.enter_subsection(subsection);
       sphere_center    = get_vector(prm, "Sphere center");
       sphere_radius    = prm.get_double("Sphere radius");
       velocity         = get_vector(prm, "Velocity");
@@ -904,15 +973,16 @@ namespace warpchol::app
       grasp_time       = prm.get_double("Grasp time");
       spring_stiffness = prm.get_double("Spring stiffness");
       if (!parse_threshold(prm.get("Release time"), release_time))
-        file.fail(prm, "Grasp", "Release time", "must be a time >= 0 (s) or inf");
+        file.fail(prm, subsection, "Release time", "must be a time >= 0 (s) or inf");
       if (active() && !(release_time > grasp_time))
-        file.fail(prm, "Grasp", "Release time", "must come after Grasp time (" + format_number(grasp_time) + " s)");
+        file.fail(prm, subsection, "Release time", "must come after Grasp time (" + format_number(grasp_time) + " s)");
+      path.file_name = parse_path_file(prm, file, subsection, velocity);
       prm.leave_subsection();
     }
 
-    void MaterialChange::declare_parameters(ParameterHandler &prm)
+    void MaterialChange::declare_parameters(ParameterHandler &prm, const std::string &subsection)
     {
-      prm.enter_subsection("Material change");
+      prm.enter_subsection(subsection);
       RegionParameters::declare_parameters(prm, "whose elements (all their vertices in it) change");
       prm.declare_entry("Time", "0", Patterns::Double(0), "When the material changes (s)");
       prm.declare_entry("Stiffness factor", "1", Patterns::Anything(),
@@ -925,18 +995,20 @@ namespace warpchol::app
       prm.leave_subsection();
     }
 
-    void MaterialChange::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
+    void MaterialChange::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file,
+                                          const std::string &subsection)
     {
-      prm.enter_subsection("Material change");
-      region.parse_parameters(prm, file, "Material change");
+      this->subsection = subsection;
+      prm.enter_subsection(subsection);
+      region.parse_parameters(prm, file, subsection);
       time = prm.get_double("Time");
       const std::string factor = trim(prm.get("Stiffness factor"));
       char             *end    = nullptr;
       stiffness_factor         = std::strtod(factor.c_str(), &end);
       if (factor.empty() || *end != '\0' || !std::isfinite(stiffness_factor))
-        file.fail(prm, "Material change", "Stiffness factor", "must be a number > 0");
+        file.fail(prm, subsection, "Stiffness factor", "must be a number > 0");
       if (!(stiffness_factor > 0))
-        file.fail(prm, "Material change", "Stiffness factor",
+        file.fail(prm, subsection, "Stiffness factor",
                   "must be > 0: a Young's modulus E <= 0 has no stiffness (a cut removes elements)");
       keep_stress = prm.get("Stress") == "continuous";
       prm.leave_subsection();
@@ -1035,6 +1107,13 @@ namespace warpchol::app
                         "the trajectory error max_i |x_i - x_i(corotational)| and the RMS error "
                         "sqrt(mean_i |x_i - x_i(corotational)|^2), both over "
                         "max_i |x_i(corotational) - X_i|, in the log and the summary");
+      prm.declare_entry("Exact steps timed", "0", Patterns::Integer(0, 1000),
+                        "After the run, time this many steps of the exact corotational model (from "
+                        "rest, output off) and print what exact corotation costs a step on this "
+                        "machine and the run's speed-up over it; WCC then also estimates each "
+                        "step's velocity error against exact corotation (|A^-1 (b - B v)| / |v|, "
+                        "B the exact matrix, A the factor's: one product and one solve a step). 0: "
+                        "none");
       prm.declare_entry("Checkpoint interval", "0", Patterns::Integer(0),
                         "Write the whole state of the run (positions, velocities, the model's "
                         "matrix, stored rotations and factor, the tool, the log so far) to "
@@ -1060,6 +1139,7 @@ namespace warpchol::app
       else if (progress == "false" || progress == "no")
         progress = "off";
       compare_with_corotational = prm.get_bool("Compare with corotational");
+      exact_steps_timed         = prm.get_integer("Exact steps timed");
       checkpoint_interval       = prm.get_integer("Checkpoint interval");
       prm.leave_subsection();
     }
@@ -1109,6 +1189,7 @@ namespace warpchol::app
     parameters::Cut::declare_parameters(prm);
     parameters::Grasp::declare_parameters(prm);
     parameters::MaterialChange::declare_parameters(prm);
+    // The numbered events ("Cut 2", ...) are declared where a file holds them (the constructor).
     parameters::Bodies::declare_parameters(prm);
     parameters::Output::declare_parameters(prm);
     parameters::Distributed::declare_parameters(prm);
@@ -1126,9 +1207,18 @@ namespace warpchol::app
     gravity.parse_parameters(prm, file);
     region_force.parse_parameters(prm, file);
     tool.parse_parameters(prm, file);
-    cut.parse_parameters(prm, file);
-    grasp.parse_parameters(prm, file);
-    material_change.parse_parameters(prm, file);
+    cuts.assign(1, {});
+    grasps.assign(1, {});
+    material_changes.assign(1, {});
+    cuts[0].parse_parameters(prm, file);
+    grasps[0].parse_parameters(prm, file);
+    material_changes[0].parse_parameters(prm, file);
+    for (const auto &name : numbered_events(file.text(), "Cut"))
+      cuts.emplace_back().parse_parameters(prm, file, name);
+    for (const auto &name : numbered_events(file.text(), "Grasp"))
+      grasps.emplace_back().parse_parameters(prm, file, name);
+    for (const auto &name : numbered_events(file.text(), "Material change"))
+      material_changes.emplace_back().parse_parameters(prm, file, name);
     bodies.parse_parameters(prm, file);
     output.parse_parameters(prm, file);
     distributed.parse_parameters(prm, file);
@@ -1162,6 +1252,7 @@ namespace warpchol::app
                   "which makes the WCC matrix the corotational one");
       }
     check_backend(prm);
+    read_paths();
     const auto strategy = model.strategy.kind;
     if ((strategy == fem::StepStrategy::Kind::delayed_top || strategy == fem::StepStrategy::Kind::automatic) &&
         solver.settings.method != cholesky::FactorizationMethod::supernodal)
@@ -1196,6 +1287,37 @@ namespace warpchol::app
         if (type == "warp_canceling" && model.target_error > 0)
           fail(name + " has no factor of warpchol's to measure a step's error with: needs "
                       "Model/Target error = 0");
+      }
+  }
+
+  void AllParameters::read_paths()
+  {
+    const double end_of_run = time_stepping.n_steps * time_stepping.time_step;
+    // A relative path is taken relative to the file that sets it, as a mesh file is.
+    const auto read = [&](PathFile &path, const std::string &subsection, const unsigned int n_values,
+                          const std::string &columns) {
+      if (path.file_name.empty())
+        return;
+      const std::string name =
+        path.file_name[0] == '/' ? path.file_name : file.directory_of(subsection, "Path file") + path.file_name;
+      path = PathFile::read(name, n_values, columns);
+    };
+    read(tool.path, "Tool", 3, "time, x, y, z");
+    if (!tool.path.file_name.empty() && tool.region.kind != "none")
+      tool.path.check_covers(0, end_of_run, "the run (Tool/Path file)");
+    for (auto &cut : cuts)
+      {
+        read(cut.path, cut.subsection, 6, "time, start x, y, z, end x, y, z");
+        if (!cut.path.file_name.empty() && cut.duration > 0 && cut.start_time < end_of_run)
+          cut.path.check_covers(cut.start_time, std::min(cut.start_time + cut.duration, end_of_run),
+                                cut.subsection + " (Start time to Start time + Duration)");
+      }
+    for (auto &grasp : grasps)
+      {
+        read(grasp.path, grasp.subsection, 3, "time, x, y, z");
+        if (!grasp.path.file_name.empty() && grasp.active() && grasp.grasp_time < end_of_run)
+          grasp.path.check_covers(grasp.grasp_time, std::min(grasp.release_time, end_of_run),
+                                  grasp.subsection + " (Grasp time to Release time)");
       }
   }
 
@@ -1254,6 +1376,12 @@ namespace warpchol::app
     file = ParameterFileLocator(filename);
     ParameterHandler prm;
     declare_parameters(prm);
+    for (const auto &name : numbered_events(file.text(), "Cut"))
+      parameters::Cut::declare_parameters(prm, name);
+    for (const auto &name : numbered_events(file.text(), "Grasp"))
+      parameters::Grasp::declare_parameters(prm, name);
+    for (const auto &name : numbered_events(file.text(), "Material change"))
+      parameters::MaterialChange::declare_parameters(prm, name);
     try
       {
         // deal.II reads .xml and .json files as such; a .prm file it is given as the

@@ -109,6 +109,7 @@ namespace warpchol::app
     scene_loads.tool.stiffness = all.tool.spring_stiffness;
     scene_loads.tool.velocity  = all.tool.velocity;
     scene_loads.tool.duration  = all.tool.duration;
+    scene_loads.tool.path      = all.tool.path.path;
 
     if (all.time_stepping.rest_kinetic_energy > 0 && fixed.empty() &&
         scene_loads.tool.vertices.empty() && scene_loads.has_static_load())
@@ -131,34 +132,38 @@ namespace warpchol::app
 
   fem::Surgery Scene::surgery() const
   {
-    std::optional<fem::Blade> blade;
-    if (all.cut.active())
-      blade = fem::Blade{all.cut.blade_start, all.cut.blade_end, all.cut.velocity, all.cut.start_time,
-                         all.cut.duration};
-    std::optional<fem::Grasp> grasp;
-    if (all.grasp.active())
-      grasp = fem::Grasp{all.grasp.sphere_center, all.grasp.sphere_radius, all.grasp.velocity, all.grasp.duration,
-                         all.grasp.grasp_time,    all.grasp.release_time,  all.grasp.spring_stiffness};
-    std::optional<fem::MaterialChange> material_change;
-    if (all.material_change.region.kind != "none")
-      {
-        // The elements whose vertices all lie in the region.
-        std::vector<bool> inside(elastic_body->n_vertices(), false);
-        for (const unsigned int v : select_vertices(all.material_change.region, "Material change"))
-          inside[v] = true;
-        material_change = fem::MaterialChange{{}, all.material_change.time, all.material_change.stiffness_factor,
-                                              all.material_change.keep_stress};
-        for (unsigned int e = 0; e < elastic_body->n_elements(); ++e)
-          {
-            const auto &vertices = elastic_body->element_vertices(e);
-            if (std::all_of(vertices.begin(), vertices.end(), [&](const unsigned int v) { return inside[v]; }))
-              material_change->elements.push_back(e);
-          }
-        if (material_change->elements.empty())
-          throw InputError(all.file.where("Material change", "Region") +
-                           ": the region holds no whole element (every vertex of one) whose material could change");
-      }
-    return fem::Surgery(blade, grasp, material_change);
+    std::vector<fem::Blade> blades;
+    for (const auto &cut : all.cuts)
+      if (cut.active())
+        blades.push_back(
+          fem::Blade{cut.blade_start, cut.blade_end, cut.velocity, cut.start_time, cut.duration, cut.path.path});
+    std::vector<fem::Grasp> grasps;
+    for (const auto &grasp : all.grasps)
+      if (grasp.active())
+        grasps.push_back(fem::Grasp{grasp.sphere_center, grasp.sphere_radius, grasp.velocity, grasp.duration,
+                                    grasp.grasp_time,    grasp.release_time,  grasp.spring_stiffness,
+                                    grasp.path.path,     grasp.subsection});
+    std::vector<fem::MaterialChange> material_changes;
+    for (const auto &change : all.material_changes)
+      if (change.region.kind != "none")
+        {
+          // The elements whose vertices all lie in the region.
+          std::vector<bool> inside(elastic_body->n_vertices(), false);
+          for (const unsigned int v : select_vertices(change.region, change.subsection))
+            inside[v] = true;
+          fem::MaterialChange &material_change =
+            material_changes.emplace_back(fem::MaterialChange{{}, change.time, change.stiffness_factor, change.keep_stress});
+          for (unsigned int e = 0; e < elastic_body->n_elements(); ++e)
+            {
+              const auto &vertices = elastic_body->element_vertices(e);
+              if (std::all_of(vertices.begin(), vertices.end(), [&](const unsigned int v) { return inside[v]; }))
+                material_change.elements.push_back(e);
+            }
+          if (material_change.elements.empty())
+            throw InputError(all.file.where(change.subsection, "Region") +
+                             ": the region holds no whole element (every vertex of one) whose material could change");
+        }
+    return fem::Surgery(std::move(blades), std::move(grasps), std::move(material_changes));
   }
 
   const AllParameters &Scene::parameters() const

@@ -24,6 +24,24 @@ namespace warpchol::app
 {
   namespace
   {
+    /**
+     * The seconds of a step of exact corotation for @p parameters on this machine: @p steps
+     * steps of the exact corotational model from rest, output off (every element rotated
+     * and assembled, a full factorization, a direct solve: a step costs that whatever the
+     * state, so the first steps stand for the run's).
+     */
+    double time_exact_steps(const AllParameters &parameters, const unsigned int steps)
+    {
+      Scene           exact{parameters.exact_corotational()};
+      const Stopwatch stopwatch;
+      for (unsigned int step = 0; step < steps; ++step)
+        {
+          fem::StepStatistics statistics;
+          exact.integrator().advance(statistics);
+        }
+      return stopwatch.seconds() / steps;
+    }
+
     /** "body 2 (warp_canceling, threshold 0.3)": how messages and the summary name a body. */
     std::string body_label(const AllParameters &body_parameters, const unsigned int index)
     {
@@ -192,6 +210,12 @@ namespace warpchol::app
           {
             simulated.reference = std::make_unique<Scene>(body_parameters.exact_corotational());
           }
+        // What the summary compares with exact corotation: each step's velocity error,
+        // estimated by WCC's own factor (a peer has none).
+        if (parameters.output.exact_steps_timed > 0 &&
+            dynamic_cast<const fem::WarpCancelingModel *>(&simulated.scene->model()) &&
+            !simulated.scene->model().linear_solver())
+          simulated.scene->model().measure_velocity_errors();
 
         const auto &body = simulated.scene->body();
         simulated.element_centres.resize(body.n_elements(), fem::Vector3::Zero());
@@ -590,6 +614,10 @@ namespace warpchol::app
     const double run_seconds = seconds_before_resume + run_stopwatch.seconds();
     for (auto &simulated : bodies)
       simulated.totals.run_seconds = run_seconds;
+    // After the run, not during it: the exact steps do not slow the run they are compared with.
+    for (unsigned int i = 0; i < bodies.size(); ++i)
+      if (parameters.output.exact_steps_timed > 0 && bodies[i].scene->parameters().model.type != "corotational")
+        bodies[i].exact_step_seconds = time_exact_steps(parameters.body(i), parameters.output.exact_steps_timed);
     print_summary(out);
   }
 
@@ -788,8 +816,10 @@ namespace warpchol::app
         if (integrator.surgery().active())
           {
             out << "  surgery: " << t.elements_cut << " elements cut";
-            if (t.elements_cut == 0 && scene.parameters().cut.active())
-              out << " (the blade crossed no element)";
+            const auto &cuts = scene.parameters().cuts;
+            if (t.elements_cut == 0 &&
+                std::any_of(cuts.begin(), cuts.end(), [](const parameters::Cut &cut) { return cut.active(); }))
+              out << (cuts.size() > 1 ? " (the blades crossed no element)" : " (the blade crossed no element)");
             out << ", " << t.vertices_grasped << " vertices grasped, " << t.vertices_released << " released, "
                 << t.elements_changed << " elements of changed material";
             if (t.change_steps > 0)
@@ -848,6 +878,21 @@ namespace warpchol::app
         out << "  set-up " << n(simulated.setup_seconds) << " s (model " << n(model.setup_seconds())
             << " s), time steps " << n(t.step_seconds) << " s; end to end (output included) "
             << n(t.run_seconds) << " s, " << n(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s\n";
+      }
+    if (simulated.exact_step_seconds >= 0 && t.steps > 0)
+      {
+        // The run's steps without the error estimate, which only the comparison asks for.
+        const double own = (t.step_seconds - t.stages.seconds(fem::stage::velocity_error)) / t.steps;
+        if (timings)
+          out << "  exact corotation: " << n(1e3 * simulated.exact_step_seconds) << " ms a step on this machine ("
+              << parameters.output.exact_steps_timed
+              << " exact steps timed after the run: every element rotated and assembled, a full factorization, "
+                 "a direct solve); this run "
+              << n(1e3 * own) << " ms a step: " << n(simulated.exact_step_seconds / own) << "x faster\n";
+        if (t.velocity_error_sum > 0 || t.max_velocity_error > 0)
+          out << "  error against exact corotation, estimated every step (no reference run: |A^-1 (b - B v)| / |v|, "
+                 "B the exact corotational matrix, A the step's factor): velocity error mean "
+              << n(t.velocity_error_sum / t.steps, 2) << ", max " << n(t.max_velocity_error, 2) << "\n";
       }
     if (!simulated.stopped.empty())
       out << "  stopped: " << simulated.stopped << "\n";

@@ -32,6 +32,12 @@ namespace warpchol::distributed
     using fem::Matrix3;
     using fem::Vector3;
 
+    /** How the tool's targets move: with its velocity, or along its path file. */
+    fem::PullingTool tool_motion(const app::AllParameters &all)
+    {
+      return fem::PullingTool{{}, 0, all.tool.velocity, all.tool.duration, all.tool.path.path};
+    }
+
     const std::array<Matrix3, 4> identity_frames{
       {Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity()}};
 
@@ -369,7 +375,7 @@ namespace warpchol::distributed
           momentum.assign(body.n_vertices(), Vector3::Zero());
           body.add_mass_times(v, momentum);
         }
-      const Vector3 offset = all.tool.velocity * std::min(new_time, all.tool.duration);
+      const Vector3 offset = tool_motion(all).target_offset(new_time);
       for (const unsigned int i : distributed.owned_vertices())
         {
           const int row = distributed.first_owned_row(i);
@@ -508,7 +514,7 @@ namespace warpchol::distributed
   double DistributedSimulation::tool_energy() const
   {
     const fem::ElasticBody &body   = distributed_body->local_body();
-    const Vector3           offset = all.tool.velocity * std::min(time, all.tool.duration);
+    const Vector3           offset = tool_motion(all).target_offset(time);
     double                  sum    = 0;
     for (const unsigned int i : distributed_body->owned_vertices())
       if (is_tool_vertex[i])

@@ -10,14 +10,16 @@ namespace warpchol::fem
 {
   std::pair<Vector3, Vector3> Blade::edge_at(const double time) const
   {
-    const double  moving = std::clamp(time - begin, 0., duration);
+    const double moving = std::clamp(time - begin, 0., duration);
+    if (!path.empty())
+      return {path.position(begin + moving, 0), path.position(begin + moving, 3)};
     const Vector3 offset = moving * velocity;
     return {start + offset, end + offset};
   }
 
   bool Blade::moves_during(const double from, const double to) const
   {
-    return velocity.norm() > 0 && to > begin && from < begin + duration;
+    return (velocity.norm() > 0 || !path.empty()) && to > begin && from < begin + duration;
   }
 
   namespace
@@ -85,12 +87,30 @@ namespace warpchol::fem
     std::vector<unsigned int> crossed;
     if (!blade.moves_during(from, to))
       return crossed;
-    const auto [a0, b0] = blade.edge_at(from);
-    const auto [a1, b1] = blade.edge_at(to);
-    // The parallelogram a0 b0 b1 a1 as two triangles, and its bounding box.
-    const std::array<std::array<Vector3, 3>, 2> triangles{{{{a0, b0, b1}}, {{a0, b1, a1}}}};
-    const Vector3 low  = a0.cwiseMin(b0).cwiseMin(a1).cwiseMin(b1);
-    const Vector3 high = a0.cwiseMax(b0).cwiseMax(a1).cwiseMax(b1);
+    // The times the edge bends at: the step's ends and the path's samples between them.
+    std::vector<double> times{from};
+    if (!blade.path.empty())
+      for (const double t : blade.path.times_between(std::max(from, blade.begin),
+                                                     std::min(to, blade.begin + blade.duration)))
+        times.push_back(t);
+    times.push_back(to);
+    // Each stretch sweeps the quadrilateral a0 b0 b1 a1: two triangles; and their bounding box.
+    std::vector<std::array<Vector3, 3>> triangles;
+    Vector3 low  = Vector3::Constant(std::numeric_limits<double>::infinity());
+    Vector3 high = -low;
+    for (std::size_t k = 0; k + 1 < times.size(); ++k)
+      {
+        const auto [a0, b0] = blade.edge_at(times[k]);
+        const auto [a1, b1] = blade.edge_at(times[k + 1]);
+        if (a0 == a1 && b0 == b1)
+          continue; // the edge holds still: it sweeps nothing
+        triangles.push_back({{a0, b0, b1}});
+        triangles.push_back({{a0, b1, a1}});
+        low  = low.cwiseMin(a0).cwiseMin(b0).cwiseMin(a1).cwiseMin(b1);
+        high = high.cwiseMax(a0).cwiseMax(b0).cwiseMax(a1).cwiseMax(b1);
+      }
+    if (triangles.empty())
+      return crossed;
     for (unsigned int e = 0; e < body.n_elements(); ++e)
       {
         if (cut[e])
@@ -106,8 +126,9 @@ namespace warpchol::fem
           }
         if ((tet_high.array() < low.array()).any() || (tet_low.array() > high.array()).any())
           continue;
-        if (tetrahedron_meets_triangle(tetrahedron, triangles[0]) ||
-            tetrahedron_meets_triangle(tetrahedron, triangles[1]))
+        if (std::any_of(triangles.begin(), triangles.end(), [&](const std::array<Vector3, 3> &triangle) {
+              return tetrahedron_meets_triangle(tetrahedron, triangle);
+            }))
           crossed.push_back(e);
       }
     return crossed;

@@ -431,6 +431,11 @@ namespace warpchol::fem
     from_solve_frame(solution.data(), velocities);
   }
 
+  void ElasticityModel::measure_velocity_errors()
+  {
+    measure_velocity_error = true;
+  }
+
   double ElasticityModel::relative_velocity_error(const std::vector<double> &b, const std::vector<double> &y)
   {
     // The exact corotational system B y* = b: B (y* - y) = b - B y, and with the factor of

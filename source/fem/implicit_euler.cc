@@ -12,6 +12,8 @@ namespace warpchol::fem
 {
   Vector3 PullingTool::target_offset(const double time) const
   {
+    if (!path.empty())
+      return path.position(time) - path.position(0);
     return velocity * std::min(time, duration);
   }
 
@@ -107,6 +109,13 @@ namespace warpchol::fem
   const Surgery &ImplicitEuler::surgery() const
   {
     return operations;
+  }
+
+  void ImplicitEuler::set_surgery(Surgery surgery)
+  {
+    if (steps_done > 0)
+      throw InputError("the cuts, grasps and material changes can only be set before the first step");
+    operations = std::move(surgery);
   }
 
   void ImplicitEuler::check_initial_field(const std::string &what, const std::size_t size) const

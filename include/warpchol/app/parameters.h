@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/app/path_file.h>
 #include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
@@ -231,13 +232,17 @@ namespace warpchol::app
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
     };
 
-    /** Subsection "Tool": a region pulled by springs towards targets that move. */
+    /**
+     * Subsection "Tool": a region pulled by springs towards targets that move, with a
+     * velocity or along a path file (time, x, y, z: they move as it does from time 0).
+     */
     struct Tool
     {
       RegionParameters region;
       double           spring_stiffness = 0;
       fem::Vector3     velocity{0, 0, 0};
       double           duration = 0;
+      PathFile         path;
 
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
@@ -246,30 +251,39 @@ namespace warpchol::app
     /**
      * Subsection "Cut": a scalpel. Its edge, the segment from Blade start to Blade end,
      * moves with Velocity from Start time for Duration; every tetrahedron the area it sweeps
-     * in a step crosses is cut (its stiffness and mass leave A) at that step.
+     * in a step crosses is cut (its stiffness and mass leave A) at that step. With a Path
+     * file (time, both ends of the edge) the edge follows it instead. "Cut 2", "Cut 3", ...
+     * are more blades, each with its own entries.
      */
     struct Cut
     {
+      /** "Cut", "Cut 2", ...: the subsection it was read from. */
+      std::string  subsection = "Cut";
       fem::Vector3 blade_start{0, 0, 0};
       fem::Vector3 blade_end{0, 0, 0};
       fem::Vector3 velocity{0, 0, 0};
       double       start_time = 0;
       double       duration   = 0;
+      PathFile     path;
 
       /** Whether there is a cut: a blade that moves for some time. */
       bool active() const;
 
-      static void declare_parameters(dealii::ParameterHandler &prm);
-      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+      static void declare_parameters(dealii::ParameterHandler &prm, const std::string &subsection = "Cut");
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file,
+                                   const std::string &subsection = "Cut");
     };
 
     /**
      * Subsection "Grasp": a grasping instrument's jaws, a sphere that moves with Velocity
      * (from the grasp until Duration after it); at Grasp time the free vertices within it
-     * are tied to it by stiff springs, at Release time they are let go.
+     * are tied to it by stiff springs, at Release time they are let go. With a Path file
+     * (time, centre) the jaws follow it instead. "Grasp 2", ... are more grasps.
      */
     struct Grasp
     {
+      /** "Grasp", "Grasp 2", ...: the subsection it was read from. */
+      std::string  subsection = "Grasp";
       fem::Vector3 sphere_center{0, 0, 0};
       double       sphere_radius = 0;
       fem::Vector3 velocity{0, 0, 0};
@@ -278,12 +292,14 @@ namespace warpchol::app
       double       release_time = std::numeric_limits<double>::infinity();
       /** N/m; 0: a penalty spring 1e6 times each vertex's mass over dt^2. */
       double       spring_stiffness = 0;
+      PathFile     path;
 
       /** Whether there is a grasp (a sphere of positive radius). */
       bool active() const;
 
-      static void declare_parameters(dealii::ParameterHandler &prm);
-      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+      static void declare_parameters(dealii::ParameterHandler &prm, const std::string &subsection = "Grasp");
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file,
+                                   const std::string &subsection = "Grasp");
     };
 
     /**
@@ -291,17 +307,21 @@ namespace warpchol::app
      * vertices all lie in Region is multiplied by Stiffness factor (cauterized tissue
      * stiffens, torn tissue softens). Stress: continuous keeps their stress at the change
      * (a plastic strain takes up the rest), reset keeps their rest shape (the stress scales
-     * with the stiffness).
+     * with the stiffness). "Material change 2", ... are more changes.
      */
     struct MaterialChange
     {
+      /** "Material change", "Material change 2", ...: the subsection it was read from. */
+      std::string      subsection = "Material change";
       RegionParameters region;
       double           time             = 0;
       double           stiffness_factor = 1;
       bool             keep_stress      = true;
 
-      static void declare_parameters(dealii::ParameterHandler &prm);
-      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);
+      static void declare_parameters(dealii::ParameterHandler &prm,
+                                     const std::string        &subsection = "Material change");
+      void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file,
+                                   const std::string &subsection = "Material change");
     };
 
     /**
@@ -340,6 +360,12 @@ namespace warpchol::app
       std::string  progress = "auto";
       /** Run the exact corotational model alongside and log the trajectory error. */
       bool         compare_with_corotational = false;
+      /**
+       * > 0: after the run, time this many steps of the exact corotational model (from
+       * rest, on this machine) and print what exact corotation would have cost, the
+       * speed-up, and WCC's per-step velocity error against it (measured every step).
+       */
+      unsigned int exact_steps_timed = 0;
       /**
        * Write the state of the run to SCENE/checkpoint.bin every this many steps (0:
        * never), from which "warpchol FILE --resume" goes on.
@@ -380,9 +406,13 @@ namespace warpchol::app
     parameters::Gravity       gravity;
     parameters::RegionForce   region_force;
     parameters::Tool          tool;
-    parameters::Cut           cut;
-    parameters::Grasp         grasp;
-    parameters::MaterialChange material_change;
+    /**
+     * The events: "Cut" (first, possibly inactive), then "Cut 2", "Cut 3", ... in the order
+     * of their numbers; likewise the grasps and the material changes.
+     */
+    std::vector<parameters::Cut>            cuts;
+    std::vector<parameters::Grasp>          grasps;
+    std::vector<parameters::MaterialChange> material_changes;
     parameters::Bodies        bodies;
     parameters::Output        output;
     parameters::Distributed   distributed;
@@ -429,6 +459,8 @@ namespace warpchol::app
 
   private:
     void parse_parameters(dealii::ParameterHandler &prm);
+    /** Read the instruments' path files and check that each covers its use. */
+    void read_paths();
     /** Throw InputError at Solver/Backend if the backend cannot run the model as set. */
     void check_backend(dealii::ParameterHandler &prm) const;
   };

@@ -116,6 +116,8 @@ namespace warpchol::app
     /** "body 2 (warp_canceling, threshold 0.3)" when the scene has several, else "". */
     std::string                label;
     double                     setup_seconds = 0;
+    /** Seconds of a step of exact corotation, timed after the run (Output/Exact steps timed); < 0: not timed. */
+    double                     exact_step_seconds = -1;
     /** Rest centre of every element, and of the tool (if any). */
     std::vector<fem::Vector3>  element_centres;
     fem::Vector3               tool_centre = fem::Vector3::Zero();

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <warpchol/fem/elastic_body.h>
+#include <warpchol/fem/instrument_path.h>
 #include <warpchol/fem/small_dense.h>
 
 #include <array>
@@ -18,14 +19,19 @@ namespace warpchol::fem
    * @p velocity from time @p begin for @p duration. Within a time step it sweeps the
    * parallelogram between its edge at the step's start and at its end; every tetrahedron
    * that parallelogram crosses (in the configuration of the step's start) is cut.
+   *
+   * With a @p path (values: the edge's two ends), the edge follows it instead from begin
+   * to begin + duration, and a step sweeps one quadrilateral per stretch between the
+   * path's samples: a curved incision is cut along its curve, not along its chords.
    */
   struct Blade
   {
-    Vector3 start    = Vector3::Zero();
-    Vector3 end      = Vector3::Zero();
-    Vector3 velocity = Vector3::Zero();
-    double  begin    = 0;
-    double  duration = 0;
+    Vector3        start    = Vector3::Zero();
+    Vector3        end      = Vector3::Zero();
+    Vector3        velocity = Vector3::Zero();
+    double         begin    = 0;
+    double         duration = 0;
+    InstrumentPath path;
 
     /** The edge at time @p time (held where it was before begin and after begin + duration). */
     std::pair<Vector3, Vector3> edge_at(double time) const;

@@ -307,6 +307,13 @@ namespace warpchol::fem
     double        cg_seconds_run() const;
 
     /**
+     * From now on, measure how far each step's velocities are from the exact corotational
+     * system's (StepStatistics::velocity_error), as a target error does: what the summary
+     * reports as the error against exact corotation when no reference runs beside.
+     */
+    void measure_velocity_errors();
+
+    /**
      * Write what the model carries from step to step to a checkpoint: A, its element
      * contributions and the factor as it is (if matrix_carries_over()), the update record
      * and what the last solve measured; a derived model adds its own (save_model_state()).

@@ -2,6 +2,7 @@
 
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/elasticity_model.h>
+#include <warpchol/fem/instrument_path.h>
 #include <warpchol/fem/small_dense.h>
 #include <warpchol/fem/surgery.h>
 #include <warpchol/fem/system_matrix.h>
@@ -21,7 +22,9 @@ namespace warpchol::fem
   /**
    * A pulling tool, as a surgical instrument grabs tissue: every vertex of a region is
    * tied by a spring of stiffness @p stiffness (N/m) to a target point that starts at the
-   * vertex's rest position and moves with @p velocity until time @p duration, then stays.
+   * vertex's rest position and moves with @p velocity until time @p duration, then stays;
+   * or, with a @p path (a recorded instrument's position), moves as the path does from
+   * its position at time 0.
    */
   struct PullingTool
   {
@@ -29,6 +32,7 @@ namespace warpchol::fem
     double                    stiffness = 0;
     Vector3                   velocity  = Vector3::Zero();
     double                    duration  = 0;
+    InstrumentPath            path;
 
     /** How far the targets have moved at time @p time. */
     Vector3 target_offset(double time) const;
@@ -177,6 +181,8 @@ namespace warpchol::fem
 
     /** The cuts, grasps and material changes of the run, and what they did so far. */
     const Surgery &surgery() const;
+    /** Replace the run's cuts, grasps and material changes; only before the first step. */
+    void set_surgery(Surgery surgery);
 
     /**
      * Write the state of the run to a checkpoint: time, step, positions, velocities (and

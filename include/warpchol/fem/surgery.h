@@ -4,10 +4,10 @@
 #include <warpchol/fem/blade.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/elasticity_model.h>
+#include <warpchol/fem/instrument_path.h>
 #include <warpchol/fem/small_dense.h>
 
 #include <limits>
-#include <optional>
 #include <string>
 #include <vector>
 
@@ -27,17 +27,25 @@ namespace warpchol::fem
    * 1e6 m_v / dt^2 (m_v its mass), which holds it there within a millionth of the motion:
    * the grasp changes the diagonal of A at the grasped vertices only (a constraint would
    * remove unknowns or change the columns of their neighbours too).
+   *
+   * With a @p path (values: the jaws' centre), the jaws follow it instead: they close
+   * around its position at grasp_time and move as it does.
    */
   struct Grasp
   {
-    Vector3 centre       = Vector3::Zero();
-    double  radius       = 0;
-    Vector3 velocity     = Vector3::Zero();
-    double  duration     = 0;
-    double  grasp_time   = 0;
-    double  release_time = std::numeric_limits<double>::infinity();
-    double  stiffness    = 0;
+    Vector3        centre       = Vector3::Zero();
+    double         radius       = 0;
+    Vector3        velocity     = Vector3::Zero();
+    double         duration     = 0;
+    double         grasp_time   = 0;
+    double         release_time = std::numeric_limits<double>::infinity();
+    double         stiffness    = 0;
+    InstrumentPath path;
+    /** What the messages call it: "Grasp", "Grasp 2", ... */
+    std::string    name = "Grasp";
 
+    /** The centre of the jaws when they close. */
+    Vector3 closing_centre() const;
     /** How far the jaws have moved at time @p time since they closed. */
     Vector3 offset(double time) const;
   };
@@ -73,8 +81,10 @@ namespace warpchol::fem
   };
 
   /**
-   * What happens to the body during a run besides the loads: a blade that cuts, a grasp,
-   * a change of the material. Before each step, changes_of_step() applies to the body
+   * What happens to the body during a run besides the loads: blades that cut, grasps,
+   * changes of the material, any number of each (issue 27), each at its own times. Within
+   * a step the cuts come first, then the material changes, then the grasps, each kind in
+   * its order; a vertex two grasps hold is tied to both. Before each step, changes_of_step() applies to the body
    * what happens in the step and returns what changed in A for the model
    * (ElasticityModel::apply_change()); the springs of the grasp act through
    * add_spring_forces() and spring_diagonal() as the tool's do.
@@ -83,7 +93,7 @@ namespace warpchol::fem
   {
   public:
     Surgery() = default;
-    Surgery(std::optional<Blade> blade, std::optional<Grasp> grasp, std::optional<MaterialChange> material_change);
+    Surgery(std::vector<Blade> blades, std::vector<Grasp> grasps, std::vector<MaterialChange> material_changes);
 
     /** Whether anything happens at all. */
     bool active() const;
@@ -139,19 +149,30 @@ namespace warpchol::fem
     void load(BinaryReader &reader);
 
   private:
-    std::optional<Blade>          blade;
-    std::optional<Grasp>          grasp;
-    std::optional<MaterialChange> material_change;
-    bool                          material_changed = false;
-    std::vector<int>              cut_step;
-    /** The grasped vertices, their places in the jaws when they closed, their springs (N/m). */
-    std::vector<unsigned int>     held;
-    std::vector<Vector3>          anchors;
-    std::vector<double>           stiffness;
-    bool                          closed   = false;
-    bool                          released = false;
+    /** What one grasp holds. */
+    struct Hold
+    {
+      /** The grasped vertices, their places in the jaws when they closed, their springs (N/m). */
+      std::vector<unsigned int> held;
+      std::vector<Vector3>      anchors;
+      std::vector<double>       stiffness;
+      bool                      closed   = false;
+      bool                      released = false;
+    };
+
+    std::vector<Blade>          blades;
+    std::vector<Grasp>          grasps;
+    std::vector<MaterialChange> material_changes;
+    /** Per material change, whether it happened. */
+    std::vector<bool>           material_changed;
+    std::vector<int>            cut_step;
+    /** Per grasp. */
+    std::vector<Hold>           holds;
     /** The end of the last step applied so far. */
-    double                        reached_time = 0;
-    ChangeEnergy                  energy_of_changes;
+    double                      reached_time = 0;
+    ChangeEnergy                energy_of_changes;
+
+    void save_hold(BinaryWriter &writer, const Hold &hold) const;
+    void load_hold(BinaryReader &reader, Hold &hold);
   };
 } // namespace warpchol::fem
