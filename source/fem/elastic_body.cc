@@ -547,30 +547,10 @@ namespace warpchol::fem
     state.element_forces.resize(n_cells);
     std::vector<double> energies(n_cells);
     state.rotation_paths = RotationPaths();
-    std::mutex paths_mutex;
-    const FusedPassInput  input{positions.data(),
-                               vertices_of_element.data(),
-                               inverse_rest_edges.data(),
-                               volumes.data(),
-                               plastic_strains.empty() ? nullptr : plastic_strains.data(),
-                               mu,
-                               lambda,
-                               nullptr,
-                               false};
-    const FusedPassOutput output{rotate ? state.element_rotations.data() : nullptr, state.element_forces.data(),
-                                 energies.data(), state.element_force_norms.data()};
     // The fused element pass: F, R_e, G = R_e^T F - I, the local forces K_e u_e and the
-    // world forces -R_e K_e u_e, the energy. Independent per element; the rotations of a
-    // block of elements at once (rotations_of() interleaves them in SIMD lanes).
-    dealii::parallel::apply_to_subranges(
-      0u, n_cells,
-      [&](const unsigned int begin, const unsigned int end) {
-        RotationPaths paths;
-        fused_pass_range(input, output, begin, end, paths);
-        const std::lock_guard<std::mutex> lock(paths_mutex);
-        state.rotation_paths += paths;
-      },
-      512);
+    // world forces -R_e K_e u_e, the energy.
+    fused_pass(positions, nullptr, false, rotate ? state.element_rotations.data() : nullptr, state.element_forces.data(),
+               energies.data(), state.element_force_norms.data(), &state.rotation_paths);
     state.elastic_energy = 0;
     for (const double energy : energies)
       state.elastic_energy += energy;
@@ -631,24 +611,9 @@ namespace warpchol::fem
   {
     element_forces.resize(n_elements());
     energies.resize(n_elements());
-    std::vector<double>   force_norms(n_elements());
-    const FusedPassInput  input{positions.data(),
-                               vertices_of_element.data(),
-                               inverse_rest_edges.data(),
-                               volumes.data(),
-                               plastic_strains.empty() ? nullptr : plastic_strains.data(),
-                               mu,
-                               lambda,
-                               element_rotations ? element_rotations->data() : nullptr,
-                               false};
-    const FusedPassOutput output{nullptr, element_forces.data(), energies.data(), force_norms.data()};
-    dealii::parallel::apply_to_subranges(
-      0u, n_elements(),
-      [&](const unsigned int begin, const unsigned int end) {
-        RotationPaths paths;
-        fused_pass_range(input, output, begin, end, paths);
-      },
-      512);
+    std::vector<double> force_norms(n_elements());
+    fused_pass(positions, element_rotations, false, nullptr, element_forces.data(), energies.data(), force_norms.data(),
+               nullptr);
   }
 
   void ElasticBody::add_elastic_forces(const std::vector<Vector3> &positions,
@@ -886,6 +851,36 @@ namespace warpchol::fem
     }
   } // namespace
 
+  void ElasticBody::fused_pass(const std::vector<Vector3> &field, const std::vector<Matrix3> *given_rotations,
+                               const bool product, Matrix3 *computed_rotations, Matrix3 *forces, double *energies,
+                               double *force_norms, RotationPaths *paths) const
+  {
+    // A plastic strain shifts the forces, not the stiffness a product multiplies by.
+    const FusedPassInput  input{field.data(),
+                               vertices_of_element.data(),
+                               inverse_rest_edges.data(),
+                               volumes.data(),
+                               plastic_strains.empty() || product ? nullptr : plastic_strains.data(),
+                               mu,
+                               lambda,
+                               given_rotations ? given_rotations->data() : nullptr,
+                               product};
+    const FusedPassOutput output{computed_rotations, forces, energies, force_norms};
+    std::mutex            paths_mutex;
+    dealii::parallel::apply_to_subranges(
+      0u, n_elements(),
+      [&](const unsigned int begin, const unsigned int end) {
+        RotationPaths range_paths;
+        fused_pass_range(input, output, begin, end, range_paths);
+        if (paths != nullptr)
+          {
+            const std::lock_guard<std::mutex> lock(paths_mutex);
+            *paths += range_paths;
+          }
+      },
+      512);
+  }
+
 
   void ElasticBody::add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
                                                   const std::vector<Vector3> &v,
@@ -895,23 +890,7 @@ namespace warpchol::fem
     // R_e K_e R_e^T v_e: the gradient of v in the element's frame is R_e^T grad v; a
     // plastic strain shifts the forces, not the matrix.
     work.resize(n_elements());
-    const FusedPassInput  input{v.data(),
-                               vertices_of_element.data(),
-                               inverse_rest_edges.data(),
-                               volumes.data(),
-                               nullptr,
-                               mu,
-                               lambda,
-                               element_rotations ? element_rotations->data() : nullptr,
-                               true};
-    const FusedPassOutput output{nullptr, work.data(), nullptr, nullptr};
-    dealii::parallel::apply_to_subranges(
-      0u, n_elements(),
-      [&](const unsigned int begin, const unsigned int end) {
-        RotationPaths paths;
-        fused_pass_range(input, output, begin, end, paths);
-      },
-      512);
+    fused_pass(v, element_rotations, true, nullptr, work.data(), nullptr, nullptr, nullptr);
     gather_element_forces(work, out);
   }
 

@@ -200,51 +200,55 @@ namespace warpchol::fem
     return events;
   }
 
+  namespace
+  {
+    /**
+     * f(v, k, anchor, from_anchor) for each spring of each grasp that holds vertices: vertex
+     * v, its stiffness k, its anchor at @p time and at @p other_time (the jaws move with the
+     * grasp's offset).
+     */
+    template <typename Holds, typename Grasps, typename Function>
+    void for_each_spring(const Holds &holds, const Grasps &grasps, const double time, const double other_time,
+                         const Function &f)
+    {
+      for (std::size_t g = 0; g < grasps.size(); ++g)
+        {
+          const auto &hold = holds[g];
+          if (hold.held.empty())
+            continue;
+          const Vector3 offset = grasps[g].offset(time), other_offset = grasps[g].offset(other_time);
+          for (std::size_t k = 0; k < hold.held.size(); ++k)
+            f(hold.held[k], hold.stiffness[k], Vector3(hold.anchors[k] + offset),
+              Vector3(hold.anchors[k] + other_offset));
+        }
+    }
+  } // namespace
+
   void Surgery::add_spring_forces(const std::vector<Vector3> &positions, const double time,
                                   std::vector<Vector3> &forces) const
   {
-    for (std::size_t g = 0; g < grasps.size(); ++g)
-      {
-        const auto &[held, anchors, stiffness, closed, released] = holds[g];
-        if (held.empty())
-          continue;
-        const Vector3 offset = grasps[g].offset(time);
-        for (std::size_t k = 0; k < held.size(); ++k)
-          forces[held[k]] += stiffness[k] * (anchors[k] + offset - positions[held[k]]);
-      }
+    for_each_spring(holds, grasps, time, time, [&](const unsigned int v, const double k, const Vector3 &anchor, const Vector3 &) {
+      forces[v] += k * (anchor - positions[v]);
+    });
   }
 
   double Surgery::spring_energy(const std::vector<Vector3> &positions, const double time) const
   {
     double energy = 0;
-    for (std::size_t g = 0; g < grasps.size(); ++g)
-      {
-        const auto &[held, anchors, stiffness, closed, released] = holds[g];
-        if (held.empty())
-          continue;
-        const Vector3 offset = grasps[g].offset(time);
-        for (std::size_t k = 0; k < held.size(); ++k)
-          energy += 0.5 * stiffness[k] * (anchors[k] + offset - positions[held[k]]).squaredNorm();
-      }
+    for_each_spring(holds, grasps, time, time, [&](const unsigned int v, const double k, const Vector3 &anchor, const Vector3 &) {
+      energy += 0.5 * k * (anchor - positions[v]).squaredNorm();
+    });
     return energy;
   }
 
   double Surgery::spring_work(const std::vector<Vector3> &positions, const double from, const double to) const
   {
     double work = 0;
-    for (std::size_t g = 0; g < grasps.size(); ++g)
-      {
-        const auto &[held, anchors, stiffness, closed, released] = holds[g];
-        if (held.empty())
-          continue;
-        const Vector3 old_offset = grasps[g].offset(from), new_offset = grasps[g].offset(to);
-        for (std::size_t k = 0; k < held.size(); ++k)
-          {
-            const Vector3 &x = positions[held[k]];
-            work += 0.5 * stiffness[k] *
-                    ((anchors[k] + new_offset - x).squaredNorm() - (anchors[k] + old_offset - x).squaredNorm());
-          }
-      }
+    for_each_spring(holds, grasps, to, from,
+                    [&](const unsigned int v, const double k, const Vector3 &new_anchor, const Vector3 &old_anchor) {
+                      const Vector3 &x = positions[v];
+                      work += 0.5 * k * ((new_anchor - x).squaredNorm() - (old_anchor - x).squaredNorm());
+                    });
     return work;
   }
 
@@ -252,18 +256,9 @@ namespace warpchol::fem
                                       const std::vector<Vector3> &new_positions, const double time) const
   {
     double work = 0;
-    for (std::size_t g = 0; g < grasps.size(); ++g)
-      {
-        const auto &[held, anchors, stiffness, closed, released] = holds[g];
-        if (held.empty())
-          continue;
-        const Vector3 offset = grasps[g].offset(time);
-        for (std::size_t k = 0; k < held.size(); ++k)
-          {
-            const unsigned int v = held[k];
-            work += stiffness[k] * (anchors[k] + offset - new_positions[v]).dot(new_positions[v] - old_positions[v]);
-          }
-      }
+    for_each_spring(holds, grasps, time, time, [&](const unsigned int v, const double k, const Vector3 &anchor, const Vector3 &) {
+      work += k * (anchor - new_positions[v]).dot(new_positions[v] - old_positions[v]);
+    });
     return work;
   }
 

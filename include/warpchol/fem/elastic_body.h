@@ -280,6 +280,17 @@ namespace warpchol::fem
     /** sigma = lambda tr(eps) I + 2 mu eps with eps = sym(@p displacement_gradient). */
     Matrix3 stress(const Matrix3 &displacement_gradient) const;
 
+    /**
+     * The fused element pass over every element, on the threads deal.II allows and the SIMD
+     * target chosen at run time, with @p field the positions (or, for a @p product, the
+     * field the corotated stiffness multiplies): per element F, its rotation (computed into
+     * @p computed_rotations if not null, else @p given_rotations, else I), the world forces
+     * (a product's: R K_e R^T field_e, no plastic strain) into @p forces, and where not null
+     * the energies and force norms; the rotations' paths added to @p paths if not null.
+     */
+    void fused_pass(const std::vector<Vector3> &field, const std::vector<Matrix3> *given_rotations, bool product,
+                    Matrix3 *computed_rotations, Matrix3 *forces, double *energies, double *force_norms,
+                    RotationPaths *paths) const;
 
     /** Per element, its world forces and energy at @p positions for the given rotations (I if null). */
     void forces_at_given_rotations(const std::vector<Vector3> &positions, const std::vector<Matrix3> *element_rotations,
