@@ -124,25 +124,11 @@ int main()
                          "subsection Mesh\n"
                          "  set Source = file\n"
                          "  set File   = " SOURCE_DIR "/../meshes/torus_fine.msh\n"
-                         "end\n"
-                         "subsection Time stepping\n"
-                         "  set Time step          = 0.01\n"
-                         "  set Rayleigh mass      = 0.1\n"
-                         "  set Rayleigh stiffness = 0.1\n"
-                         "end\n"
-                         "subsection Model\n"
-                         "  set Type             = warp_canceling\n"
-                         "  set Strategy         = auto\n"
-                         "  set Update threshold = inf\n"
-                         "end\n"
-                         "subsection Fixed vertices\n"
-                         "  set Region           = box\n"
-                         "  set Box lower corner = -1, -1, -1\n"
-                         "  set Box upper corner = -0.33, 1, 1\n"
-                         "end\n"
-                         "subsection Gravity\n"
-                         "  set Acceleration = 0, -9.81, 0\n"
-                         "end\n",
+                         "end\n" +
+                           tests::without_subsection(tests::small_torus_scene("  set Type = warp_canceling\n"
+                                                                              "  set Strategy = auto\n"
+                                                                              "  set Update threshold = inf\n"),
+                                                     "Mesh"),
                          30);
   tests::check("  where its own steps pay, it does not fall back", paying.exact_steps == 0);
 }
