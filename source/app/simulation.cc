@@ -2,6 +2,7 @@
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/base/simd.h>
 #include <warpchol/base/input_file.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/ordering.h>
@@ -877,7 +878,8 @@ namespace warpchol::app
       {
         out << "  set-up " << n(simulated.setup_seconds) << " s (model " << n(model.setup_seconds())
             << " s), time steps " << n(t.step_seconds) << " s; end to end (output included) "
-            << n(t.run_seconds) << " s, " << n(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s\n";
+            << n(t.run_seconds) << " s, " << n(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s; SIMD target "
+            << simd::current_target() << "\n";
       }
     if (simulated.exact_step_seconds >= 0 && t.steps > 0)
       {
