@@ -3,7 +3,10 @@
 // Jaws that close at rest and do not move hold the vertices where they are: until the
 // release the run equals the run with those vertices fixed, to the penalty's accuracy
 // (1e-6 of the motion); after the release it equals a run started from the same state
-// without them, to 1e-10. With the linear model and with exact corotation.
+// without them, to 1e-9 (the released run's factor is the grasped one updated, the other's
+// a fresh factorization: their roundings differ, 2.3e-10 after 15 steps with the kernels'
+// baseline target built by clang, under 1e-10 with GCC's AVX-512 build). With the linear
+// model and with exact corotation.
 
 #include "simulation_tests.h"
 
@@ -81,6 +84,6 @@ int main()
       advance(free, 15);
       tests::check_below("  released: against a run from that state without them",
                          tests::relative_difference(grasp.integrator().positions(), free.integrator().positions(), rest),
-                         1e-10);
+                         1e-9);
     }
 }
