@@ -258,11 +258,10 @@ namespace
           row.error.add(app::position_error(x, reference[step - 1], scene.body().rest_positions()));
       }
     row.factor_mib = scene.model().factor_memory_bytes() / 1048576.;
-    if (scene.model().cg_iterations_run() > 0 && scene.model().cg_seconds_run() > 0)
+    if (scene.model().cg_bytes_per_second() > 0)
       {
-        const double bytes  = scene.model().cg_iteration_bytes().total();
-        row.cg_iteration_mb = bytes * 1e-6;
-        row.cg_gbps = bytes * static_cast<double>(scene.model().cg_iterations_run()) / scene.model().cg_seconds_run() * 1e-9;
+        row.cg_iteration_mb = scene.model().cg_iteration_bytes().total() * 1e-6;
+        row.cg_gbps         = scene.model().cg_bytes_per_second() * 1e-9;
       }
     if (row.steps > 0)
       {

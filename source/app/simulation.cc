@@ -781,14 +781,12 @@ namespace warpchol::app
                   << n(strategy.cg_tolerance, 2) << ", iterations per step mean "
                   << n(iterations_per_step);
             // What an iteration moves and how fast: the iterating step is memory-bound.
-            if (timings && model.cg_iterations_run() > 0 && model.cg_seconds_run() > 0)
+            if (timings && model.cg_bytes_per_second() > 0)
               {
                 const auto bytes = model.cg_iteration_bytes();
                 out << " (an iteration moves " << n(bytes.total() * 1e-6) << " MB: factor read twice "
                     << n(bytes.preconditioner * 1e-6) << ", product " << n(bytes.product * 1e-6) << ", vectors "
-                    << n(bytes.vectors * 1e-6) << "; at "
-                    << n(bytes.total() * static_cast<double>(model.cg_iterations_run()) / model.cg_seconds_run() * 1e-9)
-                    << " GB/s)";
+                    << n(bytes.vectors * 1e-6) << "; at " << n(model.cg_bytes_per_second() * 1e-9) << " GB/s)";
               }
             out << "; factor refreshes:";
             if (t.refreshes.empty())

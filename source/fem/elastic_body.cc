@@ -775,17 +775,19 @@ namespace warpchol::fem::HWY_NAMESPACE
           world[i + 3 * j][l] = sign * (r[i][l] * local[3 * j][l] + r[i + 3][l] * local[1 + 3 * j][l] +
                                         r[i + 6][l] * local[2 + 3 * j][l]);
     // The norm of the 12 nodal forces (rotations keep norms): vertex 0's is minus the sum.
-    for (unsigned int l = 0; l < lanes; ++l)
-      {
-        double sum = 0;
-        for (unsigned int i = 0; i < 3; ++i)
-          {
-            const double row = world[i][l] + world[i + 3][l] + world[i + 6][l];
-            sum += row * row + world[i][l] * world[i][l] + world[i + 3][l] * world[i + 3][l] +
-                   world[i + 6][l] * world[i + 6][l];
-          }
-        norm[l] = std::sqrt(sum);
-      }
+    // Not for a product (CG's hot loop), which asks for none.
+    if (force_norms != nullptr)
+      for (unsigned int l = 0; l < lanes; ++l)
+        {
+          double sum = 0;
+          for (unsigned int i = 0; i < 3; ++i)
+            {
+              const double row = world[i][l] + world[i + 3][l] + world[i + 6][l];
+              sum += row * row + world[i][l] * world[i][l] + world[i + 3][l] * world[i + 3][l] +
+                     world[i + 6][l] * world[i + 6][l];
+            }
+          norm[l] = std::sqrt(sum);
+        }
     for (unsigned int l = 0; l < count; ++l)
       {
         for (unsigned int i = 0; i < 9; ++i)
@@ -796,7 +798,6 @@ namespace warpchol::fem::HWY_NAMESPACE
           force_norms[l] = norm[l];
       }
   }
-
 
   /** rotations_of() on this target (fem/rotations.cc). */
   void RotationsOf(const Matrix3 *gradients, Matrix3 *rotations, std::size_t count, RotationPaths *paths);
@@ -880,7 +881,6 @@ namespace warpchol::fem
       },
       512);
   }
-
 
   void ElasticBody::add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
                                                   const std::vector<Vector3> &v,

@@ -586,14 +586,11 @@ namespace warpchol::fem
     return bytes;
   }
 
-  unsigned long ElasticityModel::cg_iterations_run() const
+  double ElasticityModel::cg_bytes_per_second() const
   {
-    return total_cg_iterations;
-  }
-
-  double ElasticityModel::cg_seconds_run() const
-  {
-    return total_cg_seconds;
+    return total_cg_iterations > 0 && total_cg_seconds > 0 ?
+             cg_iteration_bytes().total() * static_cast<double>(total_cg_iterations) / total_cg_seconds :
+             0.;
   }
 
   void ElasticityModel::target_times(const dealii::Vector<double> &y, dealii::Vector<double> &out) const

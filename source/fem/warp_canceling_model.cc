@@ -316,7 +316,6 @@ namespace warpchol::fem
     writer.write(last_step_changed);
     placement.save(writer);
     fallback.save(writer);
-    writer.write(last_step_fallback);
     if (background)
       background->save(writer);
   }
@@ -346,7 +345,6 @@ namespace warpchol::fem
     reader.read(last_step_changed);
     placement.load(reader);
     fallback.load(reader);
-    reader.read(last_step_fallback);
     if (background)
       background->load(reader);
   }
@@ -396,7 +394,7 @@ namespace warpchol::fem
     cholesky_solver.set_thread_count(step_thread_count);
     system.set_thread_count(step_thread_count);
     last_refresh = cholesky::Refresh::none;
-    if (target > 0 && last_velocity_error >= 0 && !last_step_fallback)
+    if (target > 0 && last_velocity_error >= 0)
       {
         // The last step's error against exact corotation steers this step's threshold
         // (in logarithms, a gain of 0.7 on an error that grows like the threshold to a
@@ -457,8 +455,7 @@ namespace warpchol::fem
       }
     statistics.update_threshold = adapted_threshold;
     ++step_count;
-    exact_this_step    = false;
-    last_step_fallback = false;
+    exact_this_step = false;
 
     evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
     record_no_refactorization(statistics);
@@ -526,7 +523,6 @@ namespace warpchol::fem
       {
         statistics.choice            = "exact";
         statistics.predicted_seconds = cost_model.predicted_exact_seconds();
-        last_step_fallback           = true;
         exact_step(statistics);
         return;
       }

@@ -302,9 +302,11 @@ namespace warpchol::fem
     };
     IterationBytes cg_iteration_bytes() const;
 
-    /** CG iterations run so far, and their seconds (products, solves, vector operations). */
-    unsigned long cg_iterations_run() const;
-    double        cg_seconds_run() const;
+    /**
+     * The rate (bytes per second) at which the CG iterations so far (products, solves,
+     * vector operations) moved cg_iteration_bytes(); 0 before any.
+     */
+    double cg_bytes_per_second() const;
 
     /**
      * From now on, measure how far each step's velocities are from the exact corotational

@@ -222,8 +222,6 @@ namespace warpchol::fem
     /** auto with a background refresh: in the steps or beside them, as measured. */
     RefreshPlacement placement;
     ExactFallback    fallback;
-    /** Whether the last step was run exact by the fall-back (its error says nothing of the threshold). */
-    bool last_step_fallback = false;
     /** The whole of the last prepare_step() (element pass included), in seconds. */
     double last_step_prepare_seconds = 0;
     /** The steps prepared so far (the step being prepared is step_count). */
