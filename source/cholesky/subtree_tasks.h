@@ -87,7 +87,10 @@ namespace warpchol::cholesky
           const Index child = children[k];
           group.run([&self, child] { self(self, child); });
         }
-      group.wait();
+      // A cancelled group (another subtree threw) returns without running all the
+      // children: s must not run then, its children's results are missing.
+      if (group.wait() != tbb::task_group_status::complete)
+        return;
       compute(s, true);
     };
     tbb::task_arena arena(static_cast<int>(n_threads));
