@@ -745,11 +745,14 @@ namespace warpchol::app
                         "seconds at rates measured during the run; flops the same at fixed "
                         "rates (the same choices on any machine: reproducible bits); recompute "
                         "never updates; update always does where it can");
-      prm.declare_entry("Preconditioner precision", "double", Patterns::Selection("double|single"),
+      prm.declare_entry("Preconditioner precision", "double", Patterns::Selection("double|single|half"),
                         "The factor as CG's preconditioner (Model/Strategy other than partial, "
-                        "supernodal method): single keeps a single-precision copy of L and "
-                        "solves with it, half the memory traffic of the memory-bound triangular "
-                        "solves (CG's tolerance then should stay above about 1e-6)");
+                        "supernodal method): single keeps a copy of L in 32 bits per entry, half "
+                        "in 16 (IEEE half, each column scaled by a power of two), and solves "
+                        "with it in single precision: a half or a quarter of the memory traffic "
+                        "of the memory-bound triangular solves. CG's tolerance then should stay "
+                        "above about 1e-6 (single) or 1e-3 (half: the preconditioner is a 5e-4 "
+                        "relative rounding of L, CG corrects it in its iterations)");
       prm.leave_subsection();
     }
 
@@ -786,8 +789,11 @@ namespace warpchol::app
         file.fail(prm, "Solver", "Tolerance", "must be in (0, 1)");
       settings.n_threads          = prm.get_integer("Threads");
       settings.top_flops_fraction = prm.get_double("Top flops fraction");
-      settings.single_precision_preconditioner = prm.get("Preconditioner precision") == "single";
-      settings.change_method                   = cholesky::parse_change_method(prm.get("Change method"));
+      const std::string precision       = prm.get("Preconditioner precision");
+      settings.preconditioner_precision = precision == "single" ? cholesky::PreconditionerPrecision::single :
+                                          precision == "half"   ? cholesky::PreconditionerPrecision::half :
+                                                                  cholesky::PreconditionerPrecision::full;
+      settings.change_method            = cholesky::parse_change_method(prm.get("Change method"));
       prm.leave_subsection();
     }
 

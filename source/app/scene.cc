@@ -58,9 +58,9 @@ namespace warpchol::app
         warped.strategy.iterate_on    = fem::StepStrategy::Target::corotational;
         warped.strategy.cg_tolerance  = backend.tolerance;
         warped.strategy.max_cg_iterations = backend.max_iterations;
-        // SOFA's factor is in double precision: the single-precision copy is warpchol's.
-        cholesky::SparseCholesky::Settings settings       = solver.settings;
-        settings.single_precision_preconditioner          = false;
+        // SOFA's factor is in double precision: the lower-precision copies are warpchol's.
+        cholesky::SparseCholesky::Settings settings = solver.settings;
+        settings.preconditioner_precision           = cholesky::PreconditionerPrecision::full;
         return create_factored_model(warped, body, coefficients, settings);
       }
     // A peer that replaces warpchol's factor factors the rest system already.

@@ -2,6 +2,8 @@
 #include <warpchol/cholesky/blas.h>
 #include <warpchol/cholesky/numeric_supernodal.h>
 
+#include "scaled_solve.h"
+
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -531,16 +533,17 @@ namespace warpchol::cholesky
     }
 
     /**
-     * Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x, the blocks
-     * of L in @p values, all right-hand sides at once. With @p partition (threads), the
-     * subtrees run side by side: in the forward pass each gathers what it subtracts from
-     * the top's rows in its own buffer, added in subtree order (deterministic); the top
-     * is solved by one thread; in the backward pass each supernode writes only its own
-     * rows, so the subtrees run side by side again.
+     * Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x by
+     * supernodes: forward(s, x, below, outside, gathered, gathered_size) and backward(s, x,
+     * below) do one supernode's part (forward_supernode(), backward_supernode()). With
+     * @p partition (threads), the subtrees run side by side: in the forward pass each
+     * gathers what it subtracts from the top's rows in its own buffer, added in subtree
+     * order (deterministic); the top is solved by one thread; in the backward pass each
+     * supernode writes only its own rows, so the subtrees run side by side again.
      */
-    template <typename Real>
-    void supernodal_solve(const SupernodalSymbolic &symbolic, const Real *values, Real *x, const Index n_rhs,
-                          const SolvePartition *partition)
+    template <typename Real, typename Forward, typename Backward>
+    void solve_by_supernodes(const SupernodalSymbolic &symbolic, Real *x, const Index n_rhs,
+                             const SolvePartition *partition, const Forward &forward, const Backward &backward)
     {
       const Index       ns = symbolic.n_supernodes();
       std::vector<Real> below;
@@ -548,9 +551,9 @@ namespace warpchol::cholesky
       if (partition == nullptr)
         {
           for (Index s = 0; s < ns; ++s)
-            forward_supernode(symbolic, values, x, n_rhs, s, below, inside, static_cast<Real *>(nullptr), 0);
+            forward(s, x, below, inside, static_cast<Real *>(nullptr), 0);
           for (Index s = ns - 1; s >= 0; --s)
-            backward_supernode(symbolic, values, x, n_rhs, s, below);
+            backward(s, x, below);
           return;
         }
 
@@ -565,7 +568,7 @@ namespace warpchol::cholesky
           const Index root    = partition->subtree_roots[k];
           const auto  outside = [&](const Index row) { return partition->top_position[row]; };
           for (Index s = symbolic.first_descendant[root]; s <= root; ++s)
-            forward_supernode(symbolic, values, x, n_rhs, s, local_below, outside, gathered[k].data(), top_size);
+            forward(s, x, local_below, outside, gathered[k].data(), top_size);
         });
       });
       for (Index k = 0; k < n_subtrees; ++k)
@@ -573,26 +576,96 @@ namespace warpchol::cholesky
           for (Index position = 0; position < top_size; ++position)
             x[partition->top_columns[position] + r * symbolic.n] -= gathered[k][position + r * top_size];
       for (const Index s : partition->top_supernodes)
-        forward_supernode(symbolic, values, x, n_rhs, s, below, inside, static_cast<Real *>(nullptr), 0);
+        forward(s, x, below, inside, static_cast<Real *>(nullptr), 0);
       for (auto s = partition->top_supernodes.rbegin(); s != partition->top_supernodes.rend(); ++s)
-        backward_supernode(symbolic, values, x, n_rhs, *s, below);
+        backward(*s, x, below);
       arena.execute([&] {
         tbb::parallel_for(Index(0), n_subtrees, [&](const Index k) {
           std::vector<Real> local_below;
           const Index       root = partition->subtree_roots[k];
           for (Index s = root; s >= symbolic.first_descendant[root]; --s)
-            backward_supernode(symbolic, values, x, n_rhs, s, local_below);
+            backward(s, x, local_below);
         });
       });
+    }
+
+    /** solve_by_supernodes() with BLAS on the blocks of L in @p values. */
+    template <typename Real>
+    void supernodal_solve(const SupernodalSymbolic &symbolic, const Real *values, Real *x, const Index n_rhs,
+                          const SolvePartition *partition)
+    {
+      solve_by_supernodes(
+        symbolic, x, n_rhs, partition,
+        [&](const Index s, Real *y, std::vector<Real> &below, const auto &outside, Real *gathered,
+            const Index gathered_size) {
+          forward_supernode(symbolic, values, y, n_rhs, s, below, outside, gathered, gathered_size);
+        },
+        [&](const Index s, Real *y, std::vector<Real> &below) {
+          backward_supernode(symbolic, values, y, n_rhs, s, below);
+        });
+    }
+
+    /**
+     * solve_by_supernodes() for one right-hand side with a column-scaled copy of L
+     * (scaled_solve.h): @p stored its blocks, @p scale and @p inverse_diagonal per column.
+     */
+    template <typename Stored>
+    void scaled_solve(const SupernodalSymbolic &symbolic, const Stored *stored, const float *scale,
+                      const float *inverse_diagonal, float *x, const SolvePartition *partition)
+    {
+      solve_by_supernodes(
+        symbolic, x, Index(1), partition,
+        [&](const Index s, float *y, std::vector<float> &below, const auto &outside, float *gathered,
+            const Index) {
+          const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+          const Index *rows = symbolic.row_index.data() + symbolic.row_start[s];
+          below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(nr - nc + scaled_solve_padding)));
+          forward_scaled(stored + symbolic.value_start[s], nr, nc, scale + f, inverse_diagonal + f, y + f,
+                         below.data());
+          // below holds -L21 y_s: what the rows below (or the top's gathered rows) take.
+          for (Index i = 0; i < nr - nc; ++i)
+            {
+              const Index position = outside(rows[nc + i]);
+              if (position < 0)
+                y[rows[nc + i]] += below[i];
+              else
+                gathered[position] -= below[i];
+            }
+        },
+        [&](const Index s, float *y, std::vector<float> &below) {
+          const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+          const Index *rows = symbolic.row_index.data() + symbolic.row_start[s];
+          below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(nr - nc + scaled_solve_padding)));
+          for (Index i = 0; i < nr - nc; ++i)
+            below[i] = y[rows[nc + i]];
+          backward_scaled(stored + symbolic.value_start[s], nr, nc, scale + f, inverse_diagonal + f, y + f,
+                          below.data());
+        });
     }
   } // namespace
 
   struct SupernodalFactor::Implementation
   {
     std::vector<double>                        values;
-    /** The single-precision copy of values (empty if none is kept). */
+    /** The preconditioner's copy of values, scaled per column (scaled_solve.h): one of the two, or none. */
+    PreconditionerPrecision                    copy = PreconditionerPrecision::full;
     std::vector<float>                         single_values;
-    bool                                       keep_single = false;
+    std::vector<Half>                          half_values;
+    /** Per column: the power of two it is scaled by, and 1 / its scaled diagonal entry. */
+    std::vector<float>                         column_scale, inverse_diagonal;
+
+    /** Round the columns of supernode s from its local column q on into the copy. */
+    void round(const SupernodalSymbolic &symbolic, const Index s, const Index q)
+    {
+      const Index   f = symbolic.first_column[s], nr = symbolic.n_rows(s), nc = symbolic.n_columns(s);
+      const double *block = values.data() + symbolic.value_start[s];
+      if (copy == PreconditionerPrecision::single)
+        round_columns(block, nr, nc, q, single_values.data() + symbolic.value_start[s], column_scale.data() + f,
+                      inverse_diagonal.data() + f);
+      else if (copy == PreconditionerPrecision::half)
+        round_columns(block, nr, nc, q, half_values.data() + symbolic.value_start[s], column_scale.data() + f,
+                      inverse_diagonal.data() + f);
+    }
     /** The split of the tree for threaded solves, made on first use for that many threads. */
     std::unique_ptr<SolvePartition>            partition;
     unsigned int                               partition_threads = 0;
@@ -632,50 +705,77 @@ namespace warpchol::cholesky
 
   SupernodalFactor &SupernodalFactor::operator=(const SupernodalFactor &other)
   {
-    implementation->values        = other.implementation->values;
-    implementation->single_values = other.implementation->single_values;
-    implementation->keep_single   = other.implementation->keep_single;
+    implementation->values           = other.implementation->values;
+    implementation->copy             = other.implementation->copy;
+    implementation->single_values    = other.implementation->single_values;
+    implementation->half_values      = other.implementation->half_values;
+    implementation->column_scale     = other.implementation->column_scale;
+    implementation->inverse_diagonal = other.implementation->inverse_diagonal;
     return *this;
   }
 
-  void SupernodalFactor::initialize(const SupernodalSymbolic &symbolic, const bool single_precision_copy)
+  void SupernodalFactor::initialize(const SupernodalSymbolic &symbolic, const PreconditionerPrecision copy)
   {
-    implementation->partition.reset();
-    implementation->values.assign(symbolic.n_stored_values(), 0.);
-    implementation->keep_single = single_precision_copy;
-    implementation->single_values.assign(single_precision_copy ? symbolic.n_stored_values() : 0, 0.f);
+    Implementation &data = *implementation;
+    data.partition.reset();
+    data.values.assign(symbolic.n_stored_values(), 0.);
+    data.copy            = copy;
+    const Index n_copy   = symbolic.n_stored_values() + scaled_solve_padding;
+    const Index n_single = copy == PreconditionerPrecision::single ? n_copy : 0;
+    const Index n_half   = copy == PreconditionerPrecision::half ? n_copy : 0;
+    const Index n_scales = copy == PreconditionerPrecision::full ? 0 : symbolic.n;
+    data.single_values.assign(n_single, 0.f);
+    data.half_values.assign(n_half, Half{});
+    data.column_scale.assign(n_scales, 1.f);
+    data.inverse_diagonal.assign(n_scales, 0.f);
   }
 
-  void SupernodalFactor::clear(const bool single_precision_copy)
+  void SupernodalFactor::clear(const PreconditionerPrecision copy)
   {
-    implementation->partition.reset();
-    std::vector<double>().swap(implementation->values);
-    std::vector<float>().swap(implementation->single_values);
-    implementation->keep_single = single_precision_copy;
+    Implementation &data = *implementation;
+    data.partition.reset();
+    std::vector<double>().swap(data.values);
+    std::vector<float>().swap(data.single_values);
+    std::vector<Half>().swap(data.half_values);
+    std::vector<float>().swap(data.column_scale);
+    std::vector<float>().swap(data.inverse_diagonal);
+    data.copy = copy;
   }
 
   std::size_t SupernodalFactor::memory_bytes() const
   {
-    return implementation->values.capacity() * sizeof(double) +
-           implementation->single_values.capacity() * sizeof(float);
+    const Implementation &data = *implementation;
+    return data.values.capacity() * sizeof(double) + data.single_values.capacity() * sizeof(float) +
+           data.half_values.capacity() * sizeof(Half) +
+           (data.column_scale.capacity() + data.inverse_diagonal.capacity()) * sizeof(float);
   }
 
   void SupernodalFactor::save(BinaryWriter &writer) const
   {
+    // The copy is rounded again on load: it follows from the values. (Where the single
+    // copy was once written, an empty list keeps the format.)
     writer.write(implementation->values);
-    writer.write(implementation->single_values);
+    writer.write(std::vector<float>());
   }
 
   void SupernodalFactor::load(BinaryReader &reader, const SupernodalSymbolic &symbolic)
   {
-    reader.read(implementation->values);
-    reader.read(implementation->single_values);
+    Implementation &data = *implementation;
+    reader.read(data.values);
+    std::vector<float> former_copy;
+    reader.read(former_copy);
     // None if the writer had not factorized yet.
-    const auto n = implementation->values.empty() ? 0 : static_cast<std::size_t>(symbolic.n_stored_values());
-    if (implementation->values.size() != n ||
-        implementation->single_values.size() != (implementation->keep_single ? n : 0))
-      reader.fail("the supernodal factor holds " + std::to_string(implementation->values.size()) +
-                  " values, this analysis " + std::to_string(n));
+    const auto n = data.values.empty() ? 0 : static_cast<std::size_t>(symbolic.n_stored_values());
+    if (data.values.size() != n)
+      reader.fail("the supernodal factor holds " + std::to_string(data.values.size()) + " values, this analysis " +
+                  std::to_string(n));
+    if (n == 0)
+      return;
+    std::vector<double> values = std::move(data.values);
+    initialize(symbolic, data.copy);
+    data.values = std::move(values);
+    for (Index s = 0; s < symbolic.n_supernodes(); ++s)
+      data.round(symbolic, s, 0);
   }
 
   double SupernodalFactor::factorize(const SupernodalSymbolic &symbolic,
@@ -685,25 +785,21 @@ namespace warpchol::cholesky
                                      const unsigned int        n_threads)
   {
     if (static_cast<Index>(implementation->values.size()) != symbolic.n_stored_values())
-      initialize(symbolic, implementation->keep_single);
+      initialize(symbolic, implementation->copy);
     for (Workspace &workspace : implementation->workspaces)
       workspace.flops = 0;
     NumericRun run(symbolic, lower, implementation->values.data(), implementation->workspaces, n_threads);
     run.run(supernodes, start_offsets);
-    if (implementation->keep_single)
+    // Round what was recomputed into the preconditioner's copy (of each supernode, its
+    // columns from the offset on).
+    if (implementation->copy != PreconditionerPrecision::full)
       {
-        // Round what was recomputed (of each supernode, its columns from the offset on).
-        const auto round = [&](const Index s, const Index q) {
-          const Index begin = symbolic.value_start[s] + q * symbolic.n_rows(s), end = symbolic.value_start[s + 1];
-          std::copy(implementation->values.begin() + begin, implementation->values.begin() + end,
-                    implementation->single_values.begin() + begin);
-        };
         if (supernodes.empty())
           for (Index s = 0; s < symbolic.n_supernodes(); ++s)
-            round(s, 0);
+            implementation->round(symbolic, s, 0);
         else
           for (std::size_t k = 0; k < supernodes.size(); ++k)
-            round(supernodes[k], start_offsets.empty() ? 0 : start_offsets[k]);
+            implementation->round(symbolic, supernodes[k], start_offsets.empty() ? 0 : start_offsets[k]);
       }
     double flops = 0;
     for (const Workspace &workspace : implementation->workspaces)
@@ -718,11 +814,12 @@ namespace warpchol::cholesky
       throw Error("modify() called before factorize()");
     const ModificationResult result = modify_supernodal(symbolic, implementation->values.data(), c, signs, settings,
                                                         implementation->modification_workspace);
-    if (implementation->keep_single)
-      for (const Index s : plan_modification(symbolic, c).supernodes)
-        std::copy(implementation->values.begin() + symbolic.value_start[s],
-                  implementation->values.begin() + symbolic.value_start[s + 1],
-                  implementation->single_values.begin() + symbolic.value_start[s]);
+    if (implementation->copy != PreconditionerPrecision::full)
+      {
+        const ModificationPlan plan = plan_modification(symbolic, c);
+        for (std::size_t k = 0; k < plan.supernodes.size(); ++k)
+          implementation->round(symbolic, plan.supernodes[k], plan.start_columns[k]);
+      }
     return result;
   }
 
@@ -733,15 +830,25 @@ namespace warpchol::cholesky
                      implementation->partition_for(symbolic, n_threads));
   }
 
-  void SupernodalFactor::solve_single_precision(const SupernodalSymbolic &symbolic, double *x,
-                                                const Index n_rhs, const unsigned int n_threads) const
+  void SupernodalFactor::solve_preconditioner(const SupernodalSymbolic &symbolic, double *x,
+                                              const unsigned int n_threads) const
   {
-    if (!implementation->keep_single)
-      throw Error("solve_single_precision(): no single-precision copy of the factor is kept");
-    std::vector<float> y(x, x + symbolic.n * n_rhs);
-    supernodal_solve(symbolic, implementation->single_values.data(), y.data(), n_rhs,
-                     implementation->partition_for(symbolic, n_threads));
-    std::copy(y.begin(), y.end(), x);
+    const Implementation &data = *implementation;
+    if (data.copy == PreconditionerPrecision::full)
+      {
+        solve(symbolic, x, 1, n_threads);
+        return;
+      }
+    std::vector<float> y(symbolic.n + scaled_solve_padding, 0.f);
+    std::copy(x, x + symbolic.n, y.begin());
+    const SolvePartition *partition = implementation->partition_for(symbolic, n_threads);
+    if (data.copy == PreconditionerPrecision::single)
+      scaled_solve(symbolic, data.single_values.data(), data.column_scale.data(), data.inverse_diagonal.data(),
+                   y.data(), partition);
+    else
+      scaled_solve(symbolic, data.half_values.data(), data.column_scale.data(), data.inverse_diagonal.data(),
+                   y.data(), partition);
+    std::copy(y.begin(), y.begin() + symbolic.n, x);
   }
 
   sparse::CSCMatrix SupernodalFactor::to_csc(const SupernodalSymbolic &symbolic) const

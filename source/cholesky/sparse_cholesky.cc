@@ -118,7 +118,7 @@ namespace warpchol::cholesky
                                                   solver_settings.relaxation);
         // The values come with the first factorization: a solver that only analyzes (beside
         // a peer's) holds none.
-        supernodal_factor.clear(solver_settings.single_precision_preconditioner);
+        supernodal_factor.clear(solver_settings.preconditioner_precision);
         stats.nnz_l        = supernodal_structure.nnz_l();
         stats.flops        = supernodal_structure.exact_flops;
         stats.method_flops = supernodal_structure.flops;
@@ -134,9 +134,12 @@ namespace warpchol::cholesky
                              (supernodal_structure.row_index.size() + supernodal_structure.row_start.size() +
                               supernodal_structure.value_start.size() + supernodal_structure.first_column.size()) *
                                sizeof(Index);
-        // The preconditioner's single-precision copy of the values, where it is kept.
-        if (solver_settings.single_precision_preconditioner)
-          stats.factor_bytes += supernodal_structure.n_stored_values() * sizeof(float);
+        // The preconditioner's copy of the values, where it is kept, with its column scales.
+        if (solver_settings.preconditioner_precision != PreconditionerPrecision::full)
+          stats.factor_bytes +=
+            supernodal_structure.n_stored_values() *
+              (solver_settings.preconditioner_precision == PreconditionerPrecision::single ? 4 : 2) +
+            2 * sizeof(float) * supernodal_structure.n;
       }
     else
       {
@@ -689,11 +692,10 @@ namespace warpchol::cholesky
 
   void SparseCholesky::apply_preconditioner(const double *b, double *x) const
   {
-    solve_in(b, x, 1, solver_settings.single_precision_preconditioner &&
-                        solver_settings.method == FactorizationMethod::supernodal);
+    solve_in(b, x, 1, solver_settings.method == FactorizationMethod::supernodal);
   }
 
-  void SparseCholesky::solve_in(const double *b, double *x, const Index n_rhs, const bool single_precision) const
+  void SparseCholesky::solve_in(const double *b, double *x, const Index n_rhs, const bool preconditioner) const
   {
     if (!factor_valid)
       throw Error("solve() called without a valid factorization");
@@ -703,8 +705,8 @@ namespace warpchol::cholesky
     for (Index r = 0; r < n_rhs; ++r)
       for (Index k = 0; k < n; ++k)
         y[r * n + k] = b[r * n + fill_reducing_permutation[k]];
-    if (single_precision)
-      supernodal_factor.solve_single_precision(supernodal_structure, y.data(), n_rhs, solver_settings.n_threads);
+    if (preconditioner)
+      supernodal_factor.solve_preconditioner(supernodal_structure, y.data(), solver_settings.n_threads);
     else if (solver_settings.method == FactorizationMethod::supernodal)
       supernodal_factor.solve(supernodal_structure, y.data(), n_rhs, solver_settings.n_threads);
     else

@@ -566,8 +566,10 @@ namespace warpchol::fem
     if (settings.method == cholesky::FactorizationMethod::supernodal)
       {
         const auto  &structure = cholesky_solver.supernodal_symbolic();
-        const double value     = settings.single_precision_preconditioner ? sizeof(float) : sizeof(double);
-        bytes.preconditioner   = 2. * (static_cast<double>(structure.n_stored_values()) * value +
+        const double value   = settings.preconditioner_precision == cholesky::PreconditionerPrecision::half   ? 2 :
+                               settings.preconditioner_precision == cholesky::PreconditionerPrecision::single ? 4 :
+                                                                                                               8;
+        bytes.preconditioner = 2. * (static_cast<double>(structure.n_stored_values()) * value +
                                      static_cast<double>(structure.row_index.size()) * sizeof(Index));
       }
     else

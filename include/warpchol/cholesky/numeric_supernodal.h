@@ -17,6 +17,24 @@
 namespace warpchol::cholesky
 {
   /**
+   * The precision of the copy of the factor that a preconditioner's solve reads
+   * (SupernodalFactor::solve_preconditioner()): CG reads it twice per iteration, the
+   * largest part of what an iteration moves.
+   */
+  enum class PreconditionerPrecision
+  {
+    /** No copy: the double factor itself (solve()). */
+    full,
+    /** 32 bits per entry: half the bytes of the double factor, about 1e-7 relative. */
+    single,
+    /**
+     * 16 bits per entry (IEEE half, each column scaled by a power of two into its range),
+     * single-precision arithmetic: a quarter of the bytes, about 5e-4 relative.
+     */
+    half
+  };
+
+  /**
    * The numeric supernodal factor and the workspaces that compute it.
    *
    * For each supernode s, in elimination-tree order: gather the columns of C into the
@@ -42,18 +60,19 @@ namespace warpchol::cholesky
 
     /**
      * Allocate the values for the structure @p symbolic (which every later call is given
-     * too); with @p single_precision_copy, also a single-precision copy of the factor that
-     * factorize() keeps in step (for solve_single_precision()).
+     * too); with @p copy other than full, also a copy of the factor in that precision that
+     * factorize() and modify() keep in step (for solve_preconditioner()).
      */
-    void initialize(const SupernodalSymbolic &symbolic, bool single_precision_copy = false);
+    void initialize(const SupernodalSymbolic &symbolic,
+                    PreconditionerPrecision   copy = PreconditionerPrecision::full);
 
     /**
      * Free the values (a new analysis, or none needed): factorize() allocates them for its
-     * structure, with the single-precision copy if @p single_precision_copy.
+     * structure, with the preconditioner's copy in the precision @p copy.
      */
-    void clear(bool single_precision_copy = false);
+    void clear(PreconditionerPrecision copy = PreconditionerPrecision::full);
 
-    /** Bytes of the values held now (and of their single-precision copy). */
+    /** Bytes of the values held now (and of the preconditioner's copy). */
     std::size_t memory_bytes() const;
 
     /**
@@ -70,7 +89,7 @@ namespace warpchol::cholesky
 
     /**
      * L L^T + C diag(@p signs) C^T in place (modify_supernodal(), which says what @p c must
-     * be), the single-precision copy following. Throws NotPositiveDefinite, the values
+     * be), the preconditioner's copy following. Throws NotPositiveDefinite, the values
      * left as they were, if a downdate loses positive definiteness.
      */
     ModificationResult modify(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &c,
@@ -86,19 +105,20 @@ namespace warpchol::cholesky
     void solve(const SupernodalSymbolic &symbolic, double *x, Index n_rhs, unsigned int n_threads = 1) const;
 
     /**
-     * The same with the single-precision copy of L (initialize()): half the memory traffic
-     * of the double solve, which is memory-bound, for about 1e-7 relative accuracy: a
-     * preconditioner's solve.
+     * The same for one right-hand side with the preconditioner's copy of L (initialize()),
+     * in single-precision arithmetic: a half or a quarter of the memory traffic of the
+     * double solve, which is memory-bound. Each column of the copy is scaled by a power of
+     * two (its largest entry at most 1), the triangular solves are this project's own
+     * kernels (scaled_solve.h), threaded as solve() is.
      */
-    void solve_single_precision(const SupernodalSymbolic &symbolic, double *x, Index n_rhs,
-                                unsigned int n_threads = 1) const;
+    void solve_preconditioner(const SupernodalSymbolic &symbolic, double *x, unsigned int n_threads = 1) const;
 
     /** L as a CSC matrix (entries of every dense block on and below the diagonal). */
     sparse::CSCMatrix to_csc(const SupernodalSymbolic &symbolic) const;
 
     const std::vector<double> &values() const;
 
-    /** Write the values (and the single-precision copy) to a checkpoint. */
+    /** Write the values (and the preconditioner's copy) to a checkpoint. */
     void save(BinaryWriter &writer) const;
     /**
      * Read what save() wrote, for the structure @p symbolic; throws InputError if the

@@ -107,11 +107,12 @@ namespace warpchol::cholesky
        */
       double              top_flops_fraction = 0.5;
       /**
-       * Keep a single-precision copy of the factor for apply_preconditioner() (supernodal
-       * method): half the memory traffic of the memory-bound triangular solves, half again
-       * the factor's memory. solve() always uses the double factor.
+       * Keep a copy of the factor in this precision for apply_preconditioner() (supernodal
+       * method; PreconditionerPrecision): single halves the memory traffic of the
+       * memory-bound triangular solves, half quarters it; the copy adds a half or a quarter
+       * to the factor's memory. solve() always uses the double factor.
        */
-      bool                single_precision_preconditioner = false;
+      PreconditionerPrecision preconditioner_precision = PreconditionerPrecision::full;
       /**
        * How refactorize() takes a change of A when the factor was exact (supernodal
        * method): by the cheapest of an update of the factor and the recomputation of its
@@ -303,8 +304,8 @@ namespace warpchol::cholesky
 
     /**
      * x = (L L^T)^-1 b with the factor as it is (exact or partly refreshed): the
-     * preconditioner of an iterative solve, in single precision if
-     * Settings::single_precision_preconditioner, else the same as solve().
+     * preconditioner of an iterative solve, with the copy of the factor in
+     * Settings::preconditioner_precision (the same as solve() at full precision).
      */
     void apply_preconditioner(const double *b, double *x) const;
 
@@ -312,7 +313,7 @@ namespace warpchol::cholesky
     sparse::CSCMatrix factor() const;
 
     /**
-     * Bytes of numeric values held now (L's, and their single-precision copy): 0 until the
+     * Bytes of numeric values held now (L's, and the preconditioner's copy): 0 until the
      * first factorization, since analyze() allocates none (a solver that only analyzes, as
      * beside a peer's, holds none). Statistics::factor_bytes is what a factorization takes.
      */
@@ -374,8 +375,8 @@ namespace warpchol::cholesky
                             const std::vector<Index> &changed_columns,
                             Refresh                   refresh);
 
-    /** solve(), with the single-precision copy of the factor if @p single_precision. */
-    void solve_in(const double *b, double *x, Index n_rhs, bool single_precision) const;
+    /** solve(), with the preconditioner's copy of the factor if @p preconditioner. */
+    void solve_in(const double *b, double *x, Index n_rhs, bool preconditioner) const;
 
     /** What one refactorize() computes, and the stale columns it leaves. */
     struct RefreshPlan
