@@ -80,6 +80,7 @@ namespace warpchol::cholesky
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "cholesky/scaled_solve.cc"
 #include <hwy/foreach_target.h>
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 HWY_BEFORE_NAMESPACE();
@@ -191,7 +192,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
      */
     template <int B, typename Stored>
     void subtract_columns(const Stored *columns, const Index ld, const Index r0, const Index r1, const float *t,
-                          float *target)
+                          float *target, const Stored *ahead)
     {
       const FloatTag d;
       const Index    lanes = static_cast<Index>(hn::Lanes(d));
@@ -201,6 +202,11 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       Index r = r0;
       for (; r + lanes <= r1; r += lanes)
         {
+          // Blocks of eight short columns are short streams the prefetchers do not learn
+          // in time: fetch the next block's rows ahead.
+          if (ahead != nullptr)
+            for (int k = 0; k < B; ++k)
+              hwy::Prefetch(ahead + k * ld + r);
           Floats y = hn::LoadU(d, target + (r - r0));
           for (int k = 0; k < B; ++k)
             y = hn::NegMulAdd(load(d, columns + k * ld + r), factor[k], y);
@@ -222,7 +228,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     /** s[k] += sum_r L(r, k) source[r - r0] over the rows [r0, r1) of the B columns at @p columns. */
     template <int B, typename Stored>
     void add_dots(const Stored *columns, const Index ld, const Index r0, const Index r1, const float *source,
-                  float *s)
+                  float *s, const Stored *ahead)
     {
       const FloatTag d;
       const Index    lanes = static_cast<Index>(hn::Lanes(d));
@@ -233,6 +239,11 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       // Two sums per column: twice the chains in flight.
       for (; r + 2 * lanes <= r1; r += 2 * lanes)
         {
+          // The backward pass walks the factor downwards in memory, block by block, where
+          // the hardware's prefetchers lose the stream: fetch the next block's rows ahead.
+          if (ahead != nullptr)
+            for (int k = 0; k < B; ++k)
+              hwy::Prefetch(ahead + k * ld + r);
           const Floats x0 = hn::LoadU(d, source + (r - r0)), x1 = hn::LoadU(d, source + (r - r0) + lanes);
           for (int k = 0; k < B; ++k)
             {
@@ -273,8 +284,9 @@ namespace warpchol::cholesky::HWY_NAMESPACE
           for (int k2 = k + 1; k2 < B; ++k2)
             own[j0 + k2] -= block[k][k2] * t[k];
         }
-      subtract_columns<B>(l + j0 * nr, nr, j0 + B, nc, t, own + j0 + B);
-      subtract_columns<B>(l + j0 * nr, nr, nc, nr, t, below);
+      const Stored *ahead = j0 + B < nc ? l + (j0 + B) * nr : nullptr;
+      subtract_columns<B>(l + j0 * nr, nr, j0 + B, nc, t, own + j0 + B, ahead);
+      subtract_columns<B>(l + j0 * nr, nr, nc, nr, t, below, ahead);
       for (int k = 0; k < B; ++k)
         own[j0 + k] = t[k] / scale[j0 + k];
     }
@@ -284,9 +296,11 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     void backward_block(const Stored *l, const Index nr, const Index nc, const Index j0, const float *scale,
                         const float *inverse_diagonal, float *own, const float *below)
     {
+      // The block after this one (the columns before it), whose rows are read next.
+      const Stored *ahead = j0 >= block_columns ? l + (j0 - block_columns) * nr : nullptr;
       float s[B] = {}, block[B][B];
-      add_dots<B>(l + j0 * nr, nr, j0 + B, nc, own + j0 + B, s);
-      add_dots<B>(l + j0 * nr, nr, nc, nr, below, s);
+      add_dots<B>(l + j0 * nr, nr, j0 + B, nc, own + j0 + B, s, ahead);
+      add_dots<B>(l + j0 * nr, nr, nc, nr, below, s, ahead);
       load_block<B>(l + j0 * nr + j0, nr, block);
       for (int k = B - 1; k >= 0; --k)
         {
