@@ -115,10 +115,13 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     inline void load_block(const Stored *l, const Index ld, float (&block)[B][B])
     {
       const FloatTag  d;
-      HWY_ALIGN float column[max_lanes] = {};
+      const Index     lanes = static_cast<Index>(hn::Lanes(d));
+      HWY_ALIGN float column[2 * max_lanes] = {};
       for (int k = 0; k < B; ++k)
         {
-          hn::Store(load(d, l + k * ld), d, column);
+          // As many vectors as B rows take (two on a 128-bit target).
+          for (Index i = 0; i < B; i += lanes)
+            hn::Store(load(d, l + k * ld + i), d, column + i);
           for (int i = 0; i < B; ++i)
             block[k][i] = column[i];
         }
