@@ -124,7 +124,7 @@ namespace
         const double supernodes_pct = stats.n_supernodes > 0 ? 100. * static_cast<double>(stats.supernodes_recomputed) /
                                                                  static_cast<double>(stats.n_supernodes) :
                                                                0.;
-        const double flop_fraction = stats.flops_recomputed / stats.method_flops;
+        const double flop_fraction = stats.flops_recomputed / stats.flops;
         const double bound         = 1.2 * flop_fraction * full_seconds + 1e-3;
         const bool   within        = partial_seconds <= bound;
         if (options.csv)

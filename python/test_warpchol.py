@@ -194,7 +194,14 @@ class Errors(unittest.TestCase):
                     lambda: warpchol.SparseCholesky().factorize(sp.random(5, 4, 0.5, format="csc")))
         self.expect(TypeError, "coo format", lambda: warpchol.SparseCholesky().factorize(a.tocoo()))
         self.expect(TypeError, "expected a SciPy sparse matrix", lambda: warpchol.SparseCholesky().factorize(3))
-        self.expect(warpchol.Error, "before analyze", lambda: warpchol.SparseCholesky().refactorize(a, [0]))
+        # refactorize() before analyze() analyzes and factors in full, as factorize() does.
+        fresh = warpchol.SparseCholesky()
+        self.assertEqual(fresh.state, "empty")
+        fresh.refactorize(a, [0])
+        self.assertEqual(fresh.state, "factorized")
+        self.assertLess(abs(a @ fresh.solve(np.ones(25)) - 1).max(), 1e-12)
+        self.assertRaises(warpchol.NotPositiveDefinite, fresh.factorize, indefinite)
+        self.assertEqual(fresh.state, "analyzed")  # a refused matrix leaves the pattern, no factor
         self.expect(warpchol.Error, "without a valid factorization",
                     lambda: warpchol.SparseCholesky().solve(np.ones(25)))
         duplicated = sp.csc_matrix((np.ones(4), np.array([1, 0, 0, 1]), np.array([0, 3, 4])), shape=(2, 2))

@@ -19,6 +19,7 @@
 // of the right-hand side when it is float64 and contiguous (column-major for several).
 
 #include <warpchol/base/exceptions.h>
+#include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/ordering.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/sparse/csc_matrix.h>
@@ -125,6 +126,8 @@ namespace warpchol::python
    */
   class SciPyCholesky
   {
+    using State = cholesky::SparseCholesky::State;
+
   public:
     SciPyCholesky(const std::string &method, const std::string &ordering, const unsigned int n_threads,
                   const std::string &change_method)
@@ -134,28 +137,26 @@ namespace warpchol::python
     /** Ordering and symbolic analysis of the pattern of @p matrix. */
     void analyze(const py::object &matrix)
     {
-      analyzed = false;
       read_pattern(arrays_of(matrix));
       const py::gil_scoped_release unlocked;
       solver.analyze(csc);
-      analyzed = true;
     }
 
-    /** Numeric factorization of @p matrix (analyzed first if it was not). */
+    /** Numeric factorization of @p matrix (analyzed first if nothing is, as the solver does). */
     void factorize(const py::object &matrix)
     {
-      if (!analyzed)
+      if (solver.state() == State::empty)
         analyze(matrix);
       const Values                 values = values_of(matrix);
       const py::gil_scoped_release unlocked;
       name_non_finite(values, [&] { solver.factorize(csc, values.data); });
     }
 
-    /** Partial refactorization after the entries of @p changed_columns changed. */
+    /** Partial refactorization after the entries of @p changed_columns changed (analyzed first if nothing is). */
     void refactorize(const py::object &matrix, const py::object &changed_columns)
     {
-      if (!analyzed)
-        throw Error("refactorize() called before analyze()");
+      if (solver.state() == State::empty)
+        analyze(matrix);
       const auto columns = py::array_t<Index, py::array::c_style | py::array::forcecast>::ensure(changed_columns);
       if (!columns || columns.ndim() != 1)
         throw py::type_error("warpchol: changed_columns must be a sequence of column indices");
@@ -197,10 +198,9 @@ namespace warpchol::python
     }
 
     /** x with A x = b, for b of shape (n,) or (n, k). */
-    py::array solve(const py::array &b) const
+    py::array solve(const py::array &b)
     {
-      if (!solver.factor_is_exact())
-        throw Error("solve() called without a valid factorization");
+      solver.require(State::factorized, "solve()");
       const Index n = solver.statistics().n;
       if (b.ndim() == 1 || b.ndim() == 2)
         if (b.shape(0) == n)
@@ -212,8 +212,16 @@ namespace warpchol::python
                                                                        std::vector<py::ssize_t>{n});
             const double *rhs_values = rhs.data();
             double       *x_values   = x.mutable_data();
-            const py::gil_scoped_release unlocked;
-            solver.solve(rhs_values, x_values, n_rhs);
+            double                       seconds = 0;
+            {
+              const py::gil_scoped_release unlocked;
+              const Stopwatch              stopwatch;
+              solver.solve(rhs_values, x_values, n_rhs);
+              seconds = stopwatch.seconds();
+            }
+            // Timed here: the solver's solve() is const and writes nothing. With the GIL
+            // held again, Python's threads write this one at a time.
+            last_solve_seconds = seconds;
             return std::move(x);
           }
       std::string shape;
@@ -226,6 +234,26 @@ namespace warpchol::python
     const cholesky::SparseCholesky::Statistics &statistics() const
     {
       return solver.statistics();
+    }
+
+    /** Seconds of the last solve(), timed by this wrapper. */
+    double solve_seconds() const
+    {
+      return last_solve_seconds;
+    }
+
+    /** "empty", "analyzed" or "factorized": the solver's state (SparseCholesky::State). */
+    std::string state() const
+    {
+      switch (solver.state())
+        {
+          case State::empty:
+            return "empty";
+          case State::analyzed:
+            return "analyzed";
+          default:
+            return "factorized";
+        }
     }
 
     std::string storage() const
@@ -426,7 +454,8 @@ namespace warpchol::python
     }
 
     cholesky::SparseCholesky solver;
-    bool                     analyzed = false;
+    /** The seconds of the last solve(). */
+    double                   last_solve_seconds = 0;
     /**
      * The analyzed pattern as the user's arrays hold it (indptr, indices), read as CSC: CSR
      * arrays too, which for a symmetric matrix describe the same matrix.
@@ -543,8 +572,11 @@ choice on any machine), "recompute" (never update) or "update" (whenever possibl
       "(n, n), the shape of A.")
     .def_property_readonly("storage", &SciPyCholesky::storage,
                            "How the analyzed matrix stores its entries: \"full\" or \"lower\".")
+    .def_property_readonly("state", &SciPyCholesky::state,
+                           "What the solver holds: \"empty\" (nothing analyzed), \"analyzed\" (a pattern, no "
+                           "valid factor: none yet, or the last matrix was refused) or \"factorized\".")
     .def_property_readonly(
-      "flops", [](const SciPyCholesky &self) { return self.statistics().method_flops; },
+      "flops", [](const SciPyCholesky &self) { return self.statistics().flops; },
       "Flops of a full factorization by the chosen method.")
     .def_property_readonly(
       "flops_recomputed", [](const SciPyCholesky &self) { return self.statistics().flops_recomputed; },
@@ -560,10 +592,11 @@ choice on any machine), "recompute" (never update) or "update" (whenever possibl
         timings["analyze"]     = stats.analyze_seconds;
         timings["factorize"]   = stats.factorize_seconds;
         timings["refactorize"] = stats.refactorize_seconds;
-        timings["solve"]       = stats.solve_seconds;
+        timings["solve"]       = self.solve_seconds();
         return timings;
       },
-      "Seconds of the last call of each kind, inside the solver (the C++ call).")
+      "Seconds of the last call of each kind, inside the solver (the C++ call; solve: around it, since the "
+      "solver's solve() is const and records nothing).")
     .def_property_readonly(
       "statistics",
       [](const SciPyCholesky &self) {
@@ -573,8 +606,8 @@ choice on any machine), "recompute" (never update) or "update" (whenever possibl
         statistics["nnz_a"]                 = stats.nnz_a;
         statistics["nnz_l"]                 = stats.nnz_l;
         statistics["fill"]                  = stats.fill();
-        statistics["flops"]                 = stats.method_flops;
-        statistics["exact_flops"]           = stats.flops;
+        statistics["flops"]                 = stats.flops;
+        statistics["exact_flops"]           = stats.exact_flops;
         statistics["n_supernodes"]          = stats.n_supernodes;
         statistics["columns_recomputed"]    = stats.columns_recomputed;
         statistics["supernodes_recomputed"] = stats.supernodes_recomputed;

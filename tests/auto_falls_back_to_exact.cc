@@ -43,7 +43,7 @@ namespace
       {
         fem::StepStatistics statistics;
         scene.integrator().advance(statistics);
-        exact_choices += statistics.choice == "exact";
+        exact_choices += statistics.choice == fem::StepChoice::exact;
       }
     Run result;
     result.exact_choices = exact_choices;

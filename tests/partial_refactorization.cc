@@ -83,7 +83,7 @@ namespace
               << " dirty columns, " << stats.columns_recomputed << " recomputed";
     if (structure.n_supernodes() > 0)
       std::cout << " in " << stats.supernodes_recomputed << " supernodes";
-    std::cout << ", flop fraction " << format_number(stats.flops_recomputed / stats.method_flops, 3) << std::endl;
+    std::cout << ", flop fraction " << format_number(stats.flops_recomputed / stats.flops, 3) << std::endl;
     tests::check_below("    |L_partial - L_full| / |L_full|", sparse::relative_difference(refactored, updated), 1e-13);
     if (structure.n_supernodes() == 0)
       {

@@ -143,7 +143,7 @@ namespace
     const auto &structure = solver.supernodal_symbolic();
     const auto &stats     = solver.statistics();
     const auto &top       = solver.top_supernodes();
-    std::cout << "  top: " << format_number(stats.top_flops / stats.method_flops, 2) << " of the flops" << std::endl;
+    std::cout << "  top: " << format_number(stats.top_flops / stats.flops, 2) << " of the flops" << std::endl;
     check_top(solver, 0.5);
 
     std::cout << "  below_top:" << std::endl;

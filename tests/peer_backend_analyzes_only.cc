@@ -30,7 +30,7 @@ namespace
                   solver.numeric_bytes() >= solver.statistics().nnz_l * sizeof(double) ? "held" : "PART OF IT")
               << ", analysis " << (solver.statistics().nnz_l > 0 ? "done" : "NOT DONE")
               << ", flops of a full factorization in the steps' statistics "
-              << (flops_full == solver.statistics().method_flops && flops_full > 0 ? "yes" : "NO")
+              << (flops_full == solver.statistics().flops && flops_full > 0 ? "yes" : "NO")
               << ", factorizations in 5 steps " << refactorized << std::endl;
   }
 } // namespace

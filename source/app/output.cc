@@ -401,7 +401,7 @@ namespace warpchol::app
       line << s.velocity_error;
     // The automatic strategy's choice, what it predicted and what the step then spent
     // keeping its factor and solving; the age of a background refresh's factor.
-    line << "," << s.choice << ",";
+    line << "," << fem::to_string(s.choice) << ",";
     if (s.predicted_seconds >= 0)
       line << s.predicted_seconds;
     line << "," << s.strategy_seconds() << ",";

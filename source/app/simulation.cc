@@ -53,8 +53,11 @@ namespace warpchol::app
     }
 
     /** The first section of a checkpoint: its kind and the version of its layout. */
-    /** 2: the body's plastic strains, the changes' energy (issue 29). */
-    constexpr const char *checkpoint_format = "warpchol checkpoint 2";
+    /**
+     * 2: the body's plastic strains, the changes' energy (issue 29). 3: WCC's target-error
+     * controller and its step history each written as one object.
+     */
+    constexpr const char *checkpoint_format = "warpchol checkpoint 3";
 
     /** "Model/Type" of the entry "Model/Type = corotational". */
     std::string entry_name(const std::string &entry)
@@ -305,8 +308,8 @@ namespace warpchol::app
       }
     if (!statistics.refresh.empty())
       ++t.refreshes[statistics.refresh];
-    if (!statistics.choice.empty())
-      ++t.choices[statistics.choice];
+    if (statistics.choice != fem::StepChoice::not_chosen)
+      ++t.choices[fem::to_string(statistics.choice)];
     if (statistics.factor_lag >= 0)
       {
         t.factor_lag_sum += statistics.factor_lag;

@@ -80,6 +80,20 @@ namespace warpchol::cholesky
     blas::use_single_threaded_blas();
   }
 
+  SparseCholesky::State SparseCholesky::state() const
+  {
+    return !analyzed ? State::empty : factor_valid ? State::factorized : State::analyzed;
+  }
+
+  void SparseCholesky::require(const State required, const std::string &call) const
+  {
+    if (state() >= required)
+      return;
+    if (!analyzed)
+      throw Error(call + " called before analyze()");
+    throw Error(call + " called without a valid factorization");
+  }
+
   void SparseCholesky::analyze(const sparse::CSCMatrix &matrix)
   {
     const Stopwatch stopwatch;
@@ -120,8 +134,8 @@ namespace warpchol::cholesky
         // a peer's) holds none.
         supernodal_factor.clear(solver_settings.preconditioner_precision);
         stats.nnz_l        = supernodal_structure.nnz_l();
-        stats.flops        = supernodal_structure.exact_flops;
-        stats.method_flops = supernodal_structure.flops;
+        stats.flops        = supernodal_structure.flops;
+        stats.exact_flops  = supernodal_structure.exact_flops;
         stats.n_supernodes = supernodal_structure.n_supernodes();
         top_supernode      = cholesky::top_supernodes(supernodal_structure, solver_settings.top_flops_fraction);
         for (Index s = 0; s < stats.n_supernodes; ++s)
@@ -149,7 +163,7 @@ namespace warpchol::cholesky
         std::vector<double>().swap(l_values);
         stats.nnz_l        = symbolic_factorization.nnz_l();
         stats.flops        = symbolic_factorization.flops;
-        stats.method_flops = symbolic_factorization.flops;
+        stats.exact_flops  = symbolic_factorization.flops;
         stats.factor_bytes = symbolic_factorization.nnz_l() * sizeof(double) +
                              symbolic_factorization.row_index.size() * sizeof(Index) +
                              symbolic_factorization.column_start.size() * sizeof(Index);
@@ -337,7 +351,7 @@ namespace warpchol::cholesky
                                           const Refresh             refresh)
   {
     if (!analyzed)
-      throw Error("refactorize() called before analyze()");
+      analyze(matrix);
     check_request(changed_columns, refresh);
     const Stopwatch          stopwatch;
     const std::vector<Index> unlisted = load_or_drop_factor(permuted_matrix, matrix, values, factor_valid);
@@ -485,12 +499,9 @@ namespace warpchol::cholesky
 
   void SparseCholesky::check_modification(const std::string &caller) const
   {
-    if (!analyzed)
-      throw Error(caller + " called before analyze()");
+    require(State::factorized, caller);
     if (solver_settings.method != FactorizationMethod::supernodal)
       throw InputError(caller + " needs the supernodal method, not " + to_string(solver_settings.method));
-    if (!factor_valid)
-      throw Error(caller + " called without a valid factorization");
     if (!factor_is_exact())
       throw Error(caller + " needs the exact factor of A, and changes are pending or stale: refactorize() first");
   }
@@ -569,8 +580,7 @@ namespace warpchol::cholesky
     RefactorizationMethod ignored = RefactorizationMethod::none;
     if (method == nullptr)
       method = &ignored;
-    if (!analyzed)
-      throw Error("predicted_seconds() called before analyze()");
+    require(State::analyzed, "predicted_seconds()");
     check_request(changed_columns, refresh);
     const std::vector<Index> changes = pending_with(changed_columns);
     const RefreshPlan        plan    = plan_refresh(changes, refresh);
@@ -595,8 +605,7 @@ namespace warpchol::cholesky
 
   double SparseCholesky::predicted_flops(const std::vector<Index> &changed_columns, const Refresh refresh) const
   {
-    if (!analyzed)
-      throw Error("predicted_flops() called before analyze()");
+    require(State::analyzed, "predicted_flops()");
     check_request(changed_columns, refresh);
     return plan_refresh(pending_with(changed_columns), refresh).flops;
   }
@@ -626,8 +635,7 @@ namespace warpchol::cholesky
 
   void SparseCholesky::load_numeric(BinaryReader &reader)
   {
-    if (!analyzed)
-      throw Error("load_numeric() called before analyze()");
+    require(State::analyzed, "load_numeric()");
     const auto n     = reader.get<Index>();
     const auto nnz_l = reader.get<Index>();
     if (n != stats.n || nnz_l != stats.nnz_l)
@@ -676,8 +684,7 @@ namespace warpchol::cholesky
 
   void SparseCholesky::solve(const std::vector<double> &b, std::vector<double> &x) const
   {
-    if (!factor_valid)
-      throw Error("solve() called without a valid factorization");
+    require(State::factorized, "solve()");
     if (static_cast<Index>(b.size()) != stats.n)
       throw InputError("right-hand side has " + std::to_string(b.size()) + " entries, expected " +
                        std::to_string(stats.n));
@@ -697,9 +704,7 @@ namespace warpchol::cholesky
 
   void SparseCholesky::solve_in(const double *b, double *x, const Index n_rhs, const bool preconditioner) const
   {
-    if (!factor_valid)
-      throw Error("solve() called without a valid factorization");
-    const Stopwatch     stopwatch;
+    require(State::factorized, preconditioner ? "apply_preconditioner()" : "solve()");
     const Index         n = stats.n;
     std::vector<double> y(n * n_rhs);
     for (Index r = 0; r < n_rhs; ++r)
@@ -714,7 +719,6 @@ namespace warpchol::cholesky
     for (Index r = 0; r < n_rhs; ++r)
       for (Index k = 0; k < n; ++k)
         x[r * n + fill_reducing_permutation[k]] = y[r * n + k];
-    stats.solve_seconds = stopwatch.seconds();
   }
 
   std::size_t SparseCholesky::numeric_bytes() const

@@ -56,6 +56,38 @@ namespace warpchol::fem
     return seconds;
   }
 
+  std::string to_string(const StepChoice choice)
+  {
+    switch (choice)
+      {
+        case StepChoice::exact:
+          return "exact";
+        case StepChoice::refresh_all:
+          return "all";
+        case StepChoice::refresh_below_top:
+          return "below_top";
+        case StepChoice::refresh_none:
+          return "none";
+        case StepChoice::background:
+          return "background";
+        default:
+          return "";
+      }
+  }
+
+  StepChoice iterating_choice(const cholesky::Refresh refresh)
+  {
+    switch (refresh)
+      {
+        case cholesky::Refresh::all:
+          return StepChoice::refresh_all;
+        case cholesky::Refresh::below_top:
+          return StepChoice::refresh_below_top;
+        default:
+          return StepChoice::refresh_none;
+      }
+  }
+
   void StepStatistics::add_phase_times(const StepStatistics &step)
   {
     stages.add(step.stages);
@@ -359,7 +391,7 @@ namespace warpchol::fem
   void ElasticityModel::record_no_refactorization(StepStatistics &statistics) const
   {
     statistics.n_columns  = body.n_unknowns();
-    statistics.flops_full = cholesky_solver.statistics().method_flops;
+    statistics.flops_full = cholesky_solver.statistics().flops;
   }
 
   void ElasticityModel::solve(const std::vector<Vector3> &right_hand_side,

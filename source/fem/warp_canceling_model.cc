@@ -4,7 +4,6 @@
 
 #include <deal.II/base/parallel.h>
 
-#include <bitset>
 #include <cmath>
 #include <limits>
 
@@ -88,8 +87,7 @@ namespace warpchol::fem
                                          std::unique_ptr<backends::LinearSolver> peer)
     : ElasticityModel(body, coefficients, solver_settings, std::move(peer))
     , threshold(update_threshold)
-    , target(target_error)
-    , adapted_threshold(update_threshold)
+    , target_control(target_error, update_threshold)
     , given_threads(std::max(1u, solver_settings.n_threads))
     , step_thread_count(given_threads)
   {
@@ -126,7 +124,7 @@ namespace warpchol::fem
     if (strategy.kind == StepStrategy::Kind::automatic)
       {
         const auto &factor_statistics = cholesky_solver.statistics();
-        cost_model.record_factorization(factor_statistics.method_flops, factor_statistics.factorize_seconds);
+        cost_model.record_factorization(factor_statistics.flops, factor_statistics.factorize_seconds);
         cost_model.record_exact_step(setup_seconds() - factor_statistics.analyze_seconds, 0);
       }
     solve_frame = &elastic_state.nodal_rotations;
@@ -178,17 +176,17 @@ namespace warpchol::fem
 
   double WarpCancelingModel::current_update_threshold() const
   {
-    return adapted_threshold;
+    return target_control.threshold();
   }
 
   double WarpCancelingModel::target_error() const
   {
-    return target;
+    return target_control.target();
   }
 
   const std::string &WarpCancelingModel::target_note() const
   {
-    return given_up;
+    return target_control.why_given_up();
   }
 
   void WarpCancelingModel::give_up_target()
@@ -251,7 +249,7 @@ namespace warpchol::fem
         // A body at rest has scale 0 and errors 0: no update (strict inequality).
         const double relative_error = scale > 0 ? error[e] / scale : 0.0;
         record.error_estimate[e]    = relative_error;
-        if (error[e] > adapted_threshold * scale || !std::isfinite(error[e]))
+        if (error[e] > target_control.threshold() * scale || !std::isfinite(error[e]))
           update.push_back(e);
       }
     return update;
@@ -276,7 +274,7 @@ namespace warpchol::fem
         StageTimer timer(statistics.stages, stage::background_refresh);
         const unsigned int started = background->started_step();
         checked([&]() { background->take(system, stored_frames, cholesky_solver); });
-        factor_step = started;
+        history.factor_step = started;
       }
     ElasticityModel::apply_change(change, statistics);
     change_pending = true;
@@ -300,20 +298,9 @@ namespace warpchol::fem
   void WarpCancelingModel::save_model_state(BinaryWriter &writer) const
   {
     writer.write(stored_frames);
-    writer.write(adapted_threshold);
-    writer.write(steps_since_top_refresh);
+    write_object(writer, target_control);
+    write_object(writer, history);
     cost_model.save(writer);
-    writer.write(step_count);
-    writer.write(factor_step);
-    writer.write(last_prepare_seconds);
-    writer.write(last_step_exact);
-    writer.write(last_staleness);
-    writer.write(cycle_length);
-    writer.write(recent_update_fraction);
-    writer.write(recent_error_ratio);
-    writer.write(far_over_goal);
-    writer.write(given_up);
-    writer.write(last_step_changed);
     placement.save(writer);
     fallback.save(writer);
     if (background)
@@ -327,22 +314,11 @@ namespace warpchol::fem
     if (stored_frames.size() != n_frames)
       reader.fail("holds the frames of " + std::to_string(stored_frames.size()) +
                   " elements, the model keeps " + std::to_string(n_frames));
-    reader.read(adapted_threshold);
-    reader.read(steps_since_top_refresh);
-    cost_model.load(reader);
-    reader.read(step_count);
-    reader.read(factor_step);
-    reader.read(last_prepare_seconds);
-    reader.read(last_step_exact);
-    reader.read(last_staleness);
-    reader.read(cycle_length);
-    reader.read(recent_update_fraction);
-    reader.read(recent_error_ratio);
-    reader.read(far_over_goal);
-    reader.read(given_up);
-    if (!given_up.empty())
+    read_object(reader, target_control);
+    if (!target_control.why_given_up().empty())
       give_up_target();
-    reader.read(last_step_changed);
+    read_object(reader, history);
+    cost_model.load(reader);
     placement.load(reader);
     fallback.load(reader);
     if (background)
@@ -364,29 +340,29 @@ namespace warpchol::fem
     // What the last step measured calibrates the cost model, unless it ran beside a
     // refresh, on fewer threads than the steps in which the model's refreshes run.
     const bool last_beside_refresh = step_thread_count < given_threads;
-    if (step_count > 0 && !last_beside_refresh)
+    if (history.step_count > 0 && !last_beside_refresh)
       {
-        const double last_seconds = last_prepare_seconds + last_solve_seconds;
-        if (last_step_exact)
-          cost_model.record_exact_step(last_seconds, cycle_length);
-        else if (!last_step_changed)
+        const double last_seconds = history.last_prepare_seconds + last_solve_seconds;
+        if (history.last_step_exact)
+          cost_model.record_exact_step(last_seconds, history.cycle_length);
+        else if (!history.last_step_changed)
           // A step that refreshed a cut's columns paid for the cut, not for the staleness
           // of its factor: counted, it would make exact steps look due in the middle of
           // an incision, where they do not spare the next cut's refresh.
-          cost_model.record_iterating_step(last_staleness, last_seconds, last_cg_iterations);
+          cost_model.record_iterating_step(history.last_staleness, last_seconds, last_cg_iterations);
       }
     if (last_cg_iterations > 0 && !last_beside_refresh)
       cost_model.record_iterations(last_refresh, last_cg_iterations, last_cg_seconds);
     // auto with a refresh beside the steps: where its refreshes go is measured on whole steps.
-    if (step_count > 0 && background && strategy.kind == StepStrategy::Kind::automatic)
+    if (history.step_count > 0 && background && strategy.kind == StepStrategy::Kind::automatic)
       placement.record_step(last_step_prepare_seconds + last_solve_seconds);
     // auto against exact steps, on whole steps too; until an exact step is measured, a
     // full factorization at the rate measured so far stands for one (a lower bound).
-    if (step_count > 0 && strategy.kind == StepStrategy::Kind::automatic &&
+    if (history.step_count > 0 && strategy.kind == StepStrategy::Kind::automatic &&
         strategy.iterate_on == StepStrategy::Target::corotational)
       {
-        fallback.set_exact_estimate(cost_model.factorization_seconds(cholesky_solver.statistics().method_flops));
-        fallback.record_step(last_step_prepare_seconds + last_solve_seconds, last_step_exact);
+        fallback.set_exact_estimate(cost_model.factorization_seconds(cholesky_solver.statistics().flops));
+        fallback.record_step(last_step_prepare_seconds + last_solve_seconds, history.last_step_exact);
       }
     // The step runs on the threads the integrator gave it: so do the solver and the assembly.
     const unsigned int limited = step_threads();
@@ -394,82 +370,34 @@ namespace warpchol::fem
     cholesky_solver.set_thread_count(step_thread_count);
     system.set_thread_count(step_thread_count);
     last_refresh = cholesky::Refresh::none;
-    if (target > 0 && last_velocity_error >= 0)
+    // The last step's error against exact corotation steers this step's threshold
+    // (TargetErrorController), until no threshold holds the target with few updates: the
+    // steps then iterate on the exact corotational matrix instead (the preconditioned
+    // strategy: the same updates and refactorizations, CG to its tolerance).
+    if (target_control.steering() && last_velocity_error >= 0)
       {
-        // The last step's error against exact corotation steers this step's threshold
-        // (in logarithms, a gain of 0.7 on an error that grows like the threshold to a
-        // power of 0.6 to 1.1). It falls fast (to 1/8 per step) and rises slowly (2x), and
-        // stays below 100, above which hardly an element is ever updated: a body that
-        // rested (error 0, the threshold rising) and moves again is caught within steps.
-        const double goal   = target / 2;
-        const double factor = last_velocity_error > 0 ?
-                                std::clamp(std::pow(goal / last_velocity_error, 0.7), 0.125, 2.0) :
-                                2.0;
-        adapted_threshold = std::clamp(adapted_threshold * factor, 1e-6, 100.0);
-        // A threshold driven a hundred times below where it started, updating a quarter of
-        // the elements or more step after step and still missing the goal, cannot hold the
-        // target (thin bodies in bending: the error of the few elements left accumulates
-        // over the steps): the partial refactorization then costs nearly a full one. The
-        // steps iterate on the exact corotational matrix instead (the preconditioned
-        // strategy: the same updates and refactorizations, CG to its tolerance).
-        constexpr double weight = 0.3;
-        recent_update_fraction  = (1 - weight) * recent_update_fraction +
-                                 weight * static_cast<double>(std::count(record.updated.begin(), record.updated.end(), 1)) /
-                                   body.n_elements();
-        recent_error_ratio = (1 - weight) * recent_error_ratio + weight * last_velocity_error / goal;
-        // A threshold that lets the step error run far over the goal again and again (three
-        // of the last five steps over four times it) chases an error it cannot hold either:
-        // on a thin body in bending the error of those steps is already in the trajectory
-        // (a shift of the body's swing that later steps keep), so the sooner the steps
-        // leave it, the less of it stays.
-        constexpr double   far_over       = 4;
-        constexpr unsigned recent_steps   = 0x1f;
-        far_over_goal                     = (far_over_goal << 1 | (last_velocity_error > far_over * goal)) & recent_steps;
-        const int          far_over_steps = std::bitset<5>(far_over_goal).count();
-        std::string why;
-        if (adapted_threshold < threshold / 100 && recent_update_fraction > 0.25 && recent_error_ratio > 1)
-          why = "the threshold " + format_number(adapted_threshold, 2) + " updates " +
-                format_number(100 * recent_update_fraction, 2) +
-                " % of the elements per step and the step error is still " + format_number(recent_error_ratio, 2) +
-                " times the goal";
-        else if (far_over_steps >= 3)
-          why = "the step error was more than " + format_number(far_over) + " times the goal in " +
-                std::to_string(far_over_steps) + " of the last 5 steps (the threshold now " +
-                format_number(adapted_threshold, 2) + ")";
-        // A threshold that holds the goal only by updating 40 % of the elements or more
-        // step after step saves nothing (their partial refactorization recomputes over 90 %
-        // of a full one's flops, measured on ten scenes), and on a thin body in bending the
-        // step errors it lets through, each near the goal, still add up along the swing.
-        else if (recent_update_fraction > 0.4)
-          why = "the threshold " + format_number(adapted_threshold, 2) +
-                " holds the step error near the goal only by updating " +
-                format_number(100 * recent_update_fraction, 2) +
-                " % of the elements per step, which costs about a full factorization";
-        if (!why.empty())
-          {
-            given_up = "target error " + format_number(target) + " given up at step " +
-                       std::to_string(step_count + 1) + ": " + why +
-                       "; the steps iterate on the corotational matrix (preconditioned)";
-            give_up_target();
-          }
+        const double updated =
+          static_cast<double>(std::count(record.updated.begin(), record.updated.end(), 1)) / body.n_elements();
+        if (target_control.steer(history.step_count + 1, last_velocity_error, updated))
+          give_up_target();
       }
-    statistics.update_threshold = adapted_threshold;
-    ++step_count;
+    statistics.update_threshold = target_control.threshold();
+    ++history.step_count;
     exact_this_step = false;
 
     evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
     record_no_refactorization(statistics);
     const Stopwatch stopwatch;
     prepare_factor(velocities, statistics);
-    last_step_changed = change_pending;
+    history.last_step_changed = change_pending;
     change_pending    = false;
-    last_prepare_seconds = stopwatch.seconds();
+    history.last_prepare_seconds = stopwatch.seconds();
     // The cycle an exact step ends: how stale the factor had grown before it.
-    cycle_length         = exact_this_step ? last_staleness : cycle_length;
-    last_step_exact      = exact_this_step;
-    last_staleness       = step_count - factor_step;
+    history.cycle_length         = exact_this_step ? history.last_staleness : history.cycle_length;
+    history.last_step_exact      = exact_this_step;
+    history.last_staleness       = history.step_count - history.factor_step;
     if (background)
-      statistics.factor_lag = static_cast<int>(last_staleness);
+      statistics.factor_lag = static_cast<int>(history.last_staleness);
     last_step_prepare_seconds = whole_step.seconds();
   }
 
@@ -484,7 +412,7 @@ namespace warpchol::fem
     statistics.elements_updated = body.n_elements();
     record_updates(true);
     factorize(statistics);
-    factor_step     = step_count;
+    history.factor_step     = history.step_count;
     exact_this_step = true;
   }
 
@@ -496,7 +424,7 @@ namespace warpchol::fem
         const bool took = take_background_refresh(statistics);
         if (strategy.kind == StepStrategy::Kind::background)
           {
-            statistics.choice = took ? "background" : "none";
+            statistics.choice = took ? StepChoice::background : StepChoice::refresh_none;
             if (!took)
               record_updates(false);
             return;
@@ -504,8 +432,8 @@ namespace warpchol::fem
         if (took && !(automatic && fallback.runs_exact()))
           {
             // A factor exact for the rotations of a few steps ago: iterate on it.
-            statistics.choice            = "background";
-            statistics.predicted_seconds = cost_model.predicted_iterating_seconds(step_count - factor_step);
+            statistics.choice            = StepChoice::background;
+            statistics.predicted_seconds = cost_model.predicted_iterating_seconds(history.step_count - history.factor_step);
             return;
           }
       }
@@ -521,20 +449,20 @@ namespace warpchol::fem
     // matrix they would change the system being solved, as above).
     if (automatic && strategy.iterate_on == StepStrategy::Target::corotational && fallback.runs_exact())
       {
-        statistics.choice            = "exact";
+        statistics.choice            = StepChoice::exact;
         statistics.predicted_seconds = cost_model.predicted_exact_seconds();
         exact_step(statistics);
         return;
       }
     // Exact steps change A to the corotational matrix: only where CG iterates on that one
     // (on the WCC matrix they would change the system being solved).
-    const unsigned int staleness = step_count - factor_step;
+    const unsigned int staleness = history.step_count - history.factor_step;
     // With the refreshes beside the steps the factor is made exact there, never here.
     if (automatic && strategy.iterate_on == StepStrategy::Target::corotational && !refreshes_beside_the_steps() &&
         cost_model.exact_step_is_due(staleness))
       {
         // Iterating on would cost more than the least average of a cycle that starts now.
-        statistics.choice            = "exact";
+        statistics.choice            = StepChoice::exact;
         statistics.predicted_seconds = cost_model.predicted_exact_seconds();
         exact_step(statistics);
         return;
@@ -564,12 +492,12 @@ namespace warpchol::fem
     // Nothing changed and nothing is left stale: the factor is that of A.
     if (changed_columns.empty() && factor_is_exact())
       {
-        statistics.choice = automatic ? "none" : "";
+        statistics.choice = automatic ? StepChoice::refresh_none : StepChoice::not_chosen;
         return;
       }
     const cholesky::Refresh refresh = choose_refresh(changed_columns, statistics);
     if (automatic)
-      statistics.choice = to_string(refresh);
+      statistics.choice = iterating_choice(refresh);
     refactorize(changed_columns, statistics, refresh);
     // The flop rate of recomputations (an update's flops go at another rate, which the
     // solver's own choice measures).
@@ -584,19 +512,19 @@ namespace warpchol::fem
     // Otherwise the one that has finished, if any.
     const unsigned int lag = strategy.kind == StepStrategy::Kind::background ? strategy.background_lag : 0;
     const bool due = background->in_flight() &&
-                     (lag > 0 ? step_count - background->started_step() >= lag : background->done());
+                     (lag > 0 ? history.step_count - background->started_step() >= lag : background->done());
     if (due)
       {
         const unsigned int started = background->started_step();
         checked([&]() { background->take(system, stored_frames, cholesky_solver); });
-        factor_step        = started;
+        history.factor_step        = started;
         last_refresh       = cholesky::Refresh::all;
         statistics.refresh = "background";
         record_updates(true);
         statistics.elements_updated = body.n_elements();
       }
     if (!background->in_flight() && refreshes_beside_the_steps())
-      background->start(step_count, elastic_state.element_rotations, elastic_state.nodal_rotations);
+      background->start(history.step_count, elastic_state.element_rotations, elastic_state.nodal_rotations);
     return due;
   }
 
@@ -613,10 +541,10 @@ namespace warpchol::fem
         case StepStrategy::Kind::delayed_top:
           // The top when it is due, or when the last solve showed the factor has become a
           // poor preconditioner (the change the top has accumulated, measured by its effect).
-          if (++steps_since_top_refresh >= strategy.refresh_interval ||
+          if (++history.steps_since_top_refresh >= strategy.refresh_interval ||
               last_cg_iterations > strategy.refresh_iterations)
             {
-              steps_since_top_refresh = 0;
+              history.steps_since_top_refresh = 0;
               return Refresh::all;
             }
           return Refresh::below_top;

@@ -49,7 +49,7 @@ namespace warpchol
 
   void SparseDirectCholesky::assert_factored() const
   {
-    AssertThrow(cholesky_solver.factor_is_exact(), ExcNotInitialized());
+    AssertThrow(cholesky_solver.state() == cholesky::SparseCholesky::State::factorized, ExcNotInitialized());
   }
 
   std::vector<Index> SparseDirectCholesky::checked_rows(const std::vector<size_type> &changed_rows) const
@@ -79,7 +79,7 @@ namespace warpchol
   template <typename Matrix>
   void SparseDirectCholesky::factorize_from(const Matrix &matrix)
   {
-    AssertThrow(m() > 0, ExcNotInitialized());
+    AssertThrow(cholesky_solver.state() != cholesky::SparseCholesky::State::empty, ExcNotInitialized());
     factor_and_translate_errors([&]() {
       copy_values(matrix);
       cholesky_solver.factorize(matrix_csc);
@@ -90,7 +90,7 @@ namespace warpchol
   void SparseDirectCholesky::refactorize_from(const Matrix &matrix, const std::vector<size_type> &changed_rows)
   {
     // After a failed factorization, refactorize() of the solver factors in full.
-    AssertThrow(m() > 0, ExcNotInitialized());
+    AssertThrow(cholesky_solver.state() != cholesky::SparseCholesky::State::empty, ExcNotInitialized());
     const std::vector<Index> rows = checked_rows(changed_rows);
     factor_and_translate_errors([&]() {
       copy_values(matrix);

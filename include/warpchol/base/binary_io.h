@@ -51,6 +51,18 @@ namespace warpchol
     void write(const std::vector<std::string> &texts);
     void write(const std::vector<bool> &flags);
 
+    /**
+     * archive & value: write @p value. With BinaryReader::operator&, a type lists its
+     * checkpointed members once, in a serialize(Archive &) for both directions (as deal.II
+     * and boost do); write_object() and read_object() call it.
+     */
+    template <typename T>
+    BinaryWriter &operator&(const T &value)
+    {
+      write(value);
+      return *this;
+    }
+
   private:
     void          write_bytes(const void *data, std::size_t bytes);
     std::ostream &out;
@@ -90,6 +102,14 @@ namespace warpchol
     void read(std::vector<std::string> &texts);
     void read(std::vector<bool> &flags);
 
+    /** archive & value: read @p value (see BinaryWriter::operator&). */
+    template <typename T>
+    BinaryReader &operator&(T &value)
+    {
+      read(value);
+      return *this;
+    }
+
     /** The value read, for a plain type. */
     template <typename T>
     T get()
@@ -114,4 +134,18 @@ namespace warpchol
     std::uint64_t bytes_left;
     std::string   current_section;
   };
+
+  /** Write @p object's checkpointed members: its serialize(Archive &), which only reads them here. */
+  template <typename T>
+  void write_object(BinaryWriter &writer, const T &object)
+  {
+    const_cast<T &>(object).serialize(writer);
+  }
+
+  /** Read what write_object() wrote into @p object. */
+  template <typename T>
+  void read_object(BinaryReader &reader, T &object)
+  {
+    object.serialize(reader);
+  }
 } // namespace warpchol

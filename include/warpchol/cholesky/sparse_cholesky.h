@@ -137,20 +137,21 @@ namespace warpchol::cholesky
       Index  nnz_a             = 0;
       /** Entries of L, diagonal included. */
       Index  nnz_l             = 0;
-      /** Flops of a factorization without padding (sum of squared column counts, CHOLMOD's fl). */
+      /**
+       * Flops a full factorization by the chosen method spends (supernodes: their padding
+       * included), as SupernodalSymbolic::flops, Python's flops and every flops_* here count.
+       */
       double flops             = 0;
-      /** Flops a full factorization by the chosen method spends (supernodes: padding included). */
-      double method_flops      = 0;
+      /** Flops of a factorization without padding (sum of squared column counts, CHOLMOD's fl), as SupernodalSymbolic::exact_flops. */
+      double exact_flops       = 0;
       /** Supernodes (supernodal method; 0 otherwise). */
       Index  n_supernodes      = 0;
       int    vertex_block_size = 1;
       double analyze_seconds   = 0;
       /** The last factorize(), or a refactorize() that had to factor everything. */
       double factorize_seconds = 0;
-      /** The last refactorize(). */
+      /** The last refactorize(). (No solve time: solve() is const and may run on several threads at once, so it writes nothing; its caller times it.) */
       double refactorize_seconds = 0;
-      /** The last solve(). */
-      double solve_seconds       = 0;
       /** Columns of L the last refactorize() recomputed. */
       Index  columns_recomputed  = 0;
       /** Supernodes the last refactorize() recomputed (wholly or from a column on). */
@@ -161,7 +162,7 @@ namespace warpchol::cholesky
       Index  n_refactorizations  = 0;
       /** Bytes the numeric factor takes once factorized (values, the structure that indexes them, a single-precision copy). */
       std::size_t factor_bytes   = 0;
-      /** Supernodes in the top (Settings::top_flops_fraction) and their flops (share: top_flops / method_flops). */
+      /** Supernodes in the top (Settings::top_flops_fraction) and their flops (share: top_flops / flops). */
       Index  n_top_supernodes    = 0;
       double top_flops           = 0;
       /** Columns of C changed (loaded) but not yet refactored, after the last call. */
@@ -192,8 +193,32 @@ namespace warpchol::cholesky
       double fill() const;
     };
 
+    /**
+     * What the solver holds, in the order a solver goes through (Eigen's analysis and
+     * factorization flags as one value): nothing, an analyzed pattern, or a valid factor
+     * (exact, or partly refreshed: factor_is_exact()). A refused matrix takes a solver
+     * from factorized back to analyzed, a refused pattern to empty.
+     */
+    enum class State
+    {
+      empty,
+      analyzed,
+      factorized
+    };
+
     SparseCholesky();
     explicit SparseCholesky(const Settings &settings);
+
+    /** What the solver holds now. */
+    State state() const;
+
+    /**
+     * Throw Error unless the solver holds at least @p required: "<call> called before
+     * analyze()" or "<call> called without a valid factorization". The precondition check
+     * of every entry point, here and in the wrappers (deal.II's SparseDirectCholesky, the
+     * Python module), so that each states it once and in the same words.
+     */
+    void require(State required, const std::string &call) const;
 
     /**
      * Fill-reducing ordering (postordered) and symbolic analysis of the pattern of the
@@ -203,7 +228,8 @@ namespace warpchol::cholesky
     void analyze(const sparse::CSCMatrix &matrix);
 
     /**
-     * Numeric factorization of @p matrix, which has the analyzed pattern or a subset of it:
+     * Numeric factorization of @p matrix (analyzed first if nothing is: State::empty),
+     * which has the analyzed pattern or a subset of it:
      * the entries it leaves out are zeros (arithmetic drops explicit zeros; CHOLMOD takes
      * such a matrix too). Throws NotPositiveDefinite naming the column (user numbering) and
      * value of the failed pivot, MatrixError naming the entry for one outside the analyzed
@@ -233,8 +259,9 @@ namespace warpchol::cholesky
      * later Refresh::all, so the changes need to be listed only once.
      *
      * Throws InputError for a column out of range or Refresh::below_top with a method other
-     * than the supernodal one, and what factorize() throws. If no valid factor exists yet,
-     * factors fully whatever @p refresh. A matrix that factorize() or refactorize() refuses
+     * than the supernodal one, and what factorize() throws. If nothing is analyzed yet
+     * (State::empty), analyzes @p matrix first, as factorize() does; if no valid factor
+     * exists yet, factors fully whatever @p refresh. A matrix that factorize() or refactorize() refuses
      * (another pattern, a value that is not finite, asymmetric values, a pivot that is not
      * positive) leaves no valid factor: solve() throws until the next factorization.
      */
@@ -456,6 +483,7 @@ namespace warpchol::cholesky
     bool                  matrix_holds_factored = true;
     /** The rates of the choice between update and recomputation. */
     RefactorizationCostModel refactorization_costs;
-    mutable Statistics    stats;
+    /** Written by the calls that change the solver only: the const ones may run concurrently. */
+    Statistics            stats;
   };
 } // namespace warpchol::cholesky

@@ -68,6 +68,31 @@ namespace warpchol::fem
   } // namespace stage
 
   /** What one step of a model did and what it cost (wall-clock seconds). */
+  /**
+   * What a step of Strategy = auto or background chose (StepStatistics::choice), as Eigen
+   * reports an outcome: a value, named only where it is shown (to_string(): the log, the
+   * summary).
+   */
+  enum class StepChoice
+  {
+    /** No choice made: a strategy that does not choose ("" in the log). */
+    not_chosen,
+    /** Every element updated, A factored in full, a direct solve. */
+    exact,
+    /** A step that iterates after refreshing its factor: all of it, below the top, nothing. */
+    refresh_all,
+    refresh_below_top,
+    refresh_none,
+    /** A step that took a refresh made beside the steps. */
+    background
+  };
+
+  /** "", "exact", "all", "below_top", "none", "background". */
+  std::string to_string(StepChoice choice);
+
+  /** The choice of a step that iterates after @p refresh. */
+  StepChoice iterating_choice(cholesky::Refresh refresh);
+
   struct StepStatistics
   {
     /** Elements whose contribution to A was recomputed. */
@@ -144,12 +169,10 @@ namespace warpchol::fem
      */
     int factor_lag = -1;
     /**
-     * Strategy = auto or background: what the step chose ("exact": every element updated,
-     * factored in full, solved directly; "all", "below_top", "none": the refresh of a step
-     * that iterates; "background": a step that took a refresh made beside the steps), and
-     * the seconds the cost model predicted for it (negative if none); "" otherwise.
+     * Strategy = auto or background: what the step chose, and the seconds the cost model
+     * predicted for it (negative if none).
      */
-    std::string choice;
+    StepChoice  choice = StepChoice::not_chosen;
     double      predicted_seconds = -1;
 
     /** Add the stage times of @p step to these: totals over steps. */

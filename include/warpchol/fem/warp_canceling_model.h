@@ -2,6 +2,7 @@
 
 #include <warpchol/fem/background_refresh.h>
 #include <warpchol/fem/elasticity_model.h>
+#include <warpchol/models/target_error_controller.h>
 
 #include <array>
 #include <limits>
@@ -170,9 +171,8 @@ namespace warpchol::fem
     void update_frames(unsigned int e);
 
     const double threshold;
-    const double target;
-    /** The threshold of the next step: adapted to the target error, if any. */
-    double       adapted_threshold;
+    /** The threshold of the next step: the given one, or adapted to the target error. */
+    TargetErrorController target_control;
 
     /**
      * Per element, T_a = S_a^T Q_e for its 4 vertices: the frames its contribution to A was
@@ -224,36 +224,38 @@ namespace warpchol::fem
     ExactFallback    fallback;
     /** The whole of the last prepare_step() (element pass included), in seconds. */
     double last_step_prepare_seconds = 0;
-    /** The steps prepared so far (the step being prepared is step_count). */
-    unsigned int step_count = 0;
-    /** The step whose rotations A and its factor were made with (0: at rest). */
-    unsigned int factor_step = 0;
-    /**
-     * Target error: moving averages of the share of elements updated per step and of the
-     * step error over its goal; whether the target gave up, and why.
-     */
-    double      recent_update_fraction = 0;
-    double      recent_error_ratio     = 0;
-    /** Target error: bit k set if the step error of k + 1 steps ago was far over the goal. */
-    unsigned int far_over_goal = 0;
-    std::string given_up;
+    /** Where the steps stand against the factor, and what the last one measured: checkpointed. */
+    struct StepHistory
+    {
+      /** The steps prepared so far (the step being prepared is step_count). */
+      unsigned int step_count = 0;
+      /** The step whose rotations A and its factor were made with (0: at rest). */
+      unsigned int factor_step = 0;
+      /** What the last step measured for the cost model: its own seconds, whether it was exact, its staleness. */
+      double       last_prepare_seconds = 0;
+      bool         last_step_exact      = false;
+      unsigned int last_staleness       = 0;
+      /** The staleness the factor had reached when the last exact step came. */
+      unsigned int cycle_length = 0;
+      /** Whether the last step took in a change of the system (a cut, a grasp). */
+      bool         last_step_changed = false;
+      /** delayed_top: steps since the top was last refreshed. */
+      unsigned int steps_since_top_refresh = 0;
+
+      template <typename Archive>
+      void serialize(Archive &archive)
+      {
+        archive &step_count &factor_step &last_prepare_seconds &last_step_exact &last_staleness &cycle_length
+          &last_step_changed &steps_since_top_refresh;
+      }
+    };
+    StepHistory history;
 
     /** Whether a change of the system came before this step (apply_change()). */
     bool change_pending = false;
-    /** Whether the last step took in a change of the system (a cut, a grasp). */
-    bool last_step_changed = false;
-
     /** Whether A is the exact corotational matrix of this step's rotations, factored. */
     bool exact_this_step = false;
-    /** What the last step measured for the cost model: its own seconds, whether it was exact, its staleness. */
-    double       last_prepare_seconds = 0;
-    bool         last_step_exact      = false;
-    unsigned int last_staleness       = 0;
-    /** The staleness the factor had reached when the last exact step came. */
-    unsigned int cycle_length         = 0;
 
-    /** delayed_top: steps since the top was last refreshed. */
-    unsigned int     steps_since_top_refresh = 0;
     /** automatic: what each refresh will cost. */
     StepCostModel    cost_model;
   };

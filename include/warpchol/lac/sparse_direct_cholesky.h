@@ -192,7 +192,7 @@ namespace warpchol
      * way the factor is the one of @p matrix.
      *
      * statistics() then says what it cost: Statistics::columns_recomputed,
-     * Statistics::flops_recomputed (against Statistics::method_flops for a full
+     * Statistics::flops_recomputed (against Statistics::flops for a full
      * factorization) and Statistics::refactorize_seconds.
      */
     void refactorize(const dealii::SparseMatrix<double> &matrix, const std::vector<size_type> &changed_rows);

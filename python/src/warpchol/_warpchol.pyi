@@ -77,6 +77,9 @@ class SparseCholesky:
     def columns_recomputed(self) -> int:
         """Columns of L the last factorize() or refactorize() computed."""
     @property
+    def state(self) -> str:
+        """What the solver holds: "empty", "analyzed" or "factorized"."""
+    @property
     def timings(self) -> dict[str, float]:
         """Seconds of the last analyze, factorize, refactorize and solve, inside the solver."""
     @property
