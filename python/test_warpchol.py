@@ -202,8 +202,12 @@ class Errors(unittest.TestCase):
         self.assertLess(abs(a @ fresh.solve(np.ones(25)) - 1).max(), 1e-12)
         self.assertRaises(warpchol.NotPositiveDefinite, fresh.factorize, indefinite)
         self.assertEqual(fresh.state, "analyzed")  # a refused matrix leaves the pattern, no factor
-        self.expect(warpchol.Error, "without a valid factorization",
+        self.expect(warpchol.Error, r"solve\(\) called before analyze\(\)",
                     lambda: warpchol.SparseCholesky().solve(np.ones(25)))
+        analyzed_only = warpchol.SparseCholesky()
+        analyzed_only.analyze(a)
+        self.expect(warpchol.Error, r"solve\(\) called without a valid factorization",
+                    lambda: analyzed_only.solve(np.ones(25)))
         duplicated = sp.csc_matrix((np.ones(4), np.array([1, 0, 0, 1]), np.array([0, 3, 4])), shape=(2, 2))
         self.expect(warpchol.MatrixError, r"twice", lambda: warpchol.SparseCholesky().factorize(duplicated))
 

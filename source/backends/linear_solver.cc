@@ -25,47 +25,20 @@ namespace warpchol::backends
 {
   std::vector<Backend> all_backends()
   {
-    return {Backend::warpchol,      Backend::cholmod,         Backend::umfpack,
-            Backend::eigen,         Backend::eigen_cholmod,   Backend::trilinos_amg_cg,
-            Backend::warp_preconditioned_cg};
+    std::vector<Backend> backends;
+    for (const auto &entry : backend_names)
+      backends.push_back(entry.value);
+    return backends;
   }
 
   std::string to_string(const Backend backend)
   {
-    switch (backend)
-      {
-        case Backend::warpchol:
-          return "warpchol";
-        case Backend::cholmod:
-          return "cholmod";
-        case Backend::umfpack:
-          return "umfpack";
-        case Backend::eigen:
-          return "eigen";
-        case Backend::eigen_cholmod:
-          return "eigen_cholmod";
-        case Backend::trilinos_amg_cg:
-          return "trilinos_amg_cg";
-        case Backend::warp_preconditioned_cg:
-          return "warp_preconditioned_cg";
-      }
-    return "?";
-  }
-
-  std::string backend_names()
-  {
-    std::string names;
-    for (const Backend backend : all_backends())
-      names += (names.empty() ? "" : ", ") + to_string(backend);
-    return names;
+    return name_of(backend_names, backend);
   }
 
   Backend parse_backend(const std::string &name)
   {
-    for (const Backend backend : all_backends())
-      if (to_string(backend) == name)
-        return backend;
-    throw InputError("unknown backend " + quote(name) + " (valid: " + backend_names() + ")");
+    return parse_name(backend_names, name, "backend");
   }
 
   bool replaces_factor(const Backend backend)

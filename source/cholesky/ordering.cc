@@ -12,27 +12,12 @@ namespace warpchol::cholesky
 {
   std::string to_string(const OrderingMethod method)
   {
-    switch (method)
-      {
-        case OrderingMethod::natural:
-          return "natural";
-        case OrderingMethod::amd:
-          return "amd";
-        case OrderingMethod::metis:
-          return "metis";
-      }
-    return "unknown";
+    return name_of(ordering_names, method);
   }
 
   OrderingMethod parse_ordering_method(const std::string &name)
   {
-    if (name == "natural")
-      return OrderingMethod::natural;
-    if (name == "amd")
-      return OrderingMethod::amd;
-    if (name == "metis")
-      return OrderingMethod::metis;
-    throw InputError("unknown ordering " + quote(name) + " (expected natural, amd or metis)");
+    return parse_name(ordering_names, name, "ordering");
   }
 
   namespace

@@ -22,27 +22,12 @@ namespace warpchol::cholesky
 
   std::string to_string(const ChangeMethod method)
   {
-    switch (method)
-      {
-        case ChangeMethod::automatic:
-          return "auto";
-        case ChangeMethod::by_flops:
-          return "flops";
-        case ChangeMethod::recompute:
-          return "recompute";
-        case ChangeMethod::update:
-          return "update";
-      }
-    return "unknown";
+    return name_of(change_method_names, method);
   }
 
   ChangeMethod parse_change_method(const std::string &name)
   {
-    for (const ChangeMethod method :
-         {ChangeMethod::automatic, ChangeMethod::by_flops, ChangeMethod::recompute, ChangeMethod::update})
-      if (name == to_string(method))
-        return method;
-    throw InputError("unknown change method " + quote(name) + " (expected auto, flops, recompute or update)");
+    return parse_name(change_method_names, name, "change method");
   }
 
   namespace

@@ -16,27 +16,12 @@ namespace warpchol::cholesky
 {
   std::string to_string(const FactorizationMethod method)
   {
-    switch (method)
-      {
-        case FactorizationMethod::left_looking:
-          return "left";
-        case FactorizationMethod::up_looking:
-          return "up";
-        case FactorizationMethod::supernodal:
-          return "supernodal";
-      }
-    return "unknown";
+    return name_of(factorization_method_names, method);
   }
 
   FactorizationMethod parse_factorization_method(const std::string &name)
   {
-    if (name == "left" || name == "left_looking")
-      return FactorizationMethod::left_looking;
-    if (name == "up" || name == "up_looking")
-      return FactorizationMethod::up_looking;
-    if (name == "supernodal")
-      return FactorizationMethod::supernodal;
-    throw InputError("unknown factorization method " + quote(name) + " (expected left, up or supernodal)");
+    return parse_name(factorization_method_names, name, "factorization method");
   }
 
   double SparseCholesky::Statistics::fill() const

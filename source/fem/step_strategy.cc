@@ -13,45 +13,22 @@ namespace warpchol::fem
 
   std::string to_string(const StepStrategy::Kind kind)
   {
-    switch (kind)
-      {
-        case StepStrategy::Kind::partial:
-          return "partial";
-        case StepStrategy::Kind::delayed_top:
-          return "delayed_top";
-        case StepStrategy::Kind::preconditioned:
-          return "preconditioned";
-        case StepStrategy::Kind::automatic:
-          return "auto";
-        case StepStrategy::Kind::background:
-          return "background";
-      }
-    return "unknown";
+    return name_of(step_strategy_names, kind);
   }
 
   StepStrategy::Kind parse_step_strategy(const std::string &name)
   {
-    for (const auto kind : {StepStrategy::Kind::partial, StepStrategy::Kind::delayed_top,
-                            StepStrategy::Kind::preconditioned, StepStrategy::Kind::automatic,
-                            StepStrategy::Kind::background})
-      if (name == to_string(kind))
-        return kind;
-    throw InputError("unknown step strategy " + quote(name) +
-                     " (expected partial, delayed_top, preconditioned, auto or background)");
+    return parse_name(step_strategy_names, name, "step strategy");
   }
 
   std::string to_string(const StepStrategy::Target target)
   {
-    return target == StepStrategy::Target::corotational ? "corotational" : "warp_canceling";
+    return name_of(iteration_target_names, target);
   }
 
   StepStrategy::Target parse_iteration_target(const std::string &name)
   {
-    if (name == "corotational")
-      return StepStrategy::Target::corotational;
-    if (name == "warp_canceling")
-      return StepStrategy::Target::warp_canceling;
-    throw InputError("unknown iteration target " + quote(name) + " (expected corotational or warp_canceling)");
+    return parse_name(iteration_target_names, name, "iteration target");
   }
 
   std::string to_string(const cholesky::Refresh refresh)

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/named_values.h>
 #include <warpchol/base/types.h>
 #include <warpchol/sparse/csc_matrix.h>
 
@@ -46,13 +47,20 @@ namespace warpchol::backends
     warp_preconditioned_cg
   };
 
+  /** The names of the backends (base/named_values.h), in the order of the enum. */
+  inline constexpr NameTable<Backend, 7> backend_names{{{Backend::warpchol, "warpchol"},
+                                                              {Backend::cholmod, "cholmod"},
+                                                              {Backend::umfpack, "umfpack"},
+                                                              {Backend::eigen, "eigen"},
+                                                              {Backend::eigen_cholmod, "eigen_cholmod"},
+                                                              {Backend::trilinos_amg_cg, "trilinos_amg_cg"},
+                                                              {Backend::warp_preconditioned_cg, "warp_preconditioned_cg"}}};
+
   /** Every backend, in the order of the enum. */
   std::vector<Backend> all_backends();
   /** "warpchol", "cholmod", "umfpack", "eigen", "eigen_cholmod", "trilinos_amg_cg", "warp_preconditioned_cg". */
   std::string to_string(Backend backend);
-  /** "warpchol, cholmod, ...": the valid names, for messages and parameter documentation. */
-  std::string backend_names();
-  /** The inverse of to_string(); throws InputError "unknown backend 'x' (valid: ...)". */
+  /** The inverse of to_string(); throws InputError "unknown backend 'x' (expected ...)". */
   Backend parse_backend(const std::string &name);
 
   /**

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <warpchol/base/binary_io.h>
+#include <warpchol/base/named_values.h>
 #include <warpchol/base/types.h>
 #include <warpchol/cholesky/modify.h>
 #include <warpchol/cholesky/supernodal_symbolic.h>
@@ -33,6 +34,12 @@ namespace warpchol::cholesky
      */
     half
   };
+
+  /** The names of the precisions (base/named_values.h): "double", "single", "half". */
+  inline constexpr NameTable<PreconditionerPrecision, 3> preconditioner_precision_names{
+    {{PreconditionerPrecision::full, "double"},
+     {PreconditionerPrecision::single, "single"},
+     {PreconditionerPrecision::half, "half"}}};
 
   /**
    * The numeric supernodal factor and the workspaces that compute it.

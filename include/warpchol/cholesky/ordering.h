@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/named_values.h>
 #include <warpchol/base/types.h>
 #include <warpchol/sparse/csc_matrix.h>
 
@@ -23,6 +24,10 @@ namespace warpchol::cholesky
     amd,
     metis
   };
+
+  /** The names of the orderings (base/named_values.h): "natural", "amd", "metis". */
+  inline constexpr NameTable<OrderingMethod, 3> ordering_names{
+    {{OrderingMethod::natural, "natural"}, {OrderingMethod::amd, "amd"}, {OrderingMethod::metis, "metis"}}};
 
   /** "natural", "amd" or "metis". */
   std::string to_string(OrderingMethod method);

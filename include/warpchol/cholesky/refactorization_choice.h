@@ -1,6 +1,7 @@
 #pragma once
 
 #include <warpchol/base/binary_io.h>
+#include <warpchol/base/named_values.h>
 
 #include <array>
 #include <string>
@@ -44,6 +45,12 @@ namespace warpchol::cholesky
     /** Update whenever the change allows it (supernodal method, an exact factor). */
     update
   };
+
+  /** The names of the ways (base/named_values.h): "auto", "flops", "recompute", "update". */
+  inline constexpr NameTable<ChangeMethod, 4> change_method_names{{{ChangeMethod::automatic, "auto"},
+                                                                   {ChangeMethod::by_flops, "flops"},
+                                                                   {ChangeMethod::recompute, "recompute"},
+                                                                   {ChangeMethod::update, "update"}}};
 
   /** "auto", "flops", "recompute", "update". */
   std::string to_string(ChangeMethod method);

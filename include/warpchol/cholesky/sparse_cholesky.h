@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/named_values.h>
 #include <warpchol/base/types.h>
 #include <warpchol/cholesky/modify.h>
 #include <warpchol/cholesky/numeric_supernodal.h>
@@ -32,10 +33,16 @@ namespace warpchol::cholesky
     supernodal
   };
 
+  /** The names of the methods (base/named_values.h): "left", "up", "supernodal". */
+  inline constexpr NameTable<FactorizationMethod, 3> factorization_method_names{
+    {{FactorizationMethod::left_looking, "left"},
+     {FactorizationMethod::up_looking, "up"},
+     {FactorizationMethod::supernodal, "supernodal"}}};
+
   /** "left", "up" or "supernodal". */
   std::string to_string(FactorizationMethod method);
 
-  /** Parse "left" / "left_looking", "up" / "up_looking" or "supernodal"; throws InputError otherwise. */
+  /** Parse "left", "up" or "supernodal"; throws InputError otherwise. */
   FactorizationMethod parse_factorization_method(const std::string &name);
 
   /**

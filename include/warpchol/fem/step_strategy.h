@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/named_values.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 
 #include <string>
@@ -82,6 +83,17 @@ namespace warpchol::fem
     /** Whether the step's system is solved by preconditioned CG (all but partial). */
     bool iterates() const;
   };
+
+  /** The names of the strategies (base/named_values.h): "partial", "delayed_top", "preconditioned", "auto", "background". */
+  inline constexpr NameTable<StepStrategy::Kind, 5> step_strategy_names{
+    {{StepStrategy::Kind::partial, "partial"},
+     {StepStrategy::Kind::delayed_top, "delayed_top"},
+     {StepStrategy::Kind::preconditioned, "preconditioned"},
+     {StepStrategy::Kind::automatic, "auto"},
+     {StepStrategy::Kind::background, "background"}}};
+  /** The names of what CG iterates on: "corotational", "warp_canceling". */
+  inline constexpr NameTable<StepStrategy::Target, 2> iteration_target_names{
+    {{StepStrategy::Target::corotational, "corotational"}, {StepStrategy::Target::warp_canceling, "warp_canceling"}}};
 
   /** "partial", "delayed_top", "preconditioned", "auto", "background". */
   std::string to_string(StepStrategy::Kind kind);
