@@ -2,12 +2,12 @@
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
-#include <warpchol/base/simd.h>
 #include <warpchol/base/input_file.h>
+#include <warpchol/base/simd.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/ordering.h>
-#include <warpchol/fem/energy_balance.h>
-#include <warpchol/fem/warp_canceling_model.h>
+#include <warpchol/dynamics/energy_balance.h>
+#include <warpchol/models/warp_canceling_model.h>
 
 #include <deal.II/base/exceptions.h>
 

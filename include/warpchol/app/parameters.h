@@ -4,9 +4,9 @@
 #include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/mesh_generators.h>
 #include <warpchol/fem/small_dense.h>
-#include <warpchol/fem/step_strategy.h>
+#include <warpchol/mesh/mesh_generators.h>
+#include <warpchol/models/step_strategy.h>
 
 #include <deal.II/base/parameter_handler.h>
 

@@ -4,7 +4,7 @@
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
 #include <warpchol/app/trajectory_error.h>
-#include <warpchol/fem/energy_balance.h>
+#include <warpchol/dynamics/energy_balance.h>
 
 #include <functional>
 #include <limits>

@@ -1,6 +1,6 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
-#include <warpchol/fem/warp_canceling_model.h>
+#include <warpchol/models/warp_canceling_model.h>
 
 #include <deal.II/base/parallel.h>
 

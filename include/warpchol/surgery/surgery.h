@@ -1,11 +1,11 @@
 #pragma once
 
 #include <warpchol/base/binary_io.h>
-#include <warpchol/fem/blade.h>
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/elasticity_model.h>
-#include <warpchol/fem/instrument_path.h>
 #include <warpchol/fem/small_dense.h>
+#include <warpchol/models/elasticity_model.h>
+#include <warpchol/surgery/blade.h>
+#include <warpchol/surgery/instrument_path.h>
 
 #include <limits>
 #include <string>

@@ -1,7 +1,7 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
-#include <warpchol/fem/elasticity_model.h>
+#include <warpchol/models/elasticity_model.h>
 
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>

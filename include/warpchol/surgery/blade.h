@@ -1,8 +1,8 @@
 #pragma once
 
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/instrument_path.h>
 #include <warpchol/fem/small_dense.h>
+#include <warpchol/surgery/instrument_path.h>
 
 #include <array>
 #include <utility>

@@ -1,7 +1,7 @@
 #pragma once
 
-#include <warpchol/fem/background_refresh.h>
-#include <warpchol/fem/elasticity_model.h>
+#include <warpchol/models/background_refresh.h>
+#include <warpchol/models/elasticity_model.h>
 
 #include <array>
 #include <limits>

@@ -1,6 +1,6 @@
-#include <warpchol/base/format.h>
 #include <warpchol/base/exceptions.h>
-#include <warpchol/fem/step_strategy.h>
+#include <warpchol/base/format.h>
+#include <warpchol/models/step_strategy.h>
 
 #include <algorithm>
 

@@ -1,5 +1,5 @@
 #include <warpchol/base/exceptions.h>
-#include <warpchol/fem/instrument_path.h>
+#include <warpchol/surgery/instrument_path.h>
 
 #include <algorithm>
 

@@ -1,6 +1,6 @@
 #pragma once
 
-#include <warpchol/fem/implicit_euler.h>
+#include <warpchol/dynamics/implicit_euler.h>
 
 /**
  * @file

@@ -1,6 +1,6 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
-#include <warpchol/fem/surgery.h>
+#include <warpchol/surgery/surgery.h>
 
 #include <algorithm>
 

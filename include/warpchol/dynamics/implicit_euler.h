@@ -1,11 +1,11 @@
 #pragma once
 
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/elasticity_model.h>
-#include <warpchol/fem/instrument_path.h>
 #include <warpchol/fem/small_dense.h>
-#include <warpchol/fem/surgery.h>
 #include <warpchol/fem/system_matrix.h>
+#include <warpchol/models/elasticity_model.h>
+#include <warpchol/surgery/instrument_path.h>
+#include <warpchol/surgery/surgery.h>
 
 #include <tbb/task_arena.h>
 

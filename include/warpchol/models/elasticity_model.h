@@ -6,8 +6,8 @@
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/small_dense.h>
-#include <warpchol/fem/step_strategy.h>
 #include <warpchol/fem/system_matrix.h>
+#include <warpchol/models/step_strategy.h>
 
 #include <deal.II/lac/vector.h>
 

@@ -1,6 +1,6 @@
 #pragma once
 
-#include <warpchol/fem/elasticity_model.h>
+#include <warpchol/models/elasticity_model.h>
 
 /**
  * @file

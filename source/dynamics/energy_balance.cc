@@ -1,4 +1,4 @@
-#include <warpchol/fem/energy_balance.h>
+#include <warpchol/dynamics/energy_balance.h>
 
 #include <algorithm>
 #include <cmath>

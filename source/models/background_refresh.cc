@@ -1,6 +1,6 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/stopwatch.h>
-#include <warpchol/fem/background_refresh.h>
+#include <warpchol/models/background_refresh.h>
 
 namespace warpchol::fem
 {

@@ -1,4 +1,4 @@
-#include <warpchol/fem/linear_model.h>
+#include <warpchol/models/linear_model.h>
 
 namespace warpchol::fem
 {

@@ -1,4 +1,4 @@
-#include <warpchol/fem/corotational_model.h>
+#include <warpchol/models/corotational_model.h>
 
 namespace warpchol::fem
 {

@@ -1,4 +1,4 @@
-#include <warpchol/fem/stiffness_warping_model.h>
+#include <warpchol/models/stiffness_warping_model.h>
 
 namespace warpchol::fem
 {

@@ -1,6 +1,6 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
-#include <warpchol/fem/implicit_euler.h>
+#include <warpchol/dynamics/implicit_euler.h>
 
 #include <Eigen/Geometry>
 #include <tbb/task_arena.h>

@@ -8,7 +8,7 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/input_file.h>
-#include <warpchol/fem/mesh_readers.h>
+#include <warpchol/mesh/mesh_readers.h>
 
 #include <vtkCellType.h>
 #include <vtkIdList.h>

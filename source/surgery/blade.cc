@@ -1,4 +1,4 @@
-#include <warpchol/fem/blade.h>
+#include <warpchol/surgery/blade.h>
 
 #include <Eigen/Geometry>
 
