@@ -10,7 +10,7 @@
  */
 
 #include <warpchol/base/exceptions.h>
-#include <warpchol/fem/mesh_readers.h>
+#include <warpchol/mesh/mesh_readers.h>
 
 #include <deal.II/base/exceptions.h>
 #include <deal.II/grid/tria.h>

@@ -24,11 +24,12 @@
 
 #include <warpchol/app/command_line.h>
 #include <warpchol/app/machine.h>
-#include <warpchol/app/error_time_plot.h>
-#include <warpchol/app/kernel_timing.h>
 #include <warpchol/app/output.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
+#include <warpchol/app/sweep_kernel_timing.h>
+#include <warpchol/app/sweep_plot.h>
+#include <warpchol/app/sweep_table.h>
 #include <warpchol/app/trajectory_error.h>
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
@@ -40,13 +41,9 @@
 #include <deal.II/base/utilities.h>
 
 #include <algorithm>
-#include <cmath>
 #include <filesystem>
-#include <functional>
-#include <iomanip>
 #include <iostream>
 #include <limits>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -182,25 +179,6 @@ namespace
     return options;
   }
 
-  /** One run of the sweep. */
-  struct SweepRow
-  {
-    std::string         model;
-    double              threshold        = 0;
-    unsigned int        steps            = 0;
-    double              elements_updated = 0; // mean percentage per step
-    double              flops_recomputed = 0; // mean percentage per step (0 without refactorization)
-    double              cg_iterations    = 0; // mean per step
-    double              seconds          = 0; // time steps only
-    double              factor_mib       = 0; // the factor's or preconditioner's memory
-    double              cg_iteration_mb  = 0; // what one CG iteration moves (0 without CG)
-    double              cg_gbps          = 0; // and at what rate its iterations moved it
-    bool                has_threshold    = false; // a WCC threshold or target, or a peer's tolerance
-    fem::StepStatistics phases;               // seconds summed over the steps
-    app::TrajectoryError error;               // against the exact run (none for itself)
-    std::string         failure;
-  };
-
   /** The name of a run in the model column: the model, or the WCC strategy. */
   std::string row_name(const app::AllParameters &parameters)
   {
@@ -215,11 +193,11 @@ namespace
   }
 
   /** Run @p parameters' scene, comparing every step with @p reference (if not empty). */
-  SweepRow run_scene(const app::AllParameters &parameters,
-                     const std::vector<std::vector<fem::Vector3>> &reference,
-                     std::vector<std::vector<fem::Vector3>>       *trajectory)
+  app::SweepRow run_scene(const app::AllParameters &parameters,
+                          const std::vector<std::vector<fem::Vector3>> &reference,
+                          std::vector<std::vector<fem::Vector3>>       *trajectory)
   {
-    SweepRow row;
+    app::SweepRow row;
     row.model     = row_name(parameters);
     row.threshold = parameters.model.target_error > 0 ? parameters.model.target_error :
                                                          parameters.model.update_threshold;
@@ -272,137 +250,6 @@ namespace
     return row;
   }
 
-
-  /** The threshold column: the WCC threshold or target, the peer's tolerance, or "-". */
-  std::string threshold_text(const SweepRow &row)
-  {
-    return row.has_threshold ? format_number(row.threshold) : std::string("-");
-  }
-
-  /** The legend entry of a row's model in the plot. */
-  std::string plot_group(const std::string &model)
-  {
-    if (model == "warp_canceling")
-      return "WCC partial";
-    if (model == "wcc_target")
-      return "WCC target error";
-    if (model.rfind("wcc_", 0) == 0)
-      return "WCC " + model.substr(4);
-    return model;
-  }
-
-  /**
-   * The table on standard output: per run the updates, the flops, CG's iterations, the
-   * time per step and its split by phase, and the trajectory error against the exact run
-   * (the first row): the worst vertex's error, largest and mean over the steps, and the
-   * RMS error, largest and mean over the steps (app::PositionError).
-   */
-  void print_table(const app::AllParameters &parameters, const std::vector<SweepRow> &rows,
-                   const double exact_per_step)
-  {
-    std::cout << "scene " << parameters.scene_name() << ", " << parameters.time_stepping.n_steps
-              << " steps, " << parameters.solver.settings.n_threads << " thread(s); error = max_i "
-              << "|x_i - x_i(corotational)| / max_i |x_i(corotational) - X_i|, RMS = sqrt(mean_i "
-              << "|x_i - x_i(corotational)|^2) / the same; max and mean over the steps; phases in ms "
-              << "per step\n"
-              << std::setw(24) << "model" << std::setw(10) << "threshold" << std::setw(9) << "updated%"
-              << std::setw(8) << "flops%" << std::setw(7) << "CG it" << std::setw(10) << "s/step"
-              << std::setw(8) << "speedup" << std::setw(9) << "rotat" << std::setw(9) << "estim"
-              << std::setw(9) << "assem" << std::setw(9) << "factor" << std::setw(9) << "iterat"
-              << std::setw(9) << "solve" << std::setw(8) << "MiB" << std::setw(8) << "CG MB" << std::setw(8) << "CG GB/s"
-              << std::setw(10) << "max err" << std::setw(10) << "mean err"
-              << std::setw(10) << "max RMS" << std::setw(10) << "mean RMS" << "\n";
-    for (const auto &row : rows)
-      {
-        const double per_step    = row.steps > 0 ? row.seconds / row.steps : 0;
-        const auto   per_step_ms = [&](const double seconds) {
-          return format_number(row.steps > 0 ? 1e3 * seconds / row.steps : 0, 3);
-        };
-        const auto &p     = row.phases;
-        const auto  error = [&](const double value) {
-          return row.model == "corotational" ? std::string("0") : format_number(value, 2);
-        };
-        std::cout << std::setw(24) << row.model << std::setw(10) << threshold_text(row) << std::setw(9)
-                  << format_number(row.elements_updated, 3) << std::setw(8)
-                  << format_number(row.flops_recomputed, 3) << std::setw(7)
-                  << format_number(row.cg_iterations, 2) << std::setw(10) << format_number(per_step, 3)
-                  << std::setw(8) << format_number(per_step > 0 ? exact_per_step / per_step : 0, 3)
-                  << std::setw(9) << per_step_ms(p.t_rotations()) << std::setw(9)
-                  << per_step_ms(p.t_error_estimate()) << std::setw(9) << per_step_ms(p.t_assembly())
-                  << std::setw(9) << per_step_ms(p.t_factor()) << std::setw(9) << per_step_ms(p.t_iterations())
-                  << std::setw(9) << per_step_ms(p.t_solve()) << std::setw(8) << format_number(row.factor_mib, 3)
-                  << std::setw(8) << format_number(row.cg_iteration_mb, 3) << std::setw(8) << format_number(row.cg_gbps, 3)
-                  << std::setw(10) << error(row.error.max_error())
-                  << std::setw(10) << error(row.error.mean_error()) << std::setw(10)
-                  << error(row.error.max_rms_error()) << std::setw(10) << error(row.error.mean_rms_error())
-                  << (row.failure.empty() ? "" : "  " + row.failure) << "\n";
-      }
-  }
-
-  /**
-   * One line per figure of the study (README): the fastest run whose largest error stays
-   * at or below 1 %, and the automatic and background strategies' best runs, each with its
-   * speed-up against the exact run (the first row), error and CG iterations.
-   */
-  void print_best(const std::vector<SweepRow> &rows, const double exact_per_step)
-  {
-    const auto describe = [&](const std::string &label, const SweepRow *row) {
-      std::cout << label;
-      if (row == nullptr)
-        {
-          std::cout << "none\n";
-          return;
-        }
-      const double per_step = row->seconds / std::max(1u, row->steps);
-      std::cout << row->model << " " << threshold_text(*row) << ": " << format_number(per_step, 3) << " s/step, "
-                << format_number(exact_per_step / per_step, 3) << "x, max error "
-                << format_number(row->error.max_error(), 2) << ", CG it " << format_number(row->cg_iterations, 2)
-                << "\n";
-    };
-    const auto fastest = [&](const std::function<bool(const SweepRow &)> &eligible) {
-      const SweepRow *best = nullptr;
-      for (std::size_t k = 1; k < rows.size(); ++k)
-        if (rows[k].failure.empty() && rows[k].steps > 0 && rows[k].error.max_error() <= 0.01 &&
-            eligible(rows[k]) && (best == nullptr || rows[k].seconds < best->seconds))
-          best = &rows[k];
-      return best;
-    };
-    std::cout << "exact (corotational): " << format_number(exact_per_step, 3) << " s/step\n";
-    describe("best at <= 1 % error: ", fastest([](const SweepRow &) { return true; }));
-    describe("auto at <= 1 % error: ", fastest([](const SweepRow &row) { return row.model == "wcc_auto"; }));
-    describe("background at <= 1 % error: ",
-             fastest([](const SweepRow &row) { return row.model == "wcc_background"; }));
-  }
-
-  /** The table as CSV, one row per run, with the error at the last step too. */
-  void write_csv(const std::vector<SweepRow> &rows, std::ostream &out)
-  {
-    out << "model,threshold,steps,elements_updated_pct,flops_recomputed_pct,cg_iterations,seconds,"
-           "seconds_per_step,t_rotations,t_error_estimate,t_assembly,t_factor,t_iterations,t_solve,"
-           "max_error_vs_corotational,mean_error_vs_corotational,max_rms_error_vs_corotational,"
-           "mean_rms_error_vs_corotational,final_error_vs_corotational,factor_mib,cg_iteration_mb,cg_gbps,failure\n";
-    for (const auto &row : rows)
-      {
-        const auto per_step_ms = [&](const double seconds) {
-          return format_number(row.steps > 0 ? 1e3 * seconds / row.steps : 0, 3);
-        };
-        const auto &p = row.phases;
-        const auto &e = row.error;
-        out << row.model << "," << format_number(row.threshold) << "," << row.steps << ","
-            << format_number(row.elements_updated, 4) << "," << format_number(row.flops_recomputed, 4) << ","
-            << format_number(row.cg_iterations, 3) << "," << format_number(row.seconds, 4) << ","
-            << format_number(row.steps > 0 ? row.seconds / row.steps : 0, 4) << ","
-            << per_step_ms(p.t_rotations()) << "," << per_step_ms(p.t_error_estimate()) << ","
-            << per_step_ms(p.t_assembly()) << "," << per_step_ms(p.t_factor()) << ","
-            << per_step_ms(p.t_iterations()) << "," << per_step_ms(p.t_solve()) << ","
-            << format_number(e.max_error(), 3) << "," << format_number(e.mean_error(), 3) << ","
-            << format_number(e.max_rms_error(), 3) << "," << format_number(e.mean_rms_error(), 3) << ","
-            << format_number(e.last_error(), 3) << "," << format_number(row.factor_mib, 4) << ","
-            << format_number(row.cg_iteration_mb, 4) << "," << format_number(row.cg_gbps, 4) << ","
-            << (row.failure.empty() ? "" : "\"" + row.failure + "\"") << "\n";
-      }
-  }
-
   void run(const Options &options)
   {
     app::AllParameters parameters(options.parameter_file);
@@ -428,7 +275,7 @@ namespace
       run_scene(warm_up, {}, nullptr);
     }
     std::vector<std::vector<fem::Vector3>> reference;
-    const SweepRow exact = run_scene(corotational, {}, &reference);
+    const app::SweepRow exact = run_scene(corotational, {}, &reference);
     if (!exact.failure.empty())
       throw MatrixError("the corotational run: " + exact.failure);
 
@@ -478,7 +325,7 @@ namespace
         wcc.model.strategy.kind    = fem::StepStrategy::Kind::partial;
         runs.push_back(wcc);
       }
-    std::vector<SweepRow> rows{exact};
+    std::vector<app::SweepRow> rows{exact};
     for (const auto &run_parameters : runs)
       {
         rows.push_back(run_scene(run_parameters, reference, nullptr));
@@ -486,41 +333,17 @@ namespace
       }
 
     const double exact_per_step = exact.seconds / std::max(1u, exact.steps);
-    print_table(parameters, rows, exact_per_step);
-    print_best(rows, exact_per_step);
+    app::print_sweep_table(std::cout, parameters, rows, exact_per_step);
+    app::print_sweep_best(std::cout, rows, exact_per_step);
     // The ceiling of every factorization on this machine, to read the times against.
     std::cout << app::describe_machine() << "\n";
     const app::Scene scene(corotational);
-    {
-      double estimate_seconds = 0;
-      for (const auto &row : rows)
-        if (row.phases.t_error_estimate() > 0 && row.steps > 0)
-          estimate_seconds = estimate_seconds > 0 ? std::min(estimate_seconds, row.phases.t_error_estimate() / row.steps) :
-                                                    row.phases.t_error_estimate() / row.steps;
-      app::print_kernel_table(std::cout, {{app::simd_target(), app::time_kernels(scene, reference.back())}},
-                              scene.body().n_elements(), 1e9 * estimate_seconds / scene.body().n_elements());
-    }
-    write_file_atomically(csv_file, [&](std::ostream &out) { write_csv(rows, out); });
+    app::print_sweep_kernel_table(std::cout, scene, reference.back(), rows);
+    write_file_atomically(csv_file, [&](std::ostream &out) { app::write_sweep_csv(rows, out); });
     std::cout << "table: " << csv_file << std::endl;
 
     // The plot beside the CSV: FILE.csv -> FILE.gp, FILE.png.
-    const std::string stem = csv_file.size() > 4 && csv_file.compare(csv_file.size() - 4, 4, ".csv") == 0 ?
-                               csv_file.substr(0, csv_file.size() - 4) :
-                               csv_file;
-    app::ErrorTimePlot plot(parameters.scene_name() + ": " + std::to_string(scene.body().n_unknowns()) +
-                              " unknowns, " + std::to_string(parameters.time_stepping.n_steps) + " steps, " +
-                              std::to_string(parameters.solver.settings.n_threads) +
-                              " thread(s); error against the exact corotational run",
-                            "corotational", exact_per_step);
-    for (const auto &row : rows)
-      if (&row != &rows.front() && row.failure.empty())
-        plot.add({plot_group(row.model),
-                  row.model == "wcc_target" ? format_number(100 * row.threshold) + "%" :
-                                              (row.has_threshold ? format_number(row.threshold) : std::string()),
-                  row.seconds / std::max(1u, row.steps),
-                  row.error.max_error(), row.error.max_rms_error()});
-    if (plot.write(stem + ".gp", stem + ".png", std::cout))
-      std::cout << "plot: " << stem + ".png" << " (script " << stem + ".gp" << ")" << std::endl;
+    app::write_sweep_plot(csv_file, parameters, scene.body().n_unknowns(), rows, exact_per_step, std::cout);
   }
 } // namespace
 

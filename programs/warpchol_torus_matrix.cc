@@ -14,9 +14,9 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/mesh_generators.h>
-#include <warpchol/fem/mesh_readers.h>
 #include <warpchol/fem/system_matrix.h>
+#include <warpchol/mesh/mesh_generators.h>
+#include <warpchol/mesh/mesh_readers.h>
 #include <warpchol/sparse/conversions.h>
 #include <warpchol/sparse/matrix_market.h>
 

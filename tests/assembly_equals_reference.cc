@@ -9,8 +9,8 @@
 #include "tests.h"
 
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/mesh_generators.h>
 #include <warpchol/fem/system_matrix.h>
+#include <warpchol/mesh/mesh_generators.h>
 
 #include <deal.II/base/multithread_info.h>
 #include <deal.II/grid/tria.h>

@@ -1,4 +1,4 @@
-// auto never loses to exact steps (ExactFallback, fem/step_strategy.h).
+// auto never loses to exact steps (ExactFallback, models/step_strategy.h).
 //
 // First on given step costs, so that every decision is fixed: own steps that cost more than
 // an exact step fall back (a probe of two exact steps while only an estimate is known, then
@@ -20,7 +20,7 @@
 
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
-#include <warpchol/fem/warp_canceling_model.h>
+#include <warpchol/models/warp_canceling_model.h>
 
 using namespace warpchol;
 

@@ -6,9 +6,9 @@
 #include "simulation_tests.h"
 
 #include <warpchol/app/simulation.h>
-#include <warpchol/fem/elasticity_model.h>
-#include <warpchol/fem/implicit_euler.h>
-#include <warpchol/fem/mesh_generators.h>
+#include <warpchol/dynamics/implicit_euler.h>
+#include <warpchol/mesh/mesh_generators.h>
+#include <warpchol/models/elasticity_model.h>
 
 #include <regex>
 #include <sstream>

@@ -10,8 +10,8 @@
 #include <warpchol/cholesky/partial.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/mesh_generators.h>
 #include <warpchol/fem/system_matrix.h>
+#include <warpchol/mesh/mesh_generators.h>
 #include <warpchol/sparse/residual.h>
 
 #include <Eigen/Geometry>

@@ -6,7 +6,7 @@
 #include "simulation_tests.h"
 
 #include <warpchol/app/simulation.h>
-#include <warpchol/fem/mesh_readers.h>
+#include <warpchol/mesh/mesh_readers.h>
 #include <warpchol/sparse/matrix_market.h>
 
 #include <sstream>

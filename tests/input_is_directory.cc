@@ -7,7 +7,7 @@
 
 #include <warpchol/app/simulation.h>
 #include <warpchol/base/input_file.h>
-#include <warpchol/fem/mesh_readers.h>
+#include <warpchol/mesh/mesh_readers.h>
 #include <warpchol/sparse/matrix_market.h>
 
 #include <filesystem>

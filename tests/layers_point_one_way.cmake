@@ -1,11 +1,24 @@
 ## The library's layers include only those below them (STYLE.md: one direction, no
-## back-references): base, sparse, cholesky, backends, fem, app, distributed, in this order;
-## the programs choose among the top ones. Run as
+## back-references): base, sparse, cholesky, lac, backends, mesh, fem, models, surgery,
+## dynamics, app, distributed, in this order (doc/ARCHITECTURE.md); the programs choose
+## among the top ones. Run as
 ##   cmake -DSOURCE_DIR=<repository> -P tests/layers_point_one_way.cmake
 ## and fails with one line per include that points up.
 
-set(layers base sparse cholesky backends fem app distributed)
+set(layers base sparse cholesky lac backends mesh fem models surgery dynamics app distributed)
 set(violations "")
+# Every folder of the library has its place in the order: a new one is added to the list.
+foreach(root source include/warpchol)
+  file(GLOB entries RELATIVE ${SOURCE_DIR}/${root} ${SOURCE_DIR}/${root}/*)
+  foreach(entry ${entries})
+    if(IS_DIRECTORY ${SOURCE_DIR}/${root}/${entry})
+      list(FIND layers ${entry} level)
+      if(level EQUAL -1)
+        list(APPEND violations "${root}/${entry}: a folder the layers do not list: give it its place in them")
+      endif()
+    endif()
+  endforeach()
+endforeach()
 foreach(layer ${layers})
   list(FIND layers ${layer} level)
   file(GLOB_RECURSE files

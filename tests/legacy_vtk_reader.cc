@@ -7,7 +7,7 @@
 
 #include "simulation_tests.h"
 
-#include <warpchol/fem/mesh_readers.h>
+#include <warpchol/mesh/mesh_readers.h>
 
 #include <cstdint>
 #include <cstring>

@@ -19,8 +19,8 @@
 #include <warpchol/cholesky/partial.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/mesh_generators.h>
 #include <warpchol/fem/system_matrix.h>
+#include <warpchol/mesh/mesh_generators.h>
 #include <warpchol/sparse/matrix_market.h>
 #include <warpchol/sparse/residual.h>
 #include <warpchol/sparse/spd_perturbation.h>

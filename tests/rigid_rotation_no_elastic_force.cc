@@ -6,8 +6,8 @@
 #include "tests.h"
 
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/mesh_readers.h>
 #include <warpchol/fem/rotations.h>
+#include <warpchol/mesh/mesh_readers.h>
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>

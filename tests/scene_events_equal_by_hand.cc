@@ -6,8 +6,8 @@
 
 #include "simulation_tests.h"
 
-#include <warpchol/fem/instrument_path.h>
-#include <warpchol/fem/surgery.h>
+#include <warpchol/surgery/instrument_path.h>
+#include <warpchol/surgery/surgery.h>
 
 #include <iomanip>
 #include <limits>

@@ -11,9 +11,9 @@
 #include <warpchol/base/simd.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/mesh_generators.h>
 #include <warpchol/fem/rotations.h>
 #include <warpchol/fem/system_matrix.h>
+#include <warpchol/mesh/mesh_generators.h>
 #include <warpchol/sparse/conversions.h>
 
 #include <deal.II/grid/tria.h>

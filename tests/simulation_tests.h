@@ -11,7 +11,7 @@
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
 #include <warpchol/app/simulation.h>
-#include <warpchol/fem/implicit_euler.h>
+#include <warpchol/dynamics/implicit_euler.h>
 
 #include <algorithm>
 #include <fstream>

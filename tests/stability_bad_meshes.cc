@@ -7,7 +7,7 @@
 
 #include "stability_tests.h"
 
-#include <warpchol/fem/mesh_generators.h>
+#include <warpchol/mesh/mesh_generators.h>
 
 #include <deal.II/grid/tria.h>
 

@@ -15,7 +15,7 @@
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
 #include <warpchol/base/exceptions.h>
-#include <warpchol/fem/energy_balance.h>
+#include <warpchol/dynamics/energy_balance.h>
 
 #include <Eigen/LU>
 

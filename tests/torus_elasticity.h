@@ -7,8 +7,8 @@
  */
 
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/mesh_generators.h>
 #include <warpchol/fem/system_matrix.h>
+#include <warpchol/mesh/mesh_generators.h>
 
 #include <deal.II/grid/tria.h>
 

@@ -7,7 +7,7 @@
 // MatrixErrors. Iterations are printed against bounds, not as numbers.
 
 #include <warpchol/backends/trilinos_amg_cg.h>
-#include <warpchol/fem/implicit_euler.h>
+#include <warpchol/dynamics/implicit_euler.h>
 #include <warpchol/sparse/residual.h>
 
 #include <deal.II/base/mpi.h>

@@ -1,12 +1,12 @@
 #include <warpchol/app/scene.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
-#include <warpchol/fem/corotational_model.h>
-#include <warpchol/fem/implicit_euler.h>
-#include <warpchol/fem/linear_model.h>
-#include <warpchol/fem/mesh_generators.h>
-#include <warpchol/fem/stiffness_warping_model.h>
-#include <warpchol/fem/warp_canceling_model.h>
+#include <warpchol/dynamics/implicit_euler.h>
+#include <warpchol/mesh/mesh_generators.h>
+#include <warpchol/models/corotational_model.h>
+#include <warpchol/models/linear_model.h>
+#include <warpchol/models/stiffness_warping_model.h>
+#include <warpchol/models/warp_canceling_model.h>
 
 #include <deal.II/base/multithread_info.h>
 

@@ -1,7 +1,7 @@
 #include <warpchol/app/scene_mesh.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
-#include <warpchol/fem/mesh_generators.h>
+#include <warpchol/mesh/mesh_generators.h>
 
 #include <deal.II/grid/grid_tools.h>
 

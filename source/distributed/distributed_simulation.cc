@@ -6,9 +6,9 @@
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/distributed/distributed_simulation.h>
-#include <warpchol/fem/elasticity_model.h>
-#include <warpchol/fem/implicit_euler.h>
-#include <warpchol/fem/warp_canceling_model.h>
+#include <warpchol/dynamics/implicit_euler.h>
+#include <warpchol/models/elasticity_model.h>
+#include <warpchol/models/warp_canceling_model.h>
 
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/numerics/data_out.h>

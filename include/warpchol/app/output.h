@@ -1,10 +1,10 @@
 #pragma once
 
-#include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/elasticity_model.h>
 #include <warpchol/base/binary_io.h>
 #include <warpchol/base/stopwatch.h>
+#include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/small_dense.h>
+#include <warpchol/models/elasticity_model.h>
 
 #include <future>
 #include <string>

@@ -1,6 +1,6 @@
 #pragma once
 
-#include <warpchol/fem/instrument_path.h>
+#include <warpchol/surgery/instrument_path.h>
 
 #include <string>
 

@@ -2,10 +2,10 @@
 
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene_mesh.h>
+#include <warpchol/dynamics/implicit_euler.h>
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/elasticity_model.h>
-#include <warpchol/fem/implicit_euler.h>
-#include <warpchol/fem/mesh_readers.h>
+#include <warpchol/mesh/mesh_readers.h>
+#include <warpchol/models/elasticity_model.h>
 
 #include <deal.II/grid/tria.h>
 

@@ -2,7 +2,7 @@
 
 #include <warpchol/app/parameters.h>
 #include <warpchol/fem/elastic_body.h>
-#include <warpchol/fem/mesh_readers.h>
+#include <warpchol/mesh/mesh_readers.h>
 
 #include <deal.II/grid/tria.h>
 

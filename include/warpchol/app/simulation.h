@@ -4,7 +4,7 @@
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
 #include <warpchol/app/trajectory_error.h>
-#include <warpchol/fem/energy_balance.h>
+#include <warpchol/dynamics/energy_balance.h>
 
 #include <functional>
 #include <limits>
@@ -170,12 +170,6 @@ namespace warpchol::app
     void add_vtu_seconds(double seconds, unsigned int runs);
 
     void print_summary(std::ostream &out) const;
-    void print_body_summary(std::ostream &out, const SimulatedBody &body) const;
-    /**
-     * The summary's stages: with Print timings, a table of their runs, seconds per step and
-     * shares of the run; without, their names only (the same in every run).
-     */
-    void print_stages(std::ostream &out, const SimulatedBody &body) const;
 
     /**
      * After step @p step: throw SimulationError naming the step, the model and the energies

@@ -1,0 +1,256 @@
+#include <warpchol/app/run_summary.h>
+#include <warpchol/base/format.h>
+#include <warpchol/base/simd.h>
+#include <warpchol/cholesky/ordering.h>
+#include <warpchol/dynamics/energy_balance.h>
+#include <warpchol/models/warp_canceling_model.h>
+
+#include <algorithm>
+#include <iomanip>
+#include <sstream>
+
+namespace warpchol::app
+{
+  namespace
+  {
+    /**
+     * The summary's stages: with Print timings, a table of their runs, seconds per step and
+     * shares of the run; without, their names only (the same in every run).
+     */
+    void print_stages(std::ostream &out, const SimulatedBody &body, const AllParameters &parameters)
+    {
+      const auto &t = body.totals;
+      if (!parameters.output.print_timings)
+        {
+          // The names alone: what ran does not change from run to run, its seconds do.
+          out << "  stages: " << t.stages.names() << "\n";
+          return;
+        }
+      // Per stage: its runs, its seconds per step and its share of the run, end to end; what
+      // no stage holds (the run's bookkeeping, the progress line) is "other".
+      const double steps = std::max(1u, t.steps);
+      const double run   = std::max(t.run_seconds, 1e-12);
+      const auto   share = [&](const double seconds) {
+        std::ostringstream text;
+        text << std::fixed << std::setprecision(1) << 100 * seconds / run;
+        return text.str();
+      };
+      const auto row = [&](const std::string &name, const std::string &runs, const double seconds) {
+        out << "    " << std::left << std::setw(22) << name << std::right << std::setw(6) << runs
+            << std::setw(12) << format_number(seconds / steps, 3) << std::setw(8) << share(seconds) << " %\n";
+      };
+      out << "  stages: " << std::left << std::setw(16) << "" << std::right << std::setw(6) << "runs"
+          << std::setw(12) << "s per step" << std::setw(10) << "share" << "\n";
+      for (const auto &stage : t.stages.stages())
+        row(stage.name, std::to_string(stage.runs), stage.seconds);
+      row("other", "", std::max(0.0, t.run_seconds - t.stages.total_seconds()));
+      out << "    " << std::left << std::setw(22) << "time steps" << std::right << std::setw(6) << t.steps
+          << std::setw(12) << format_number(t.step_seconds / steps, 3) << std::setw(8)
+          << share(t.step_seconds) << " %\n";
+    }
+  } // namespace
+
+  void print_body_summary(std::ostream &out, const SimulatedBody &simulated, const AllParameters &parameters)
+  {
+    const auto &scene      = *simulated.scene;
+    const auto &body       = scene.body();
+    const auto &model      = scene.model();
+    const auto &integrator = scene.integrator();
+    const auto &t          = simulated.totals;
+    const bool  timings    = parameters.output.print_timings;
+    const auto  n          = [](const double value, const int digits = 3) {
+      return format_number(value, digits);
+    };
+    const double n_elements          = body.n_elements();
+    const double iterations_per_step = static_cast<double>(t.cg_iterations) / std::max(1u, t.steps);
+
+    out << "  model: " << model.name();
+    const auto *wcc = dynamic_cast<const fem::WarpCancelingModel *>(&model);
+    if (wcc && wcc->target_error() > 0)
+      out << ", target error " << n(wcc->target_error()) << " (update threshold from "
+          << n(wcc->update_threshold()) << ")";
+    else if (wcc)
+      out << ", update threshold " << n(wcc->update_threshold());
+    const auto &solver = model.solver();
+    const auto &backend = scene.parameters().solver.backend;
+    if (const auto *peer = model.linear_solver())
+      {
+        out << "; solver: " << peer->name();
+        if (peer->is_iterative())
+          out << ", to " << n(backend.tolerance, 2) << ", iterations per step mean "
+              << n(iterations_per_step);
+      }
+    else
+      {
+        out << "; solver: " << cholesky::to_string(solver.settings().ordering.method) << " ordering, "
+            << cholesky::to_string(solver.settings().method);
+        if (timings)
+          out << ", fill " << n(solver.statistics().fill());
+        if (backend.backend == backends::Backend::warp_preconditioned_cg)
+          out << ", its rest factor rotated as CG's preconditioner (warp_preconditioned_cg)";
+      }
+    if (timings)
+      out << ", factor memory " << n(model.factor_memory_bytes() / 1048576.) << " MiB";
+    out << "\n";
+    out << "  steps: " << t.steps << ", simulated time " << n(integrator.time(), 4) << " s\n";
+    if (model.uses_rotations())
+      {
+        out << "  elements updated per step: mean " << n(100 * t.elements_updated / n_elements / t.steps)
+            << " %, max " << n(100 * t.max_elements_updated / n_elements) << " %; steps with "
+            << "updates: " << t.steps_with_updates << ", without update at the end: "
+            << t.trailing_steps_without_update << "\n";
+        // Where the batched polar decompositions left the SIMD lanes, and why.
+        const fem::RotationPaths &paths = t.rotation_paths;
+        if (paths.total() > 0)
+          out << "  rotations: " << paths.total() << " over the run; " << n(100.0 * paths.lanes / paths.total())
+              << " % in the SIMD lanes, " << paths.newton << " by the scalar Newton iteration (strain too large for the "
+              << "lanes' 12 steps), " << paths.svd << " by the SVD (inverted or flat)\n";
+        out << "  refactorizations: " << t.refactorizations;
+        if (timings && t.refactorizations > 0)
+          out << ", columns recomputed mean " << n(t.columns_recomputed_pct / t.refactorizations)
+              << " %, flops recomputed mean " << n(t.flops_recomputed_pct / t.refactorizations)
+              << " %";
+        // How the factorizations took their changes: by updating the factor or recomputing
+        // (chosen by measured times: shown with them).
+        if (timings && t.refactorizations > 0)
+          {
+            out << "; taken by";
+            for (const auto &[method, count] : t.factor_methods)
+              out << " " << method << " " << count;
+          }
+        out << "\n";
+        if (wcc && wcc->target_error() > 0 && t.steps > 0)
+          out << "  adapted update threshold: mean " << n(t.threshold_sum / t.steps) << ", from "
+              << n(t.min_threshold) << " to " << n(t.max_threshold)
+              << "; velocity error against exact corotation per step: mean "
+              << n(t.velocity_error_sum / t.steps, 2) << ", max " << n(t.max_velocity_error, 2) << "\n";
+        if (wcc && !wcc->target_note().empty())
+          out << "  " << wcc->target_note() << "\n";
+        if (wcc)
+          {
+            const auto &strategy = wcc->step_strategy();
+            out << "  strategy: " << fem::to_string(strategy.kind);
+            if (strategy.iterates())
+              out << ", CG on the " << fem::to_string(strategy.iterate_on) << " matrix to "
+                  << n(strategy.cg_tolerance, 2) << ", iterations per step mean "
+                  << n(iterations_per_step);
+            // What an iteration moves and how fast: the iterating step is memory-bound.
+            if (timings && model.cg_bytes_per_second() > 0)
+              {
+                const auto bytes = model.cg_iteration_bytes();
+                out << " (an iteration moves " << n(bytes.total() * 1e-6) << " MB: factor read twice "
+                    << n(bytes.preconditioner * 1e-6) << ", product " << n(bytes.product * 1e-6) << ", vectors "
+                    << n(bytes.vectors * 1e-6) << "; at " << n(model.cg_bytes_per_second() * 1e-9) << " GB/s)";
+              }
+            out << "; factor refreshes:";
+            if (t.refreshes.empty())
+              out << " 0";
+            for (const auto &[refresh, count] : t.refreshes)
+              out << " " << refresh << " " << count;
+            if (!t.choices.empty())
+              {
+                out << "; choices:";
+                for (const auto &[choice, count] : t.choices)
+                  out << " " << choice << " " << count;
+              }
+            if (t.factor_lag_steps > 0)
+              out << "; factor age mean " << n(t.factor_lag_sum / t.factor_lag_steps) << " steps";
+            const auto &placement = wcc->refresh_placement();
+            const auto  beside    = placement.steps_in(fem::RefreshPlacement::Where::beside_the_steps);
+            if (strategy.kind == fem::StepStrategy::Kind::automatic && beside > 0)
+              out << "; refreshes beside the steps (one thread less for them) in " << beside << " of "
+                  << beside + placement.steps_in(fem::RefreshPlacement::Where::in_the_steps) << " steps";
+            const auto &fallback = wcc->exact_fallback();
+            if (strategy.kind == fem::StepStrategy::Kind::automatic && fallback.exact_steps() > 0)
+              out << "; exact in " << fallback.exact_steps() << " steps where its own had cost more ("
+                  << fallback.fallbacks() << " times)";
+            out << "\n";
+          }
+        if (integrator.surgery().active())
+          {
+            out << "  surgery: " << t.elements_cut << " elements cut";
+            const auto &cuts = scene.parameters().cuts;
+            if (t.elements_cut == 0 &&
+                std::any_of(cuts.begin(), cuts.end(), [](const parameters::Cut &cut) { return cut.active(); }))
+              out << (cuts.size() > 1 ? " (the blades crossed no element)" : " (the blade crossed no element)");
+            out << ", " << t.vertices_grasped << " vertices grasped, " << t.vertices_released << " released, "
+                << t.elements_changed << " elements of changed material";
+            if (t.change_steps > 0)
+              out << "; " << t.change_steps << " steps with a change, each touching " << n(t.change_columns_pct / t.change_steps)
+                  << " % of the columns and " << n(t.change_flops_pct / t.change_steps)
+                  << " % of a full factorization's flops (mean)";
+            out << "\n";
+          }
+        if (!scene.loads().tool.vertices.empty() && t.elements_updated > 0)
+          {
+            double all_distance = 0;
+            for (const auto &centre : simulated.element_centres)
+              all_distance += (centre - simulated.tool_centre).norm();
+            out << "  updated elements lie " << n(t.updated_distance_to_tool / t.elements_updated, 2)
+                << " m from the tool on average (all elements: " << n(all_distance / n_elements, 2)
+                << " m)\n";
+          }
+      }
+    if (simulated.reference)
+      {
+        const auto &error = t.error_vs_corotational;
+        out << "  trajectory error against corotational: max " << n(error.max_error(), 2)
+            << ", mean " << n(error.mean_error(), 2) << ", at the end " << n(error.last_error(), 2)
+            << "; RMS max " << n(error.max_rms_error(), 2) << ", mean " << n(error.mean_rms_error(), 2)
+            << "\n";
+      }
+    // An energy below 1e-12 of the total is rounding (a translated body's elastic energy):
+    // printed as such, not as digits that change with the order of the operations.
+    const double kinetic_energy = integrator.kinetic_energy();
+    const double elastic_energy = integrator.elastic_energy();
+    const auto   energy = [&](const double value) {
+      return value <= 1e-12 * (kinetic_energy + elastic_energy) ? std::string("0 (rounding)") :
+                                                                  n(value) + " J";
+    };
+    out << "  energy at the end: kinetic " << energy(kinetic_energy) << ", elastic "
+        << energy(elastic_energy) << "\n";
+    if (integrator.surgery().active())
+      {
+        // What the changes put in or took out, which the energy balance counts.
+        const fem::ChangeEnergy &change = integrator.surgery().change_energy();
+        out << "  energy of the changes: " << n(change.total()) << " J (material change " << n(change.material_changes)
+            << " J, cuts " << n(change.cuts) << " J, grasps and releases " << n(change.grasps) << " J)\n";
+        const std::vector<std::string> missed = integrator.surgery().events_not_reached();
+        if (!missed.empty() && simulated.stopped.empty())
+          {
+            out << "  warning: ";
+            for (std::size_t k = 0; k < missed.size(); ++k)
+              out << (k == 0 ? "" : k + 1 == missed.size() ? " and " : ", ") << missed[k];
+            out << (missed.size() == 1 ? " falls" : " fall") << " after the run's end (" << n(integrator.time(), 4)
+                << " s): " << (missed.size() == 1 ? "it" : "they") << " never happened\n";
+          }
+      }
+    print_stages(out, simulated, parameters);
+    if (timings)
+      {
+        out << "  set-up " << n(simulated.setup_seconds) << " s (model " << n(model.setup_seconds())
+            << " s), time steps " << n(t.step_seconds) << " s; end to end (output included) "
+            << n(t.run_seconds) << " s, " << n(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s; SIMD target "
+            << simd::current_target() << "\n";
+      }
+    if (simulated.exact_step_seconds >= 0 && t.steps > 0)
+      {
+        // The run's steps without the error estimate, which only the comparison asks for.
+        const double own = (t.step_seconds - t.stages.seconds(fem::stage::velocity_error)) / t.steps;
+        if (timings)
+          out << "  exact corotation: " << n(1e3 * simulated.exact_step_seconds) << " ms a step on this machine ("
+              << parameters.output.exact_steps_timed
+              << " exact steps timed after the run: every element rotated and assembled, a full factorization, "
+                 "a direct solve); this run "
+              << n(1e3 * own) << " ms a step: " << n(simulated.exact_step_seconds / own) << "x faster\n";
+        if (t.velocity_error_sum > 0 || t.max_velocity_error > 0)
+          out << "  error against exact corotation, estimated every step (no reference run: |A^-1 (b - B v)| / |v|, "
+                 "B the exact corotational matrix, A the step's factor): velocity error mean "
+              << n(t.velocity_error_sum / t.steps, 2) << ", max " << n(t.max_velocity_error, 2) << "\n";
+      }
+    if (!simulated.stopped.empty())
+      out << "  stopped: " << simulated.stopped << "\n";
+    if (simulated.log)
+      out << "  log: " << simulated.log->filename() << "\n";
+  }
+} // namespace warpchol::app

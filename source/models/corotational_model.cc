@@ -1,0 +1,48 @@
+#include <warpchol/models/corotational_model.h>
+
+namespace warpchol::fem
+{
+  CorotationalModel::CorotationalModel(const ElasticBody &body,
+                                       const SystemCoefficients &coefficients,
+                                       const cholesky::SparseCholesky::Settings &solver_settings,
+                                       std::unique_ptr<backends::LinearSolver>   peer)
+    : ElasticityModel(body, coefficients, solver_settings, std::move(peer))
+  {
+    // Ordering and symbolic analysis once (the pattern never changes); the numeric factor
+    // of the rest matrix is replaced in the first step.
+    set_up_rest_system();
+  }
+
+  std::string CorotationalModel::name() const
+  {
+    return "corotational";
+  }
+
+  void CorotationalModel::prepare_step(const std::vector<Vector3> &positions,
+                                       const std::vector<Vector3> &, StepStatistics &statistics)
+  {
+    evaluate_elastic_state(positions, ElasticBody::Rotations::elements, statistics);
+    const auto &element_rotations = elastic_state.element_rotations;
+
+    {
+      StageTimer timer(statistics.stages, stage::assembly);
+      // R_e K_e R_e^T: every vertex of element e in the frame R_e.
+      system.assemble(ElementFrames::rotated(element_rotations));
+    }
+    statistics.elements_updated = body.n_elements();
+    record_updates(true);
+
+    factorize(statistics);
+  }
+
+  ElementFrames CorotationalModel::contribution_frames() const
+  {
+    return elastic_state.element_rotations.empty() ? ElementFrames::rest() :
+                                                     ElementFrames::rotated(elastic_state.element_rotations);
+  }
+
+  bool CorotationalModel::assembles_every_step() const
+  {
+    return true;
+  }
+} // namespace warpchol::fem

@@ -1,0 +1,379 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+#include <warpchol/models/step_strategy.h>
+
+#include <algorithm>
+
+namespace warpchol::fem
+{
+  bool StepStrategy::iterates() const
+  {
+    return kind != Kind::partial;
+  }
+
+  std::string to_string(const StepStrategy::Kind kind)
+  {
+    return name_of(step_strategy_names, kind);
+  }
+
+  StepStrategy::Kind parse_step_strategy(const std::string &name)
+  {
+    return parse_name(step_strategy_names, name, "step strategy");
+  }
+
+  std::string to_string(const StepStrategy::Target target)
+  {
+    return name_of(iteration_target_names, target);
+  }
+
+  StepStrategy::Target parse_iteration_target(const std::string &name)
+  {
+    return parse_name(iteration_target_names, name, "iteration target");
+  }
+
+  std::string to_string(const cholesky::Refresh refresh)
+  {
+    switch (refresh)
+      {
+        case cholesky::Refresh::all:
+          return "all";
+        case cholesky::Refresh::below_top:
+          return "below_top";
+        case cholesky::Refresh::none:
+          return "none";
+      }
+    return "unknown";
+  }
+
+  namespace
+  {
+    /** Weight of a new measurement in the moving averages. */
+    constexpr double smoothing = 0.3;
+
+    void blend(double &average, const double value)
+    {
+      average = average > 0 ? (1 - smoothing) * average + smoothing * value : value;
+    }
+  } // namespace
+
+  void StepCostModel::record_factorization(const double flops, const double seconds)
+  {
+    // Small refactorizations are dominated by their fixed costs: they would flatter the
+    // rate of the large ones the model must foresee.
+    if (flops > 1e6 && seconds > 0)
+      blend(flop_rate, flops / seconds);
+  }
+
+  double StepCostModel::factorization_seconds(const double flops) const
+  {
+    return flop_rate > 0 ? flops / flop_rate : -1.;
+  }
+
+  void StepCostModel::record_iterations(const cholesky::Refresh refresh, const unsigned int iterations,
+                                        const double seconds)
+  {
+    if (iterations > 0)
+      blend(seconds_per_iteration, seconds / iterations);
+    if (refresh == cholesky::Refresh::all)
+      blend(iterations_after_all, iterations);
+    else if (refresh == cholesky::Refresh::below_top)
+      {
+        if (iterations_after_top < 0)
+          iterations_after_top = iterations;
+        else
+          blend(iterations_after_top, iterations);
+      }
+    last_iterations = iterations;
+  }
+
+  void StepCostModel::record_exact_step(const double seconds, const unsigned int cycle_length)
+  {
+    blend(exact_seconds, seconds);
+    // The steps past the cycle's end were not seen this time: what was measured there may
+    // be old (a step after a cut iterates more). Relax it toward the last one seen, so that
+    // a later cycle goes further and measures it again.
+    const unsigned int last = std::min(cycle_length, longest_staleness);
+    if (last == 0 || iterations_at[last - 1] < 0)
+      return;
+    for (unsigned int s = last + 1; s <= longest_staleness; ++s)
+      if (iterations_at[s - 1] > iterations_at[last - 1])
+        blend(iterations_at[s - 1], iterations_at[last - 1]);
+  }
+
+  void StepCostModel::record_iterating_step(const unsigned int staleness, const double seconds,
+                                            const unsigned int iterations)
+  {
+    if (staleness == 0)
+      return;
+    blend(iterations_at[std::min(staleness, longest_staleness) - 1], iterations);
+    if (seconds_per_iteration > 0)
+      blend(iterating_overhead, std::max(seconds - iterations * seconds_per_iteration, 1e-9));
+  }
+
+  bool StepCostModel::calibrated() const
+  {
+    return flop_rate > 0 && seconds_per_iteration > 0;
+  }
+
+  double StepCostModel::predicted_exact_seconds() const
+  {
+    return exact_seconds;
+  }
+
+  double StepCostModel::predicted_iterating_seconds(const unsigned int staleness) const
+  {
+    if (iterating_overhead < 0 || !(seconds_per_iteration > 0))
+      return -1;
+    // The last staleness measured at or before this one stands for it.
+    for (unsigned int s = std::min(std::max(staleness, 1u), longest_staleness); s >= 1; --s)
+      if (iterations_at[s - 1] >= 0)
+        return iterating_overhead + iterations_at[s - 1] * seconds_per_iteration;
+    return -1;
+  }
+
+  bool StepCostModel::exact_step_is_due(const unsigned int staleness) const
+  {
+    if (exact_seconds < 0)
+      return true;
+    if (predicted_iterating_seconds(staleness) < 0)
+      return false;
+    // The rule holds for costs that do not fall with the staleness; the measured ones may
+    // (a step right after an exact one that needed an iteration more than its successors):
+    // the rule reads their running maximum, or it could refresh forever.
+    std::vector<double> cost(longest_staleness, 0.);
+    double              largest = 0;
+    for (unsigned int s = 1; s <= longest_staleness; ++s)
+      cost[s - 1] = largest = std::max(largest, std::max(predicted_iterating_seconds(s), 0.));
+    // The least average cost of a cycle that starts with an exact step.
+    double cycle = exact_seconds, least_average = exact_seconds;
+    for (unsigned int length = 2; length <= longest_staleness; ++length)
+      {
+        cycle += cost[length - 2];
+        least_average = std::min(least_average, cycle / length);
+      }
+    return cost[std::min(std::max(staleness, 1u), longest_staleness) - 1] > least_average;
+  }
+
+  void StepCostModel::save(BinaryWriter &writer) const
+  {
+    for (const double value : {flop_rate, seconds_per_iteration, iterations_after_all,
+                               iterations_after_top, last_iterations, exact_seconds, iterating_overhead})
+      writer.write(value);
+    writer.write(iterations_at);
+  }
+
+  void StepCostModel::load(BinaryReader &reader)
+  {
+    for (double *value : {&flop_rate, &seconds_per_iteration, &iterations_after_all,
+                          &iterations_after_top, &last_iterations, &exact_seconds, &iterating_overhead})
+      reader.read(*value);
+    reader.read(iterations_at);
+    if (iterations_at.size() != longest_staleness)
+      reader.fail("the cost model's step costs have the wrong length (corrupt)");
+  }
+
+  RefreshPlacement::Where RefreshPlacement::current() const
+  {
+    return where;
+  }
+
+  unsigned int RefreshPlacement::steps_in(const Where place) const
+  {
+    return counts[static_cast<int>(place)];
+  }
+
+  void RefreshPlacement::record_step(const double seconds)
+  {
+    ++counts[static_cast<int>(where)];
+    if (++steps < first_counted_step)
+      return;
+    phase_seconds += seconds;
+    const unsigned int length = trial ? window : stretch;
+    if (++phase_steps < length)
+      return;
+    // The phase is over: its mean is what this place costs now.
+    const int here = static_cast<int>(where), other = 1 - here;
+    mean_seconds[here] = phase_seconds / phase_steps;
+    phase_seconds      = 0;
+    phase_steps        = 0;
+    if (mean_seconds[other] < 0)
+      {
+        // The other place was never tried: try it.
+        where = static_cast<Where>(other);
+        trial = true;
+        return;
+      }
+    if (trial)
+      {
+        // A trial against the place that ran before: the cheaper runs the next stretch,
+        // longer if the trial lost (the incumbent holds), the shortest if it won.
+        const bool trial_won = mean_seconds[here] < mean_seconds[other];
+        stretch              = trial_won ? shortest_stretch : std::min(2 * stretch, longest_stretch);
+        where                = static_cast<Where>(trial_won ? here : other);
+        trial                = false;
+        return;
+      }
+    // A stretch is over: try the other place again.
+    where = static_cast<Where>(other);
+    trial = true;
+  }
+
+  void RefreshPlacement::save(BinaryWriter &writer) const
+  {
+    writer.write(static_cast<int>(where));
+    writer.write(steps);
+    writer.write(phase_steps);
+    writer.write(phase_seconds);
+    writer.write(trial);
+    writer.write(stretch);
+    for (const double mean : mean_seconds)
+      writer.write(mean);
+    for (const unsigned int count : counts)
+      writer.write(count);
+  }
+
+  void RefreshPlacement::load(BinaryReader &reader)
+  {
+    const int place = reader.get<int>();
+    if (place != 0 && place != 1)
+      reader.fail("the refresh placement is neither 0 nor 1 (corrupt)");
+    where = static_cast<Where>(place);
+    reader.read(steps);
+    reader.read(phase_steps);
+    reader.read(phase_seconds);
+    reader.read(trial);
+    reader.read(stretch);
+    for (double &mean : mean_seconds)
+      reader.read(mean);
+    for (unsigned int &count : counts)
+      reader.read(count);
+  }
+
+  double StepCostModel::predicted_seconds(const cholesky::Refresh refresh, const double refresh_seconds) const
+  {
+    double iterations = last_iterations + 1;
+    if (refresh == cholesky::Refresh::all)
+      iterations = iterations_after_all;
+    else if (refresh == cholesky::Refresh::below_top)
+      // Not tried yet: assume a little worse than a full refresh, so that it gets tried.
+      iterations = iterations_after_top >= 0 ? iterations_after_top : iterations_after_all + 1;
+    return refresh_seconds + iterations * seconds_per_iteration;
+  }
+  bool ExactFallback::runs_exact() const
+  {
+    return exact;
+  }
+
+  void ExactFallback::set_exact_estimate(const double seconds)
+  {
+    estimate = seconds;
+  }
+
+  unsigned int ExactFallback::exact_steps() const
+  {
+    return exact_count;
+  }
+
+  unsigned int ExactFallback::fallbacks() const
+  {
+    return fallback_count;
+  }
+
+  void ExactFallback::record_step(const double seconds, const bool exact_step)
+  {
+    if (exact_step)
+      exact_seconds = exact_seconds < 0 ? seconds : 0.7 * exact_seconds + 0.3 * seconds;
+    if (exact)
+      ++exact_count;
+    if (++steps < first_counted_step)
+      return;
+    ++phase_steps;
+    if (exact)
+      {
+        if (phase_steps < phase_length)
+          return;
+        phase_steps = 0;
+        if (probing)
+          {
+            // The probe measured an exact step: fall back for a stretch if the own steps
+            // still cost more, else they go on as if nothing happened.
+            probing = false;
+            if (own_seconds > (1 + margin) * exact_seconds)
+              {
+                ++fallback_count;
+                phase_length = stretch;
+                return;
+              }
+            exact = false;
+            return;
+          }
+        // A stretch is over: the strategy's own steps get a window again.
+        exact         = false;
+        after_stretch = true;
+        return;
+      }
+    phase_seconds += seconds;
+    if (phase_steps < window)
+      return;
+    own_seconds   = phase_seconds / phase_steps;
+    phase_seconds = 0;
+    phase_steps   = 0;
+    const bool   measured  = exact_seconds > 0;
+    const double reference = measured ? exact_seconds : estimate;
+    const bool   own_loses = reference > 0 && own_seconds > (1 + margin) * reference;
+    if (!own_loses)
+      {
+        // The own steps won (again): the next fall-back, if any, starts short.
+        if (after_stretch)
+          stretch = shortest_stretch;
+        after_stretch = false;
+        return;
+      }
+    exact = true;
+    if (!measured)
+      {
+        probing      = true;
+        phase_length = probe;
+        return;
+      }
+    if (after_stretch)
+      stretch = std::min(2 * stretch, longest_stretch);
+    after_stretch = false;
+    ++fallback_count;
+    phase_length = stretch;
+  }
+
+  void ExactFallback::save(BinaryWriter &writer) const
+  {
+    writer.write(exact);
+    writer.write(steps);
+    writer.write(phase_steps);
+    writer.write(phase_seconds);
+    writer.write(phase_length);
+    writer.write(probing);
+    writer.write(stretch);
+    writer.write(after_stretch);
+    writer.write(own_seconds);
+    writer.write(exact_seconds);
+    writer.write(estimate);
+    writer.write(exact_count);
+    writer.write(fallback_count);
+  }
+
+  void ExactFallback::load(BinaryReader &reader)
+  {
+    reader.read(exact);
+    reader.read(steps);
+    reader.read(phase_steps);
+    reader.read(phase_seconds);
+    reader.read(phase_length);
+    reader.read(probing);
+    reader.read(stretch);
+    reader.read(after_stretch);
+    reader.read(own_seconds);
+    reader.read(exact_seconds);
+    reader.read(estimate);
+    reader.read(exact_count);
+    reader.read(fallback_count);
+  }
+} // namespace warpchol::fem
