@@ -308,7 +308,7 @@ step_log_rows() {
 # where WCC updates nothing) and at 0.3, where about as many elements are updated per
 # step as in the report's run (1-6 %).
 threshold=1
-solvers="metis:supernodal amd:left_looking"
+solvers="metis:supernodal amd:left"
 thresholds="$threshold 0.3"
 
 # Table 5.4: run the scene with each solver and threshold, then write the markdown.

@@ -48,7 +48,7 @@ int main()
       advance(changed, 10);
       advance(unchanged, 10);
 
-      tests::write_file("from_then.prm", scene(model, 0, "up_looking"));
+      tests::write_file("from_then.prm", scene(model, 0, "up"));
       warpchol::app::Scene from_then{warpchol::app::AllParameters("from_then.prm")};
       from_then.integrator().set_initial_positions(changed.integrator().positions());
       from_then.integrator().set_initial_velocities(changed.integrator().velocities());

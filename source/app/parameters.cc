@@ -2,6 +2,7 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/input_file.h>
+#include <warpchol/models/warp_canceling_model.h>
 
 #include <deal.II/base/exceptions.h>
 
@@ -66,46 +67,33 @@ namespace warpchol::app
     bodies.parse_parameters(prm, file);
     output.parse_parameters(prm, file);
     distributed.parse_parameters(prm, file);
-    // What one entry allows only with another: said at the entry that asks for it.
-    for (unsigned int i = 0; model.target_error > 0 && i < bodies.update_thresholds.size(); ++i)
+    // What one entry allows only with another (WCC's rules, fem::wcc_setting_conflict):
+    // said at the entry that asks for it; a body's own threshold at Bodies/Update thresholds.
+    const std::size_t n_bodies =
+      std::max<std::size_t>({1, bodies.update_thresholds.size(), bodies.model_types.size()});
+    for (std::size_t i = 0; i < n_bodies; ++i)
       {
-        const double threshold = bodies.update_thresholds[i];
         const auto  &type      = bodies.model_types.empty() ? model.type : bodies.model_types[i];
-        if (type == "warp_canceling" && (!(threshold > 0) || std::isinf(threshold)))
+        const bool   own       = !bodies.update_thresholds.empty();
+        const double threshold = own ? bodies.update_thresholds[i] : model.update_threshold;
+        if (type != "warp_canceling")
+          continue;
+        const auto conflict =
+          fem::wcc_setting_conflict(threshold, model.target_error, model.strategy, solver.settings.method);
+        if (!conflict)
+          continue;
+        if (own && conflict->rule == fem::SettingConflict::Rule::target_needs_finite_threshold)
           {
             prm.enter_subsection("Bodies");
             file.fail(prm, "Bodies", "Update thresholds",
                       "with Model/Target error each body's threshold is where its adaptation "
                       "starts: finite and > 0 (got " + format_number(threshold) + ")");
           }
-      }
-    if (model.target_error > 0 && model.type == "warp_canceling" && model.strategy.iterates() &&
-        model.strategy.iterate_on == fem::StepStrategy::Target::corotational)
-      {
-        prm.enter_subsection("Model");
-        file.fail(prm, "Model", "Target error",
-                  "needs a step that solves the WCC system (Strategy = partial, or Iterate on = "
-                  "warp_canceling): CG on the corotational matrix is exact to the CG tolerance");
-      }
-    if (model.type == "warp_canceling" && model.strategy.kind == fem::StepStrategy::Kind::background &&
-        model.strategy.iterate_on != fem::StepStrategy::Target::corotational)
-      {
-        prm.enter_subsection("Model");
-        file.fail(prm, "Model", "Iterate on",
-                  "must be corotational with Strategy = background: a refresh updates every element, "
-                  "which makes the WCC matrix the corotational one");
+        prm.enter_subsection(conflict->subsection);
+        file.fail(prm, conflict->subsection, conflict->entry, conflict->message);
       }
     check_backend(prm);
     read_paths();
-    const auto strategy = model.strategy.kind;
-    if ((strategy == fem::StepStrategy::Kind::delayed_top || strategy == fem::StepStrategy::Kind::automatic) &&
-        solver.settings.method != cholesky::FactorizationMethod::supernodal)
-      {
-        prm.enter_subsection("Model");
-        file.fail(prm, "Model", "Strategy",
-                "refreshes the factor below the top of its tree, which needs Solver/Method = supernodal (not " +
-                    cholesky::to_string(solver.settings.method) + ")");
-      }
   }
 
   void AllParameters::check_backend(ParameterHandler &prm) const

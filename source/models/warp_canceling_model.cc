@@ -78,6 +78,36 @@ namespace warpchol::fem
     return warped_element_matrix(body, e, coefficients, vertex_rotations, element_rotation);
   }
 
+  std::optional<SettingConflict> wcc_setting_conflict(const double update_threshold, const double target_error,
+                                                      const StepStrategy                 &strategy,
+                                                      const cholesky::FactorizationMethod method)
+  {
+    using Rule = SettingConflict::Rule;
+    using Kind = StepStrategy::Kind;
+    if (!(update_threshold >= 0))
+      return SettingConflict{Rule::threshold_range, "Model", "Update threshold", "must be a number >= 0 or inf"};
+    if (!(target_error >= 0))
+      return SettingConflict{Rule::target_range, "Model", "Target error", "must be >= 0"};
+    if (target_error > 0 && (!(update_threshold > 0) || std::isinf(update_threshold)))
+      return SettingConflict{Rule::target_needs_finite_threshold, "Model", "Target error",
+                             "adapts the update threshold, which must then start finite and > 0 (Update threshold = " +
+                               format_number(update_threshold) + ")"};
+    if (target_error > 0 && strategy.iterates() && strategy.iterate_on == StepStrategy::Target::corotational)
+      return SettingConflict{Rule::target_needs_wcc_system, "Model", "Target error",
+                             "needs a step that solves the WCC system (Strategy = partial, or Iterate on = "
+                             "warp_canceling): CG on the corotational matrix is exact to the CG tolerance"};
+    if (strategy.kind == Kind::background && strategy.iterate_on != StepStrategy::Target::corotational)
+      return SettingConflict{Rule::background_iterates_on_corotational, "Model", "Iterate on",
+                             "must be corotational with Strategy = background: a refresh updates every element, "
+                             "which makes the WCC matrix the corotational one"};
+    if ((strategy.kind == Kind::delayed_top || strategy.kind == Kind::automatic) &&
+        method != cholesky::FactorizationMethod::supernodal)
+      return SettingConflict{Rule::top_needs_supernodes, "Model", "Strategy",
+                             "refreshes the factor below the top of its tree, which needs Solver/Method = supernodal (not " +
+                               cholesky::to_string(method) + ")"};
+    return std::nullopt;
+  }
+
   WarpCancelingModel::WarpCancelingModel(const ElasticBody &body,
                                          const SystemCoefficients &coefficients,
                                          const cholesky::SparseCholesky::Settings &solver_settings,
@@ -92,29 +122,9 @@ namespace warpchol::fem
     , step_thread_count(given_threads)
   {
     strategy = step_strategy;
-    if (strategy.kind == StepStrategy::Kind::delayed_top || strategy.kind == StepStrategy::Kind::automatic)
-      if (solver_settings.method != cholesky::FactorizationMethod::supernodal)
-        throw InputError("the step strategy " + to_string(strategy.kind) +
-                         " needs the supernodal method (Solver/Method = supernodal)");
-    if (strategy.kind == StepStrategy::Kind::background && strategy.iterate_on != StepStrategy::Target::corotational)
-      throw InputError("the step strategy background iterates on the corotational matrix (a refresh "
-                       "updates every element)");
-    if (!(update_threshold >= 0))
-      throw InputError("the WCC update threshold must be >= 0 (or inf), got " +
-                       format_number(update_threshold));
-    if (!(target_error >= 0))
-      throw InputError("the WCC target error must be >= 0, got " + format_number(target_error));
-    if (target_error > 0)
-      {
-        if (!(update_threshold > 0) || std::isinf(update_threshold))
-          throw InputError("a WCC target error adapts the update threshold, which must then "
-                           "start finite and > 0, got " + format_number(update_threshold));
-        if (strategy.iterates() && strategy.iterate_on == StepStrategy::Target::corotational)
-          throw InputError("a WCC target error needs a step that solves the WCC system "
-                           "(Strategy = partial, or Iterate on = warp_canceling): CG on the "
-                           "corotational matrix is already exact to the CG tolerance");
-        measure_velocity_error = true;
-      }
+    if (const auto conflict = wcc_setting_conflict(update_threshold, target_error, strategy, solver_settings.method))
+      throw InputError(conflict->subsection + "/" + conflict->entry + ": " + conflict->message);
+    measure_velocity_error = target_error > 0;
     // At rest every rotation is the identity: A is the rest matrix.
     set_up_rest_system();
     // That is also the exact corotational matrix at rest, factored: what the set-up spent

@@ -5,6 +5,8 @@
 #include <warpchol/models/target_error_controller.h>
 
 #include <array>
+#include <optional>
+#include <string>
 #include <limits>
 
 /**
@@ -45,6 +47,37 @@ namespace warpchol::fem
   ElementMatrix updated_contribution(const ElasticBody &body, const SystemCoefficients &coefficients, unsigned int e,
                                      const std::vector<Matrix3> &nodal_rotations, const Matrix3 &element_rotation,
                                      std::array<Matrix3, 4> &frames);
+
+  /**
+   * A setting of WCC that another rules out: the parameter file's entry that asks for it
+   * (Subsection/Entry) and why.
+   */
+  struct SettingConflict
+  {
+    /** Which rule: the threshold a target error starts from, or another. */
+    enum class Rule
+    {
+      threshold_range,
+      target_range,
+      target_needs_finite_threshold,
+      target_needs_wcc_system,
+      background_iterates_on_corotational,
+      top_needs_supernodes
+    };
+    Rule        rule;
+    std::string subsection;
+    std::string entry;
+    std::string message;
+  };
+
+  /**
+   * The rules that tie WCC's settings together, in one place: the model's constructor
+   * throws on the first broken one, the parameter file names its entry and line. Empty if
+   * @p update_threshold, @p target_error, @p strategy and the solver's @p method agree.
+   */
+  std::optional<SettingConflict> wcc_setting_conflict(double update_threshold, double target_error,
+                                                      const StepStrategy           &strategy,
+                                                      cholesky::FactorizationMethod method);
 
   /**
    * Warp-canceling corotation (WCC). Every element e keeps the nodal rotations S_a of its

@@ -86,6 +86,52 @@ namespace warpchol::app
         throw InputError(where + ": not a parameter file: it starts with " + quote(start));
     }
 
+    /**
+     * deal.II's "The entry value V for the entry named E does not match the given pattern:
+     * [Selection a|b|c ]" as "E = V: not one of a, b or c"; any other message as it is.
+     */
+    std::string choice_message(const std::string &message, const std::string &subsection)
+    {
+      const std::string value_prefix = "The entry value ", entry_prefix = " for the entry named ",
+                        pattern_prefix = " does not match the given pattern: [Selection ";
+      const auto entry   = message.find(entry_prefix);
+      const auto pattern = message.find(pattern_prefix);
+      const auto end     = message.rfind(']');
+      if (message.rfind(value_prefix, 0) != 0 || entry == std::string::npos || pattern == std::string::npos ||
+          end == std::string::npos || end < pattern)
+        return message;
+      const std::string value = message.substr(value_prefix.size(), entry - value_prefix.size());
+      const std::string name  = message.substr(entry + entry_prefix.size(), pattern - entry - entry_prefix.size());
+      std::string       names = trim(message.substr(pattern + pattern_prefix.size(), end - pattern - pattern_prefix.size()));
+      const auto        last  = names.rfind('|');
+      if (last != std::string::npos)
+        names.replace(last, 1, " or ");
+      std::string choices;
+      for (const char c : names)
+        choices += c == '|' ? std::string(", ") : std::string(1, c);
+      return (subsection.empty() ? "" : subsection + "/") + name + " = " + value + ": not one of " + choices;
+    }
+
+    /** The subsections open at line @p line (from 1) of the parameter file @p text: "A/B". */
+    std::string subsection_at(const std::string &text, const int line)
+    {
+      std::vector<std::string> open;
+      std::istringstream       lines(text);
+      std::string              current;
+      for (int k = 1; k < line && std::getline(lines, current); ++k)
+        {
+          current = trim(current.substr(0, current.find('#')));
+          if (current.rfind("subsection ", 0) == 0)
+            open.push_back(trim(current.substr(11)));
+          else if (current == "end" && !open.empty())
+            open.pop_back();
+        }
+      std::string path;
+      for (const auto &name : open)
+        path += (path.empty() ? "" : "/") + name;
+      return path;
+    }
+
     std::string parameter_handler_message(const std::exception &error, const ParameterFileLocator &file)
     {
       std::string       message = error.what();
@@ -117,13 +163,13 @@ namespace warpchol::app
           if (!rest.empty() && rest[0] == ' ')
             rest.erase(0, 1);
           // A line of the text with its includes written out: the file and line it is.
-          const std::string where = file_name == file.filename() && !line.empty() && line.size() < 10 &&
-                                        line.find_first_not_of("0123456789") == std::string::npos ?
-                                      file.origin(std::stoi(line)) :
-                                      file_name + ":" + line;
-          return where + ": " + shorten_quoted_input(rest);
+          const bool        ours = file_name == file.filename() && !line.empty() && line.size() < 10 &&
+                                line.find_first_not_of("0123456789") == std::string::npos;
+          const std::string where = ours ? file.origin(std::stoi(line)) : file_name + ":" + line;
+          const std::string subsection = ours ? subsection_at(file.text(), std::stoi(line)) : "";
+          return where + ": " + shorten_quoted_input(choice_message(rest, subsection));
         }
-      return shorten_quoted_input(message);
+      return shorten_quoted_input(choice_message(message, ""));
     }
 
     std::vector<std::string> numbered_events(const std::string &text, const std::string &kind)

@@ -75,7 +75,7 @@ namespace warpchol::app
                         "(a matrix-free product and a solve) and the threshold follows to keep "
                         "it at half the target. 0: the threshold stays fixed. Needs Strategy = "
                         "partial or Iterate on = warp_canceling");
-      prm.declare_entry("Strategy", "partial", Patterns::Anything(),
+      prm.declare_entry("Strategy", "partial", Patterns::Selection(selection_of(fem::step_strategy_names)),
                         "warp_canceling: how a step keeps the factor up to date and solves. "
                         "partial: partial refactorization of every column that depends on an "
                         "update, direct solve (the WCC system exactly); preconditioned: the same "
@@ -89,7 +89,7 @@ namespace warpchol::app
                         "thread of its own beside the steps, which solve by CG preconditioned "
                         "with the last factor that finished (Background lag; the threshold is "
                         "not used)");
-      prm.declare_entry("Iterate on", "corotational", Patterns::Anything(),
+      prm.declare_entry("Iterate on", "corotational", Patterns::Selection(selection_of(fem::iteration_target_names)),
                         "The matrix CG solves with (all strategies but partial): corotational "
                         "(the exact corotational matrix, matrix-free: the WCC error becomes "
                         "iterations) or warp_canceling (the assembled WCC matrix)");
@@ -117,28 +117,10 @@ namespace warpchol::app
       type                   = prm.get("Type");
       if (!parse_threshold(prm.get("Update threshold"), update_threshold))
         file.fail(prm, "Model", "Update threshold", "must be a number >= 0 or inf");
-      try
-        {
-          strategy.kind = fem::parse_step_strategy(trim(prm.get("Strategy")));
-        }
-      catch (const Error &error)
-        {
-          file.fail(prm, "Model", "Strategy", error.what());
-        }
-      try
-        {
-          strategy.iterate_on = fem::parse_iteration_target(trim(prm.get("Iterate on")));
-        }
-      catch (const Error &error)
-        {
-          file.fail(prm, "Model", "Iterate on", error.what());
-        }
+      // Choices: ParameterHandler has checked them against their one list.
+      strategy.kind       = fem::parse_step_strategy(prm.get("Strategy"));
+      strategy.iterate_on = fem::parse_iteration_target(prm.get("Iterate on"));
       target_error                = prm.get_double("Target error");
-      if (target_error > 0 && type == "warp_canceling" &&
-          (!(update_threshold > 0) || std::isinf(update_threshold)))
-        file.fail(prm, "Model", "Target error",
-                  "adapts the update threshold, which must then start finite and > 0 (Update "
-                  "threshold = " + format_number(update_threshold) + ")");
       strategy.cg_tolerance       = prm.get_double("CG tolerance");
       strategy.max_cg_iterations  = prm.get_integer("Max CG iterations");
       strategy.refresh_interval   = prm.get_integer("Refresh interval");
@@ -155,14 +137,14 @@ namespace warpchol::app
     void Solver::declare_parameters(ParameterHandler &prm)
     {
       prm.enter_subsection("Solver");
-      prm.declare_entry("Ordering", "metis", Patterns::Anything(),
+      prm.declare_entry("Ordering", "metis", Patterns::Selection(selection_of(cholesky::ordering_names)),
                         "Fill-reducing ordering of the sparse Cholesky solver: natural, amd or "
                         "metis (nested dissection: the best for partial refactorizations)");
-      prm.declare_entry("Method", "supernodal", Patterns::Anything(),
+      prm.declare_entry("Method", "supernodal", Patterns::Selection(selection_of(cholesky::factorization_method_names)),
                         "Numeric factorization of the sparse Cholesky solver: supernodal "
                         "(left-looking by supernodes with BLAS-3 kernels, refactorizes "
-                        "partially), left_looking (column by column, refactorizes partially) or "
-                        "up_looking (CSparse's, always in full)");
+                        "partially), left (left-looking, column by column, refactorizes partially) or "
+                        "up (up-looking, CSparse's, always in full)");
       prm.declare_entry("Threads", "1", Patterns::Integer(1, 1024),
                         "Threads of the supernodal factorization and of the element loops "
                         "(rotations, error estimates); 1: serial");
@@ -170,7 +152,7 @@ namespace warpchol::app
                         "The top of the elimination tree that Model/Strategy = delayed_top or "
                         "auto may leave stale: the smallest upward-closed set of supernodes "
                         "holding this fraction of the factorization flops");
-      prm.declare_entry("Backend", "warpchol", Patterns::Anything(),
+      prm.declare_entry("Backend", "warpchol", Patterns::Selection(selection_of(backends::backend_names)),
                         "Who factors and solves each step's system: warpchol (this project's "
                         "factor, refactorized partially), or a peer: cholmod (CHOLMOD "
                         "supernodal, its own ordering), umfpack (deal.II's SparseDirectUMFPACK), "
@@ -185,7 +167,7 @@ namespace warpchol::app
                         "at |b - A x| <= Tolerance |b|");
       prm.declare_entry("Max iterations", "1000", Patterns::Integer(1),
                         "The iterative backends fail past this many iterations");
-      prm.declare_entry("Change method", "auto", Patterns::Selection("auto|flops|recompute|update"),
+      prm.declare_entry("Change method", "auto", Patterns::Selection(selection_of(cholesky::change_method_names)),
                         "How a change of A (a grasp, a cut, a material change, WCC's re-rotated "
                         "elements) reaches an exact factor (supernodal method): auto takes the "
                         "cheaper of an update of the factor by the change in low-rank form and "
@@ -193,7 +175,7 @@ namespace warpchol::app
                         "seconds at rates measured during the run; flops the same at fixed "
                         "rates (the same choices on any machine: reproducible bits); recompute "
                         "never updates; update always does where it can");
-      prm.declare_entry("Preconditioner precision", "double", Patterns::Selection("double|single|half"),
+      prm.declare_entry("Preconditioner precision", "double", Patterns::Selection(selection_of(cholesky::preconditioner_precision_names)),
                         "The factor as CG's preconditioner (Model/Strategy other than partial, "
                         "supernodal method): single keeps a copy of L in 32 bits per entry, half "
                         "in 16 (IEEE half, each column scaled by a power of two), and solves "
@@ -207,40 +189,18 @@ namespace warpchol::app
     void Solver::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
     {
       prm.enter_subsection("Solver");
-      try
-        {
-          settings.ordering.method = cholesky::parse_ordering_method(trim(prm.get("Ordering")));
-        }
-      catch (const Error &error)
-        {
-          file.fail(prm, "Solver", "Ordering", error.what());
-        }
-      try
-        {
-          settings.method = cholesky::parse_factorization_method(trim(prm.get("Method")));
-        }
-      catch (const Error &error)
-        {
-          file.fail(prm, "Solver", "Method", error.what());
-        }
-      try
-        {
-          backend.backend = backends::parse_backend(trim(prm.get("Backend")));
-        }
-      catch (const Error &error)
-        {
-          file.fail(prm, "Solver", "Backend", error.what());
-        }
+      // Choices: ParameterHandler has checked them against their one list.
+      settings.ordering.method = cholesky::parse_ordering_method(prm.get("Ordering"));
+      settings.method          = cholesky::parse_factorization_method(prm.get("Method"));
+      backend.backend          = backends::parse_backend(prm.get("Backend"));
       backend.tolerance      = prm.get_double("Tolerance");
       backend.max_iterations = prm.get_integer("Max iterations");
       if (!(backend.tolerance > 0 && backend.tolerance < 1))
         file.fail(prm, "Solver", "Tolerance", "must be in (0, 1)");
       settings.n_threads          = prm.get_integer("Threads");
       settings.top_flops_fraction = prm.get_double("Top flops fraction");
-      const std::string precision       = prm.get("Preconditioner precision");
-      settings.preconditioner_precision = precision == "single" ? cholesky::PreconditionerPrecision::single :
-                                          precision == "half"   ? cholesky::PreconditionerPrecision::half :
-                                                                  cholesky::PreconditionerPrecision::full;
+      settings.preconditioner_precision =
+        parse_name(cholesky::preconditioner_precision_names, prm.get("Preconditioner precision"), "precision");
       settings.change_method            = cholesky::parse_change_method(prm.get("Change method"));
       prm.leave_subsection();
     }
