@@ -3,7 +3,7 @@
 #include <warpchol/base/simd.h>
 #include <warpchol/cholesky/ordering.h>
 #include <warpchol/dynamics/energy_balance.h>
-#include <warpchol/models/warp_canceling_model.h>
+#include <warpchol/models/elasticity_model.h>
 
 #include <algorithm>
 #include <iomanip>
@@ -65,12 +65,12 @@ namespace warpchol::app
     const double iterations_per_step = static_cast<double>(t.cg_iterations) / std::max(1u, t.steps);
 
     out << "  model: " << model.name();
-    const auto *wcc = dynamic_cast<const fem::WarpCancelingModel *>(&model);
-    if (wcc && wcc->target_error() > 0)
-      out << ", target error " << n(wcc->target_error()) << " (update threshold from "
-          << n(wcc->update_threshold()) << ")";
-    else if (wcc)
-      out << ", update threshold " << n(wcc->update_threshold());
+    const auto report = model.strategy_report();
+    if (report.has_strategy && report.target_error > 0)
+      out << ", target error " << n(report.target_error) << " (update threshold from "
+          << n(report.update_threshold) << ")";
+    else if (report.has_strategy)
+      out << ", update threshold " << n(report.update_threshold);
     const auto &solver = model.solver();
     const auto &backend = scene.parameters().solver.backend;
     if (const auto *peer = model.linear_solver())
@@ -119,16 +119,16 @@ namespace warpchol::app
               out << " " << method << " " << count;
           }
         out << "\n";
-        if (wcc && wcc->target_error() > 0 && t.steps > 0)
+        if (report.target_error > 0 && t.steps > 0)
           out << "  adapted update threshold: mean " << n(t.threshold_sum / t.steps) << ", from "
               << n(t.min_threshold) << " to " << n(t.max_threshold)
               << "; velocity error against exact corotation per step: mean "
               << n(t.velocity_error_sum / t.steps, 2) << ", max " << n(t.max_velocity_error, 2) << "\n";
-        if (wcc && !wcc->target_note().empty())
-          out << "  " << wcc->target_note() << "\n";
-        if (wcc)
+        if (!report.target_note.empty())
+          out << "  " << report.target_note << "\n";
+        if (report.has_strategy)
           {
-            const auto &strategy = wcc->step_strategy();
+            const auto &strategy = report.strategy;
             out << "  strategy: " << fem::to_string(strategy.kind);
             if (strategy.iterates())
               out << ", CG on the " << fem::to_string(strategy.iterate_on) << " matrix to "
@@ -155,15 +155,13 @@ namespace warpchol::app
               }
             if (t.factor_lag_steps > 0)
               out << "; factor age mean " << n(t.factor_lag_sum / t.factor_lag_steps) << " steps";
-            const auto &placement = wcc->refresh_placement();
-            const auto  beside    = placement.steps_in(fem::RefreshPlacement::Where::beside_the_steps);
+            const unsigned int beside = report.steps_refreshing_beside;
             if (strategy.kind == fem::StepStrategy::Kind::automatic && beside > 0)
               out << "; refreshes beside the steps (one thread less for them) in " << beside << " of "
-                  << beside + placement.steps_in(fem::RefreshPlacement::Where::in_the_steps) << " steps";
-            const auto &fallback = wcc->exact_fallback();
-            if (strategy.kind == fem::StepStrategy::Kind::automatic && fallback.exact_steps() > 0)
-              out << "; exact in " << fallback.exact_steps() << " steps where its own had cost more ("
-                  << fallback.fallbacks() << " times)";
+                  << beside + report.steps_refreshing_in << " steps";
+            if (strategy.kind == fem::StepStrategy::Kind::automatic && report.exact_fallback_steps > 0)
+              out << "; exact in " << report.exact_fallback_steps << " steps where its own had cost more ("
+                  << report.fallbacks << " times)";
             out << "\n";
           }
         if (integrator.surgery().active())

@@ -259,6 +259,64 @@ namespace warpchol::app
     add_vtu_seconds(stopwatch.seconds(), 1);
   }
 
+  void RunTotals::add_step(const fem::StepStatistics &step, const double step_seconds)
+  {
+    ++steps;
+    elements_updated += step.elements_updated;
+    last_elements_updated = step.elements_updated;
+    max_elements_updated =
+      std::max(max_elements_updated, static_cast<double>(step.elements_updated));
+    if (step.elements_updated > 0)
+      {
+        ++steps_with_updates;
+        trailing_steps_without_update = 0;
+      }
+    else
+      ++trailing_steps_without_update;
+    if (step.refactorized)
+      {
+        ++refactorizations;
+        ++factor_methods[cholesky::to_string(step.factor_method)];
+        columns_recomputed_pct += 100.0 * step.columns_recomputed / step.n_columns;
+        flops_recomputed_pct += 100.0 * step.flops_recomputed / step.flops_full;
+      }
+    stages.add(step.stages);
+    cg_iterations += step.cg_iterations;
+    rotation_paths += step.rotation_paths;
+    if (step.update_threshold >= 0)
+      {
+        threshold_sum += step.update_threshold;
+        min_threshold = std::min(min_threshold, step.update_threshold);
+        max_threshold = std::max(max_threshold, step.update_threshold);
+      }
+    if (step.velocity_error >= 0)
+      {
+        velocity_error_sum += step.velocity_error;
+        max_velocity_error = std::max(max_velocity_error, step.velocity_error);
+      }
+    if (!step.refresh.empty())
+      ++refreshes[step.refresh];
+    if (step.choice != fem::StepChoice::not_chosen)
+      ++choices[fem::to_string(step.choice)];
+    if (step.factor_lag >= 0)
+      {
+        factor_lag_sum += step.factor_lag;
+        ++factor_lag_steps;
+      }
+    elements_cut += step.elements_cut;
+    elements_changed += step.elements_changed;
+    vertices_grasped += step.vertices_grasped;
+    vertices_released += step.vertices_released;
+    if (step.change_columns > 0)
+      {
+        ++change_steps;
+        change_columns_pct += 100.0 * step.change_columns / step.n_columns;
+        if (step.flops_full > 0)
+          change_flops_pct += 100.0 * step.change_flops / step.flops_full;
+      }
+    this->step_seconds += step_seconds;
+  }
+
   void Simulation::advance(SimulatedBody &simulated, const unsigned int step)
   {
     auto       &integrator = simulated.scene->integrator();
@@ -271,60 +329,7 @@ namespace warpchol::app
     const double step_seconds = stopwatch.seconds();
 
     auto &t = simulated.totals;
-    ++t.steps;
-    t.elements_updated += statistics.elements_updated;
-    t.last_elements_updated = statistics.elements_updated;
-    t.max_elements_updated =
-      std::max(t.max_elements_updated, static_cast<double>(statistics.elements_updated));
-    if (statistics.elements_updated > 0)
-      {
-        ++t.steps_with_updates;
-        t.trailing_steps_without_update = 0;
-      }
-    else
-      ++t.trailing_steps_without_update;
-    if (statistics.refactorized)
-      {
-        ++t.refactorizations;
-        ++t.factor_methods[cholesky::to_string(statistics.factor_method)];
-        t.columns_recomputed_pct += 100.0 * statistics.columns_recomputed / statistics.n_columns;
-        t.flops_recomputed_pct += 100.0 * statistics.flops_recomputed / statistics.flops_full;
-      }
-    t.stages.add(statistics.stages);
-    t.cg_iterations += statistics.cg_iterations;
-    t.rotation_paths += statistics.rotation_paths;
-    if (statistics.update_threshold >= 0)
-      {
-        t.threshold_sum += statistics.update_threshold;
-        t.min_threshold = std::min(t.min_threshold, statistics.update_threshold);
-        t.max_threshold = std::max(t.max_threshold, statistics.update_threshold);
-      }
-    if (statistics.velocity_error >= 0)
-      {
-        t.velocity_error_sum += statistics.velocity_error;
-        t.max_velocity_error = std::max(t.max_velocity_error, statistics.velocity_error);
-      }
-    if (!statistics.refresh.empty())
-      ++t.refreshes[statistics.refresh];
-    if (statistics.choice != fem::StepChoice::not_chosen)
-      ++t.choices[fem::to_string(statistics.choice)];
-    if (statistics.factor_lag >= 0)
-      {
-        t.factor_lag_sum += statistics.factor_lag;
-        ++t.factor_lag_steps;
-      }
-    t.elements_cut += statistics.elements_cut;
-    t.elements_changed += statistics.elements_changed;
-    t.vertices_grasped += statistics.vertices_grasped;
-    t.vertices_released += statistics.vertices_released;
-    if (statistics.change_columns > 0)
-      {
-        ++t.change_steps;
-        t.change_columns_pct += 100.0 * statistics.change_columns / statistics.n_columns;
-        if (statistics.flops_full > 0)
-          t.change_flops_pct += 100.0 * statistics.change_flops / statistics.flops_full;
-      }
-    t.step_seconds += step_seconds;
+    t.add_step(statistics, step_seconds);
     if (!simulated.scene->loads().tool.vertices.empty())
       {
         const auto &updated = model.update_record().updated;

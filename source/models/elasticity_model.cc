@@ -56,6 +56,11 @@ namespace warpchol::fem
     return seconds;
   }
 
+  ElasticityModel::StrategyReport ElasticityModel::strategy_report() const
+  {
+    return {};
+  }
+
   std::string to_string(const StepChoice choice)
   {
     switch (choice)

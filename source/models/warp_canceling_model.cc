@@ -199,6 +199,21 @@ namespace warpchol::fem
     return target_control.why_given_up();
   }
 
+  ElasticityModel::StrategyReport WarpCancelingModel::strategy_report() const
+  {
+    StrategyReport report;
+    report.has_strategy            = true;
+    report.update_threshold        = threshold;
+    report.target_error            = target_control.target();
+    report.target_note             = target_control.why_given_up();
+    report.strategy                = strategy;
+    report.steps_refreshing_beside = placement.steps_in(RefreshPlacement::Where::beside_the_steps);
+    report.steps_refreshing_in     = placement.steps_in(RefreshPlacement::Where::in_the_steps);
+    report.exact_fallback_steps    = fallback.exact_steps();
+    report.fallbacks               = fallback.fallbacks();
+    return report;
+  }
+
   void WarpCancelingModel::give_up_target()
   {
     strategy.kind          = StepStrategy::Kind::preconditioned;

@@ -92,6 +92,9 @@ namespace warpchol::app
     double       updated_distance_to_tool = 0;
     /** Trajectory error against the corotational run (worst vertex and RMS per step). */
     TrajectoryError error_vs_corotational;
+
+    /** Count the step whose statistics are @p step and which took @p step_seconds. */
+    void add_step(const fem::StepStatistics &step, double step_seconds);
   };
 
   /**

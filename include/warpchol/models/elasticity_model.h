@@ -237,6 +237,29 @@ namespace warpchol::fem
     virtual std::string name() const = 0;
 
     /**
+     * What the model reports of its update threshold and step strategy, for the run's
+     * summary: the app asks the model, never its type. Empty (has_strategy false) but for
+     * WCC.
+     */
+    struct StrategyReport
+    {
+      bool         has_strategy     = false;
+      double       update_threshold = 0;
+      /** 0 when the threshold stays fixed. */
+      double       target_error = 0;
+      /** Why and from which step a target error gave up (empty while it steers). */
+      std::string  target_note;
+      StepStrategy strategy;
+      /** auto with a background refresh: the steps with the refreshes beside them, and in them. */
+      unsigned int steps_refreshing_beside = 0;
+      unsigned int steps_refreshing_in     = 0;
+      /** auto: the steps it ran exact where its own had cost more, and how many times it fell back. */
+      unsigned int exact_fallback_steps = 0;
+      unsigned int fallbacks            = 0;
+    };
+    virtual StrategyReport strategy_report() const;
+
+    /**
      * Bring A and its factor up to date with the configuration at the start of a step.
      * Throws MatrixError naming the column and vertex if the factorization fails.
      */

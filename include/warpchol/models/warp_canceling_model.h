@@ -173,6 +173,8 @@ namespace warpchol::fem
     /** auto's fall-back to exact steps where its own cost more (ExactFallback). */
     const ExactFallback &exact_fallback() const;
 
+    StrategyReport strategy_report() const override;
+
   protected:
     /**
      * At a threshold strictly between 0 and inf, A is re-assembled in part and its factor
