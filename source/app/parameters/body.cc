@@ -6,12 +6,6 @@
 
 namespace warpchol::app
 {
-  namespace
-  {
-    using dealii::ParameterHandler;
-    namespace Patterns = dealii::Patterns;
-  } // namespace
-
   namespace parameters
   {
     void Mesh::declare_parameters(ParameterHandler &prm)

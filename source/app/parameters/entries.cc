@@ -7,12 +7,6 @@
 
 namespace warpchol::app
 {
-  namespace
-  {
-    using dealii::ParameterHandler;
-    namespace Patterns = dealii::Patterns;
-  } // namespace
-
   namespace parameters
   {
     Patterns::List vector_pattern()
@@ -54,9 +48,11 @@ namespace warpchol::app
   } // namespace parameters
 
   using parameters::get_vector;
+  using parameters::ParameterHandler;
   using parameters::require_positive;
   using parameters::trim;
   using parameters::vector_pattern;
+  namespace Patterns = parameters::Patterns;
 
   bool parse_threshold(const std::string &text, double &threshold)
   {

@@ -8,12 +8,6 @@
 
 namespace warpchol::app
 {
-  namespace
-  {
-    using dealii::ParameterHandler;
-    namespace Patterns = dealii::Patterns;
-  } // namespace
-
   namespace parameters
   {
     bool Cut::active() const

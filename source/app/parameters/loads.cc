@@ -2,12 +2,6 @@
 
 namespace warpchol::app
 {
-  namespace
-  {
-    using dealii::ParameterHandler;
-    namespace Patterns = dealii::Patterns;
-  } // namespace
-
   namespace parameters
   {
     void InitialState::declare_parameters(ParameterHandler &prm)

@@ -7,12 +7,6 @@
 
 namespace warpchol::app
 {
-  namespace
-  {
-    using dealii::ParameterHandler;
-    namespace Patterns = dealii::Patterns;
-  } // namespace
-
   namespace parameters
   {
     void TimeStepping::declare_parameters(ParameterHandler &prm)

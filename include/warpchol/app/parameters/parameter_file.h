@@ -78,6 +78,10 @@ namespace warpchol::app
 
   namespace parameters
   {
+    // The subsections' code names deal.II's ParameterHandler and Patterns as its own.
+    using dealii::ParameterHandler;
+    namespace Patterns = dealii::Patterns;
+
     /** @p text without the blanks (spaces, tabs, carriage returns) at its ends. */
     std::string trim(const std::string &text);
 
