@@ -130,7 +130,7 @@ namespace warpchol::fem
     // That is also the exact corotational matrix at rest, factored: what the set-up spent
     // on it (all but the analysis) stands for an exact step's cost until one is measured,
     // so that auto's first step, whose factor is exact already, is not made exact again
-    // (on the 60k torus's ten steps that first exact step was a quarter of the run).
+    // (a full factorization for nothing: on a short run, a large share of it).
     if (strategy.kind == StepStrategy::Kind::automatic)
       {
         const auto &factor_statistics = cholesky_solver.statistics();
