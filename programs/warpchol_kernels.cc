@@ -66,7 +66,7 @@ namespace
           throw InputError(std::string("--targets: ") + error.what());
         }
     dealii::MultithreadInfo::set_thread_limit(threads);
-    simd::use_target("best");
+    simd::use_target("default");
     std::cout << app::describe_machine() << "\n";
 
     app::Scene scene{app::AllParameters(scene_file)};

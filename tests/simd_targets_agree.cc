@@ -180,4 +180,9 @@ int main()
     }
   simd::use_target("best");
   tests::check("best is the first available", simd::current_target() == targets.front());
+  // The default: AVX2 where the CPU has it (even with AVX-512), else the best.
+  const bool has_avx2 = std::find(targets.begin(), targets.end(), "avx2") != targets.end();
+  simd::use_target("default");
+  tests::check("default is avx2 where available, else the best",
+               simd::current_target() == (has_avx2 ? std::string("avx2") : targets.front()));
 }
