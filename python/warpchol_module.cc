@@ -245,15 +245,7 @@ namespace warpchol::python
     /** "empty", "analyzed" or "factorized": the solver's state (SparseCholesky::State). */
     std::string state() const
     {
-      switch (solver.state())
-        {
-          case State::empty:
-            return "empty";
-          case State::analyzed:
-            return "analyzed";
-          default:
-            return "factorized";
-        }
+      return name_of(cholesky::SparseCholesky::state_names, solver.state());
     }
 
     std::string storage() const

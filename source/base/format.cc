@@ -99,4 +99,12 @@ namespace warpchol
   {
     return "'" + excerpt(text, max_characters) + "'" + (looks_binary(text) ? " (binary data)" : "");
   }
+
+  std::string alternatives(const std::vector<std::string> &names)
+  {
+    std::string list;
+    for (std::size_t k = 0; k < names.size(); ++k)
+      list += (k == 0 ? "" : k + 1 == names.size() ? " or " : ", ") + names[k];
+    return list;
+  }
 } // namespace warpchol

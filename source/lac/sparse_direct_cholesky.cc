@@ -47,6 +47,11 @@ namespace warpchol
       }
   }
 
+  void SparseDirectCholesky::assert_initialized() const
+  {
+    AssertThrow(cholesky_solver.state() != cholesky::SparseCholesky::State::empty, ExcNotInitialized());
+  }
+
   void SparseDirectCholesky::assert_factored() const
   {
     AssertThrow(cholesky_solver.state() == cholesky::SparseCholesky::State::factorized, ExcNotInitialized());
@@ -79,7 +84,7 @@ namespace warpchol
   template <typename Matrix>
   void SparseDirectCholesky::factorize_from(const Matrix &matrix)
   {
-    AssertThrow(cholesky_solver.state() != cholesky::SparseCholesky::State::empty, ExcNotInitialized());
+    assert_initialized();
     factor_and_translate_errors([&]() {
       copy_values(matrix);
       cholesky_solver.factorize(matrix_csc);
@@ -90,7 +95,7 @@ namespace warpchol
   void SparseDirectCholesky::refactorize_from(const Matrix &matrix, const std::vector<size_type> &changed_rows)
   {
     // After a failed factorization, refactorize() of the solver factors in full.
-    AssertThrow(cholesky_solver.state() != cholesky::SparseCholesky::State::empty, ExcNotInitialized());
+    assert_initialized();
     const std::vector<Index> rows = checked_rows(changed_rows);
     factor_and_translate_errors([&]() {
       copy_values(matrix);

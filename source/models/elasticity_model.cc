@@ -63,21 +63,7 @@ namespace warpchol::fem
 
   std::string to_string(const StepChoice choice)
   {
-    switch (choice)
-      {
-        case StepChoice::exact:
-          return "exact";
-        case StepChoice::refresh_all:
-          return "all";
-        case StepChoice::refresh_below_top:
-          return "below_top";
-        case StepChoice::refresh_none:
-          return "none";
-        case StepChoice::background:
-          return "background";
-        default:
-          return "";
-      }
+    return name_of(step_choice_names, choice);
   }
 
   StepChoice iterating_choice(const cholesky::Refresh refresh)

@@ -49,12 +49,12 @@ namespace warpchol::backends
 
   /** The names of the backends (base/named_values.h), in the order of the enum. */
   inline constexpr NameTable<Backend, 7> backend_names{{{Backend::warpchol, "warpchol"},
-                                                              {Backend::cholmod, "cholmod"},
-                                                              {Backend::umfpack, "umfpack"},
-                                                              {Backend::eigen, "eigen"},
-                                                              {Backend::eigen_cholmod, "eigen_cholmod"},
-                                                              {Backend::trilinos_amg_cg, "trilinos_amg_cg"},
-                                                              {Backend::warp_preconditioned_cg, "warp_preconditioned_cg"}}};
+                                                        {Backend::cholmod, "cholmod"},
+                                                        {Backend::umfpack, "umfpack"},
+                                                        {Backend::eigen, "eigen"},
+                                                        {Backend::eigen_cholmod, "eigen_cholmod"},
+                                                        {Backend::trilinos_amg_cg, "trilinos_amg_cg"},
+                                                        {Backend::warp_preconditioned_cg, "warp_preconditioned_cg"}}};
 
   /** Every backend, in the order of the enum. */
   std::vector<Backend> all_backends();

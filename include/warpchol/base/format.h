@@ -3,6 +3,7 @@
 #include <cstddef>
 #include <string>
 #include <string_view>
+#include <vector>
 
 /**
  * @file
@@ -40,4 +41,7 @@ namespace warpchol
    * " (binary data)" if @p text looks_binary(). Every reader quotes through this.
    */
   std::string quote(std::string_view text, std::size_t max_characters = 40);
+
+  /** The choices @p names as a message lists them: "a", "a or b", "a, b or c". */
+  std::string alternatives(const std::vector<std::string> &names);
 } // namespace warpchol

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 #include <string>
+#include <vector>
 
 /**
  * @file
@@ -51,12 +52,13 @@ namespace warpchol
   template <typename Enum, std::size_t N>
   Enum parse_name(const NameTable<Enum, N> &table, const std::string &name, const std::string &what)
   {
+    std::vector<std::string> names;
     for (const auto &entry : table)
-      if (name == entry.name)
-        return entry.value;
-    std::string expected;
-    for (std::size_t k = 0; k < N; ++k)
-      expected += (k == 0 ? "" : k + 1 == N ? " or " : ", ") + std::string(table[k].name);
-    throw InputError("unknown " + what + " " + quote(name) + " (expected " + expected + ")");
+      {
+        if (name == entry.name)
+          return entry.value;
+        names.emplace_back(entry.name);
+      }
+    throw InputError("unknown " + what + " " + quote(name) + " (expected " + alternatives(names) + ")");
   }
 } // namespace warpchol

@@ -213,6 +213,10 @@ namespace warpchol::cholesky
       factorized
     };
 
+    /** The names of the states (base/named_values.h): "empty", "analyzed", "factorized". */
+    static constexpr NameTable<State, 3> state_names{
+      {{State::empty, "empty"}, {State::analyzed, "analyzed"}, {State::factorized, "factorized"}}};
+
     SparseCholesky();
     explicit SparseCholesky(const Settings &settings);
 

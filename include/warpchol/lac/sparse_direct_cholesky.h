@@ -385,6 +385,9 @@ namespace warpchol
     template <typename Work>
     void factor_and_translate_errors(const Work &numeric_work);
 
+    /** Throw ExcNotInitialized unless initialize() analyzed a matrix (its factorization may have failed since). */
+    void assert_initialized() const;
+
     /** Throw ExcNotInitialized unless a factorization exists. */
     void assert_factored() const;
 

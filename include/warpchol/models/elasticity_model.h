@@ -1,6 +1,7 @@
 #pragma once
 
 #include <warpchol/backends/linear_solver.h>
+#include <warpchol/base/named_values.h>
 #include <warpchol/base/stage_times.h>
 #include <warpchol/base/types.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
@@ -86,6 +87,14 @@ namespace warpchol::fem
     /** A step that took a refresh made beside the steps. */
     background
   };
+
+  /** The names of the choices (base/named_values.h), as the log and the summary show them. */
+  inline constexpr NameTable<StepChoice, 6> step_choice_names{{{StepChoice::not_chosen, ""},
+                                                               {StepChoice::exact, "exact"},
+                                                               {StepChoice::refresh_all, "all"},
+                                                               {StepChoice::refresh_below_top, "below_top"},
+                                                               {StepChoice::refresh_none, "none"},
+                                                               {StepChoice::background, "background"}}};
 
   /** "", "exact", "all", "below_top", "none", "background". */
   std::string to_string(StepChoice choice);

@@ -88,9 +88,10 @@ namespace warpchol::app
 
     /**
      * deal.II's "The entry value V for the entry named E does not match the given pattern:
-     * [Selection a|b|c ]" as "E = V: not one of a, b or c"; any other message as it is.
+     * [Selection a|b|c ]" as "PATH = V: not one of a, b or c", PATH the entry's
+     * "Subsection/Entry" (@p path; E if empty); any other message as it is.
      */
-    std::string choice_message(const std::string &message, const std::string &subsection)
+    std::string choice_message(const std::string &message, const std::string &path)
     {
       const std::string value_prefix = "The entry value ", entry_prefix = " for the entry named ",
                         pattern_prefix = " does not match the given pattern: [Selection ";
@@ -102,34 +103,11 @@ namespace warpchol::app
         return message;
       const std::string value = message.substr(value_prefix.size(), entry - value_prefix.size());
       const std::string name  = message.substr(entry + entry_prefix.size(), pattern - entry - entry_prefix.size());
-      std::string       names = trim(message.substr(pattern + pattern_prefix.size(), end - pattern - pattern_prefix.size()));
-      const auto        last  = names.rfind('|');
-      if (last != std::string::npos)
-        names.replace(last, 1, " or ");
-      std::string choices;
-      for (const char c : names)
-        choices += c == '|' ? std::string(", ") : std::string(1, c);
-      return (subsection.empty() ? "" : subsection + "/") + name + " = " + value + ": not one of " + choices;
-    }
-
-    /** The subsections open at line @p line (from 1) of the parameter file @p text: "A/B". */
-    std::string subsection_at(const std::string &text, const int line)
-    {
-      std::vector<std::string> open;
-      std::istringstream       lines(text);
-      std::string              current;
-      for (int k = 1; k < line && std::getline(lines, current); ++k)
-        {
-          current = trim(current.substr(0, current.find('#')));
-          if (current.rfind("subsection ", 0) == 0)
-            open.push_back(trim(current.substr(11)));
-          else if (current == "end" && !open.empty())
-            open.pop_back();
-        }
-      std::string path;
-      for (const auto &name : open)
-        path += (path.empty() ? "" : "/") + name;
-      return path;
+      std::vector<std::string> choices;
+      std::istringstream       names(trim(message.substr(pattern + pattern_prefix.size(), end - pattern - pattern_prefix.size())));
+      for (std::string choice; std::getline(names, choice, '|');)
+        choices.push_back(choice);
+      return (path.empty() ? name : path) + " = " + value + ": not one of " + alternatives(choices);
     }
 
     std::string parameter_handler_message(const std::exception &error, const ParameterFileLocator &file)
@@ -166,8 +144,8 @@ namespace warpchol::app
           const bool        ours = file_name == file.filename() && !line.empty() && line.size() < 10 &&
                                 line.find_first_not_of("0123456789") == std::string::npos;
           const std::string where = ours ? file.origin(std::stoi(line)) : file_name + ":" + line;
-          const std::string subsection = ours ? subsection_at(file.text(), std::stoi(line)) : "";
-          return where + ": " + shorten_quoted_input(choice_message(rest, subsection));
+          const std::string path  = ours ? file.entry_at(std::stoi(line)) : "";
+          return where + ": " + shorten_quoted_input(choice_message(rest, path));
         }
       return shorten_quoted_input(choice_message(message, ""));
     }
@@ -311,6 +289,14 @@ namespace warpchol::app
       if (set->first == path)
         return origin(set->second) + ": " + path;
     return file + ": " + path + " (default)";
+  }
+
+  std::string ParameterFileLocator::entry_at(const int line) const
+  {
+    for (const auto &[path, set_line] : set_lines)
+      if (set_line == line)
+        return path;
+    return "";
   }
 
   void ParameterFileLocator::fail(const dealii::ParameterHandler &prm,
