@@ -702,36 +702,34 @@ namespace warpchol::fem
 HWY_BEFORE_NAMESPACE();
 namespace warpchol::fem::HWY_NAMESPACE
 {
+  /** Matrices of a group of elements side by side: entry i (column-major) of lane l at [i][l]. */
+  using LaneMatrices = double[9][force_lanes];
+
   /**
    * The world forces -R K_e (R^T x_e - X_e) on vertices 1..3 (as columns; vertex 0's is
    * minus their sum), the energy 1/2 u^T K_e u = V/2 sigma : eps and the norm of the 12
-   * nodal forces of the @p count (<= 8) elements whose deformation gradients, rotations,
-   * inverse rest edges and volumes start at @p gradients, @p rotations,
-   * @p inverse_rest_edges and @p volumes, side by side in SIMD lanes (their entries laid
-   * out lane by lane, as rotations_of() does): the hot loop of the fused pass. With
-   * @p product, the corotated stiffness times the field whose gradients are @p gradients:
-   * G = R^T F and the forces +R (V sigma Dm^-T); else G = R^T F - I and -R (V sigma Dm^-T).
+   * nodal forces of the @p count (<= 8) elements whose deformation gradients and rotations
+   * are the lanes of @p f and @p r and whose inverse rest edges and volumes start at
+   * @p inverse_rest_edges and @p volumes, side by side in SIMD lanes: the hot loop of the
+   * fused pass. With @p product, the corotated stiffness times the field whose gradients
+   * are @p f: G = R^T F and the forces +R (V sigma Dm^-T); else G = R^T F - I and
+   * -R (V sigma Dm^-T).
    */
-  void CorotatedForces(const unsigned int count, const Matrix3 *gradients, const Matrix3 *rotations,
+  void CorotatedForces(const unsigned int count, const LaneMatrices &f, const LaneMatrices &r,
                        const Matrix3 *inverse_rest_edges, const double *volumes, const Matrix3 *plastic_strains,
                        const double mu, const double lambda, const bool product, Matrix3 *forces, double *energies,
                        double *force_norms)
   {
-    // Entry i of the 3x3 matrices of lane l at [i][l] (column-major i = row + 3 column);
-    // lanes past count repeat the last element and are not stored.
+    // Lanes past count repeat the last element and are not stored.
     constexpr unsigned int lanes = force_lanes;
     const double identity = product ? 0. : 1.;
     const double sign     = product ? 1. : -1.;
-    alignas(64) double f[9][lanes], r[9][lanes], d[9][lanes], volume[lanes];
+    alignas(64) double d[9][lanes], volume[lanes];
     for (unsigned int l = 0; l < lanes; ++l)
       {
         const unsigned int k = std::min(l, count - 1);
         for (unsigned int i = 0; i < 9; ++i)
-          {
-            f[i][l] = gradients[k].data()[i];
-            r[i][l] = rotations[k].data()[i];
-            d[i][l] = inverse_rest_edges[k].data()[i];
-          }
+          d[i][l] = inverse_rest_edges[k].data()[i];
         volume[l] = volumes[k];
       }
     alignas(64) double g[9][lanes], stress_volume[9][lanes], local[9][lanes], world[9][lanes];
@@ -799,39 +797,55 @@ namespace warpchol::fem::HWY_NAMESPACE
       }
   }
 
-  /** rotations_of() on this target (fem/rotations.cc). */
-  void RotationsOf(const Matrix3 *gradients, Matrix3 *rotations, std::size_t count, RotationPaths *paths);
+  /** The rotations of a group of gradients, lane by lane, on this target (fem/rotations.cc). */
+  void RotationLanes(const LaneMatrices &gradients, std::size_t used, LaneMatrices &rotations, RotationPaths &taken);
 
-  /** fused_pass_range() on this target: the gradients, rotations and forces of a range, all in its code. */
+  /**
+   * fused_pass_range() on this target: the gradients, rotations and forces of a range, eight
+   * elements at a time, all in its code and in the lanes' layout (the group's matrices are
+   * laid out once, not once per kernel).
+   */
   void FusedPassRange(const FusedPassInput &in, const FusedPassOutput &out, const unsigned int begin,
                       const unsigned int end, RotationPaths &paths)
   {
-    std::array<Matrix3, rotation_block> gradients, identities;
-    identities.fill(Matrix3::Identity());
-    for (unsigned int first = begin; first < end; first += rotation_block)
+    for (unsigned int first = begin; first < end; first += force_lanes)
       {
-        const unsigned int count = std::min(rotation_block, end - first);
-        // F = [x1 - x0, x2 - x0, x3 - x0] Dm^-1.
-        for (unsigned int k = 0; k < count; ++k)
+        const unsigned int count = std::min(force_lanes, end - first);
+        // F = [x1 - x0, x2 - x0, x3 - x0] Dm^-1; lanes past count repeat the last element.
+        alignas(64) LaneMatrices f, r;
+        for (unsigned int l = 0; l < force_lanes; ++l)
           {
-            const auto &v = in.vertices[first + k];
-            Matrix3     edges;
+            const unsigned int e = first + std::min(l, count - 1);
+            const auto        &v = in.vertices[e];
+            Matrix3            edges;
             for (unsigned int a = 1; a < 4; ++a)
               edges.col(a - 1) = in.positions[v[a]] - in.positions[v[0]];
-            gradients[k] = edges * in.inverse_rest_edges[first + k];
+            const Matrix3 gradient = edges * in.inverse_rest_edges[e];
+            for (unsigned int i = 0; i < 9; ++i)
+              f[i][l] = gradient.data()[i];
           }
-        const Matrix3 *rotations = in.given_rotations != nullptr ? in.given_rotations + first : identities.data();
         if (out.rotations != nullptr)
           {
-            RotationsOf(gradients.data(), out.rotations + first, count, &paths);
-            rotations = out.rotations + first;
+            RotationLanes(f, count, r, paths);
+            for (unsigned int l = 0; l < count; ++l)
+              for (unsigned int i = 0; i < 9; ++i)
+                out.rotations[first + l].data()[i] = r[i][l];
+            // The padding lanes as the forces expect them: the last element again.
+            for (unsigned int l = count; l < force_lanes; ++l)
+              for (unsigned int i = 0; i < 9; ++i)
+                r[i][l] = r[i][count - 1];
           }
-        for (unsigned int k = 0; k < count; k += force_lanes)
-          CorotatedForces(std::min(force_lanes, count - k), gradients.data() + k, rotations + k,
-                          in.inverse_rest_edges + first + k, in.volumes + first + k,
-                          in.plastic_strains != nullptr ? in.plastic_strains + first + k : nullptr, in.mu, in.lambda,
-                          in.product, out.forces + first + k, out.energies ? out.energies + first + k : nullptr,
-                          out.force_norms ? out.force_norms + first + k : nullptr);
+        else
+          for (unsigned int l = 0; l < force_lanes; ++l)
+            {
+              const unsigned int k = std::min(l, count - 1);
+              for (unsigned int i = 0; i < 9; ++i)
+                r[i][l] = in.given_rotations != nullptr ? in.given_rotations[first + k].data()[i] : i % 4 == 0 ? 1. : 0.;
+            }
+        CorotatedForces(count, f, r, in.inverse_rest_edges + first, in.volumes + first,
+                        in.plastic_strains != nullptr ? in.plastic_strains + first : nullptr, in.mu, in.lambda,
+                        in.product, out.forces + first, out.energies ? out.energies + first : nullptr,
+                        out.force_norms ? out.force_norms + first : nullptr);
       }
   }
 } // namespace warpchol::fem::HWY_NAMESPACE

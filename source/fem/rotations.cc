@@ -176,76 +176,92 @@ namespace warpchol::fem::HWY_NAMESPACE
     }
   } // namespace
 
+  /**
+   * The rotations of the @p used (<= 8) deformation gradients laid out lane by lane in
+   * @p gradients (entry i of lane l at [i][l]) into @p rotations, laid out alike: the
+   * batched iteration on the lanes (those past @p used are the identity, which converges
+   * at once, so that every matrix takes the same path wherever the threads' ranges split
+   * the elements), the scalar path for a lane it leaves unconverged. The fused pass calls
+   * this on its own lanes, rotations_of() on matrices it lays out first.
+   */
+  void RotationLanes(const double (&gradients)[9][lanes], const std::size_t used, double (&rotations)[9][lanes],
+                     RotationPaths &taken)
+  {
+    LaneMatrix &x = rotations;
+    alignas(64) LaneScalar determinant, change, size;
+    for (std::size_t l = 0; l < lanes; ++l)
+      for (unsigned int i = 0; i < 9; ++i)
+        x[i][l] = l < used ? gradients[i][l] : i % 4 == 0 ? 1. : 0.;
+    for (std::size_t l = 0; l < lanes; ++l)
+      {
+        size[l] = 0;
+        for (unsigned int i = 0; i < 9; ++i)
+          size[l] += x[i][l] * x[i][l];
+      }
+    newton_step(x, determinant, change, true);
+    // The first determinant is det F: rotation_of()'s test for the SVD fallback.
+    alignas(64) LaneScalar initial_determinant;
+    for (std::size_t l = 0; l < lanes; ++l)
+      initial_determinant[l] = determinant[l];
+    for (unsigned int step = 1; step < batched_newton_steps; ++step)
+      newton_step(x, determinant, change, step < batched_scaled_steps);
+    // More steps while a lane that can converge has not (an inverted or flat one
+    // cannot: its NaNs would keep the group iterating for nothing). A lane that has
+    // converged keeps its value: each rotation is then that of its own matrix after as
+    // many steps as it needed, whatever the other lanes of its group.
+    bool converged[lanes];
+    for (std::size_t l = 0; l < lanes; ++l)
+      converged[l] = inverted_or_flat(initial_determinant[l], size[l]) || change[l] < 1e-18;
+    for (unsigned int step = batched_newton_steps;
+         step < batched_most_steps && std::find(converged, converged + lanes, false) != converged + lanes; ++step)
+      {
+        alignas(64) LaneMatrix before;
+        std::copy(&x[0][0], &x[0][0] + 9 * lanes, &before[0][0]);
+        newton_step(x, determinant, change, true);
+        for (std::size_t l = 0; l < lanes; ++l)
+          {
+            if (converged[l])
+              for (unsigned int i = 0; i < 9; ++i)
+                x[i][l] = before[i][l];
+            else
+              converged[l] = change[l] < 1e-18;
+          }
+      }
+    for (std::size_t l = 0; l < used; ++l)
+      {
+        // Converged where the last change was below 1e-9 (error about 1e-18), as
+        // rotation_of() requires; any other lane takes the scalar path.
+        const bool flat = inverted_or_flat(initial_determinant[l], size[l]);
+        if (!flat && converged[l])
+          ++taken.lanes;
+        else
+          {
+            Matrix3 gradient;
+            for (unsigned int i = 0; i < 9; ++i)
+              gradient.data()[i] = gradients[i][l];
+            const Matrix3 rotation = rotation_of(gradient);
+            for (unsigned int i = 0; i < 9; ++i)
+              x[i][l] = rotation.data()[i];
+            ++(flat ? taken.svd : taken.newton);
+          }
+      }
+  }
+
   /** rotations_of() on this target. */
   void RotationsOf(const Matrix3 *gradients, Matrix3 *rotations, const std::size_t count, RotationPaths *paths)
   {
     RotationPaths taken;
     for (std::size_t k = 0; k < count; k += lanes)
       {
-        // A group of eight; the last one, if shorter, padded with the identity (which
-        // converges at once), so that every matrix takes the same path wherever the
-        // threads' ranges split the elements.
         const std::size_t used = std::min(lanes, count - k);
-        alignas(64) LaneMatrix x;
-        alignas(64) LaneScalar determinant, change, size;
+        alignas(64) LaneMatrix f = {}, r;
         for (std::size_t l = 0; l < used; ++l)
           for (unsigned int i = 0; i < 9; ++i)
-            x[i][l] = gradients[k + l].data()[i];
-        for (std::size_t l = used; l < lanes; ++l)
-          for (unsigned int i = 0; i < 9; ++i)
-            x[i][l] = i % 4 == 0 ? 1. : 0.;
-        for (std::size_t l = 0; l < lanes; ++l)
-          {
-            size[l] = 0;
-            for (unsigned int i = 0; i < 9; ++i)
-              size[l] += x[i][l] * x[i][l];
-          }
-        newton_step(x, determinant, change, true);
-        // The first determinant is det F: rotation_of()'s test for the SVD fallback.
-        alignas(64) LaneScalar initial_determinant;
-        for (std::size_t l = 0; l < lanes; ++l)
-          initial_determinant[l] = determinant[l];
-        for (unsigned int step = 1; step < batched_newton_steps; ++step)
-          newton_step(x, determinant, change, step < batched_scaled_steps);
-        // More steps while a lane that can converge has not (an inverted or flat one
-        // cannot: its NaNs would keep the group iterating for nothing). A lane that has
-        // converged keeps its value: each rotation is then that of its own matrix after as
-        // many steps as it needed, whatever the other lanes of its group.
-        bool converged[lanes];
-        for (std::size_t l = 0; l < lanes; ++l)
-          converged[l] = inverted_or_flat(initial_determinant[l], size[l]) || change[l] < 1e-18;
-        for (unsigned int step = batched_newton_steps;
-             step < batched_most_steps && std::find(converged, converged + lanes, false) != converged + lanes; ++step)
-          {
-            alignas(64) LaneMatrix before;
-            std::copy(&x[0][0], &x[0][0] + 9 * lanes, &before[0][0]);
-            newton_step(x, determinant, change, true);
-            for (std::size_t l = 0; l < lanes; ++l)
-              {
-                if (converged[l])
-                  for (unsigned int i = 0; i < 9; ++i)
-                    x[i][l] = before[i][l];
-                else
-                  converged[l] = change[l] < 1e-18;
-              }
-          }
+            f[i][l] = gradients[k + l].data()[i];
+        RotationLanes(f, used, r, taken);
         for (std::size_t l = 0; l < used; ++l)
-          {
-            // Converged where the last change was below 1e-9 (error about 1e-18), as
-            // rotation_of() requires; any other lane takes the scalar path.
-            const bool flat = inverted_or_flat(initial_determinant[l], size[l]);
-            if (!flat && converged[l])
-              {
-                for (unsigned int i = 0; i < 9; ++i)
-                  rotations[k + l].data()[i] = x[i][l];
-                ++taken.lanes;
-              }
-            else
-              {
-                rotations[k + l] = rotation_of(gradients[k + l]);
-                ++(flat ? taken.svd : taken.newton);
-              }
-          }
+          for (unsigned int i = 0; i < 9; ++i)
+            rotations[k + l].data()[i] = r[i][l];
       }
     if (paths != nullptr)
       *paths += taken;
