@@ -250,11 +250,6 @@ namespace warpchol::fem
     return cut[e];
   }
 
-  double ElasticBody::element_stiffness_scale(const unsigned int e) const
-  {
-    return stiffness_scale[e];
-  }
-
   double ElasticBody::free_particle_mass(const unsigned int v) const
   {
     return particle_mass[v];
@@ -400,11 +395,6 @@ namespace warpchol::fem
     return rest;
   }
 
-  double ElasticBody::element_volume(const unsigned int e) const
-  {
-    return rest_volumes[e];
-  }
-
   double ElasticBody::total_volume() const
   {
     double sum = 0;
@@ -431,11 +421,6 @@ namespace warpchol::fem
     return mass_type;
   }
 
-  const Matrix3 &ElasticBody::rest_shape_gradients(const unsigned int e) const
-  {
-    return inverse_rest_edges[e];
-  }
-
   double ElasticBody::lame_lambda() const
   {
     return lambda;
@@ -449,11 +434,6 @@ namespace warpchol::fem
   const ElementMatrix &ElasticBody::rest_stiffness(const unsigned int e) const
   {
     return stiffness[e];
-  }
-
-  const Eigen::Matrix4d &ElasticBody::element_mass(const unsigned int e) const
-  {
-    return mass[e];
   }
 
   double ElasticBody::vertex_mass(const unsigned int v) const

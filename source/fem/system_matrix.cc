@@ -141,6 +141,44 @@ namespace warpchol::fem
       };
     }
 
+    /**
+     * Add the blocks of lane @p l of @p blocks to @p values where @p where puts them (an
+     * ElementScatter), those of a column @p selected rejects left out unless
+     * @p every_column. The blocks are unrolled, so that whether a block is diagonal and
+     * whether a column is to be tested are known at compile time, not tested per block.
+     */
+    template <bool every_column, typename Scatter, typename Selected>
+    inline void add_blocks_of_lane(double *values, const Scatter &where, const LaneBlocks &blocks,
+                                   const unsigned int l, const Selected &selected)
+    {
+#pragma GCC unroll 10
+      for (unsigned int k = 0; k < n_blocks; ++k)
+        {
+          const std::int64_t p0 = where.position[k];
+          if (p0 < 0 || (!every_column && !selected(where.column[k])))
+            continue;
+          const std::int64_t stride    = where.stride[k];
+          const std::int64_t offset[3] = {0, stride, 2 * stride - 1};
+          const auto        &block     = blocks.value[k];
+          if (block_row[k] == block_column[k])
+            {
+              for (unsigned int c = 0; c < 3; ++c)
+                for (unsigned int r = c; r < 3; ++r)
+                  values[p0 + offset[c] + r] += block[r + 3 * c][l];
+            }
+          else if (!((where.transposed >> k) & 1u))
+            {
+              for (unsigned int c = 0; c < 3; ++c)
+                for (unsigned int r = 0; r < 3; ++r)
+                  values[p0 + offset[c] + r] += block[r + 3 * c][l];
+            }
+          else
+            for (unsigned int c = 0; c < 3; ++c)
+              for (unsigned int r = 0; r < 3; ++r)
+                values[p0 + offset[c] + r] += block[c + 3 * r][l];
+        }
+    }
+
     /** Above this share of the free vertices touched, re-assembly assembles all of A. */
     constexpr double reassembly_limit = 0.25;
   } // namespace
@@ -251,37 +289,10 @@ namespace warpchol::fem
         const unsigned int count = static_cast<unsigned int>(std::min<std::size_t>(lanes, elements.size() - first));
         blocks(elements.data() + first, count, lane_blocks);
         for (unsigned int l = 0; l < count; ++l)
-          {
-            const ElementScatter &where = scatter[elements[first + l]];
-            for (unsigned int k = 0; k < n_blocks; ++k)
-              {
-                const std::int64_t p0 = where.position[k];
-                if (p0 < 0)
-                  continue;
-                const bool transposed = (where.transposed >> k) & 1u;
-                if (!all_selected && !selected(where.column[k]))
-                  continue;
-                const std::int64_t stride    = where.stride[k];
-                const std::int64_t offset[3] = {0, stride, 2 * stride - 1};
-                const auto        &block     = lane_blocks.value[k];
-                if (block_row[k] == block_column[k])
-                  {
-                    for (unsigned int c = 0; c < 3; ++c)
-                      for (unsigned int r = c; r < 3; ++r)
-                        values[p0 + offset[c] + r] += block[r + 3 * c][l];
-                  }
-                else if (!transposed)
-                  {
-                    for (unsigned int c = 0; c < 3; ++c)
-                      for (unsigned int r = 0; r < 3; ++r)
-                        values[p0 + offset[c] + r] += block[r + 3 * c][l];
-                  }
-                else
-                  for (unsigned int c = 0; c < 3; ++c)
-                    for (unsigned int r = 0; r < 3; ++r)
-                      values[p0 + offset[c] + r] += block[c + 3 * r][l];
-              }
-          }
+          if (all_selected)
+            add_blocks_of_lane<true>(values, scatter[elements[first + l]], lane_blocks, l, selected);
+          else
+            add_blocks_of_lane<false>(values, scatter[elements[first + l]], lane_blocks, l, selected);
       }
 
     // The tools' springs and the free particles' masses, after the elements: a column's
@@ -633,7 +644,7 @@ namespace warpchol::fem::HWY_NAMESPACE
             for (unsigned int i = 0; i < 3; ++i)
               in.g[a][i][l] = gradients(a - 1, i);
           // A cut element has no stiffness (and no mass: body.element_mass() is zero).
-          const double volume  = body.element_volume(e) * body.element_stiffness_scale(e);
+          const double volume  = body.element_stiffness_weight(e);
           in.lambda_volume[l] = lambda * volume;
           in.mu_volume[l]     = mu * volume;
           const auto &m       = body.element_mass(e);

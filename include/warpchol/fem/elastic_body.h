@@ -89,7 +89,10 @@ namespace warpchol::fem
     bool  is_fixed(unsigned int v) const;
 
     const std::vector<Vector3> &rest_positions() const;
-    double                      element_volume(unsigned int e) const;
+    double                      element_volume(unsigned int e) const
+    {
+      return rest_volumes[e];
+    }
     double                      total_volume() const;
     double                      total_mass() const;
 
@@ -101,7 +104,10 @@ namespace warpchol::fem
      * row a - 1 is the gradient of the shape function of its vertex a (a = 1, 2, 3; vertex
      * 0's is minus their sum), constant on the element.
      */
-    const Matrix3 &rest_shape_gradients(unsigned int e) const;
+    const Matrix3 &rest_shape_gradients(unsigned int e) const
+    {
+      return inverse_rest_edges[e];
+    }
 
     /** Lame's first parameter and the shear modulus of the material. */
     double lame_lambda() const;
@@ -110,7 +116,10 @@ namespace warpchol::fem
     /** K_e: the rest stiffness matrix of element @p e. */
     const ElementMatrix &rest_stiffness(unsigned int e) const;
     /** m_ab: the scalar mass matrix of element @p e (consistent, or lumped: diagonal). */
-    const Eigen::Matrix4d &element_mass(unsigned int e) const;
+    const Eigen::Matrix4d &element_mass(unsigned int e) const
+    {
+      return mass[e];
+    }
     /**
      * The lumped mass of vertex @p v (the row sum of the consistent mass matrix over its
      * elements; a free particle's, see cut_element()).
@@ -147,7 +156,18 @@ namespace warpchol::fem
     Matrix3 plastic_strain(unsigned int e) const;
     bool   element_is_cut(unsigned int e) const;
     /** The factor of element @p e's stiffness: 1 as built, 0 once cut. */
-    double element_stiffness_scale(unsigned int e) const;
+    double element_stiffness_scale(unsigned int e) const
+    {
+      return stiffness_scale[e];
+    }
+    /**
+     * The weight of element @p e's stiffness in every kernel: its volume times its
+     * stiffness scale (0 once cut).
+     */
+    double element_stiffness_weight(unsigned int e) const
+    {
+      return volumes[e];
+    }
     /** The mass vertex @p v holds as a free particle (in no element any more); 0 otherwise. */
     double free_particle_mass(unsigned int v) const;
     /** Write the changes to a checkpoint (cuts, stiffness scales, the masses they moved). */
