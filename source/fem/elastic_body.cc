@@ -250,11 +250,6 @@ namespace warpchol::fem
     return cut[e];
   }
 
-  double ElasticBody::free_particle_mass(const unsigned int v) const
-  {
-    return particle_mass[v];
-  }
-
   void ElasticBody::compute_element_matrices()
   {
     const unsigned int n_cells = tria.n_active_cells();
@@ -373,11 +368,6 @@ namespace warpchol::fem
   const std::vector<unsigned int> &ElasticBody::elements_of_vertex(const unsigned int v) const
   {
     return elements_around_vertex[v];
-  }
-
-  Index ElasticBody::first_unknown(const unsigned int v) const
-  {
-    return first_unknown_of_vertex[v];
   }
 
   unsigned int ElasticBody::vertex_of_unknown(const Index unknown) const

@@ -83,7 +83,10 @@ namespace warpchol::fem
     /** The elements that contain vertex @p v, in increasing order. */
     const std::vector<unsigned int> &elements_of_vertex(unsigned int v) const;
     /** The first of the 3 unknowns of vertex @p v, or -1 when it is fixed. */
-    Index first_unknown(unsigned int v) const;
+    Index first_unknown(unsigned int v) const
+    {
+      return first_unknown_of_vertex[v];
+    }
     /** The vertex whose dofs hold unknown @p unknown (3 k + c is vertex of k, component c). */
     unsigned int vertex_of_unknown(Index unknown) const;
     bool  is_fixed(unsigned int v) const;
@@ -169,7 +172,10 @@ namespace warpchol::fem
       return volumes[e];
     }
     /** The mass vertex @p v holds as a free particle (in no element any more); 0 otherwise. */
-    double free_particle_mass(unsigned int v) const;
+    double free_particle_mass(unsigned int v) const
+    {
+      return particle_mass[v];
+    }
     /** Write the changes to a checkpoint (cuts, stiffness scales, the masses they moved). */
     void save_changes(BinaryWriter &writer) const;
     /** Read what save_changes() wrote, into a body built from the same mesh. */

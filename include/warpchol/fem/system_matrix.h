@@ -186,12 +186,13 @@ namespace warpchol::fem
     {
       /**
        * Block k = a (a + 1) / 2 + b (a >= b): the position in the values of its entry
-       * (0, 0) in the column vertex's first column, -1 if a vertex is fixed.
+       * (0, 0) in the column vertex's first column, -1 if a vertex is fixed; the stride
+       * 3 n + 2 of that vertex's columns.
        */
-      std::array<std::int64_t, 10> position;
-      /** The free index of the vertex whose columns block k lands in, and its stride 3 n + 2. */
-      std::array<std::int32_t, 10> column;
+      std::array<std::int32_t, 10> position;
       std::array<std::int32_t, 10> stride;
+      /** The free index of each vertex (-1: fixed); block k lands in the columns of the smaller. */
+      std::array<std::int32_t, 4> free_vertex;
       /** Bit k: block k lands as its transpose (the row vertex a has the smaller unknown). */
       std::uint16_t transposed = 0;
     };
