@@ -1,3 +1,4 @@
+#include <warpchol/base/format.h>
 #include <warpchol/base/simd.h>
 
 #include <hwy/highway.h>
@@ -93,11 +94,10 @@ namespace warpchol::simd
             }
       if (chosen == 0)
         {
-          std::string names;
-          for (const std::string &available : available_targets())
-            names += (names.empty() ? "" : ", ") + available;
+          std::vector<std::string> names = available_targets();
+          names.insert(names.end(), {"best", "default"});
           throw std::invalid_argument("SIMD target '" + name + "' is not available on this CPU (available: " +
-                                      names + ", best or default)");
+                                      alternatives(names) + ")");
         }
       // Only the chosen target is supported from now on: Highway's dispatch takes it.
       hwy::SetSupportedTargetsForTest(chosen);

@@ -184,8 +184,7 @@ namespace warpchol::fem::HWY_NAMESPACE
    * the elements), the scalar path for a lane it leaves unconverged. The fused pass calls
    * this on its own lanes, rotations_of() on matrices it lays out first.
    */
-  void RotationLanes(const double (&gradients)[9][lanes], const std::size_t used, double (&rotations)[9][lanes],
-                     RotationPaths &taken)
+  void RotationLanes(const LaneMatrix &gradients, const std::size_t used, LaneMatrix &rotations, RotationPaths &taken)
   {
     LaneMatrix &x = rotations;
     alignas(64) LaneScalar determinant, change, size;
