@@ -16,6 +16,7 @@
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
 #include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
 #include <warpchol/base/simd.h>
 #include <warpchol/cholesky/blas.h>
 
@@ -83,6 +84,12 @@ namespace
         columns.emplace_back(target, app::time_kernels(scene, positions));
       }
     std::cout << scene_file << ", after " << steps << " steps, " << threads << " thread(s)\n";
+    const fem::CellOrder &order = scene.cell_order();
+    std::cout << "cells " << (order.sorted ? "sorted for locality" : "in the given order");
+    if (order.given_misses > 0)
+      std::cout << " (vertices missed per cell in a 16-cell window: given " << format_number(order.given_misses, 3)
+                << ", sorted " << format_number(order.sorted_misses, 3) << ")";
+    std::cout << "\n";
     app::print_kernel_table(std::cout, columns, scene.body().n_elements());
   }
 } // namespace

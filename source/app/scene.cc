@@ -89,7 +89,7 @@ namespace warpchol::app
     fixed = select_vertices(all.fixed_vertices.region, "Fixed vertices");
     const dealii::Triangulation<3> &triangulation = mesh.triangulation();
     elastic_body = std::make_unique<fem::ElasticBody>(triangulation, mesh.material(), all.material.mass_matrix,
-                                                      mesh.marks(fixed));
+                                                      mesh.marks(fixed), mesh.cell_order().unknown_order);
 
     scene_loads.gravity = all.gravity.acceleration;
     const auto force_vertices = select_vertices(all.region_force.region, "Region force");
@@ -204,6 +204,11 @@ namespace warpchol::app
   const std::vector<unsigned int> &Scene::fixed_vertices() const
   {
     return fixed;
+  }
+
+  const fem::CellOrder &Scene::cell_order() const
+  {
+    return mesh.cell_order();
   }
 
   const std::string &Scene::mesh_description() const

@@ -1,6 +1,7 @@
 #include <warpchol/app/scene_mesh.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/mesh/cell_order.h>
 #include <warpchol/mesh/mesh_generators.h>
 
 #include <deal.II/grid/grid_tools.h>
@@ -55,6 +56,7 @@ namespace warpchol::app
         if (mesh.refinements > 0)
           text += ", refined " + std::to_string(mesh.refinements) + " times";
       }
+    order = fem::order_cells_for_locality(tria, mesh.cell_order);
     if (numbering.vertex_of_file_vertex.empty())
       for (unsigned int v = 0; v < tria.n_vertices(); ++v)
         numbering.vertex_of_file_vertex.push_back(v);
@@ -63,6 +65,11 @@ namespace warpchol::app
   const dealii::Triangulation<3> &SceneMesh::triangulation() const
   {
     return tria;
+  }
+
+  const fem::CellOrder &SceneMesh::cell_order() const
+  {
+    return order;
   }
 
   const std::string &SceneMesh::description() const

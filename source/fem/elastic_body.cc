@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <mutex>
+#include <numeric>
 
 #include <warpchol/base/simd.h>
 
@@ -80,7 +81,8 @@ namespace warpchol::fem
 
   ElasticBody::ElasticBody(const dealii::Triangulation<3> &triangulation,
                            const Material &material, const MassMatrix mass_matrix,
-                           const std::vector<bool> &fixed_vertex)
+                           const std::vector<bool>         &fixed_vertex,
+                           const std::vector<unsigned int> &unknown_order)
     : tria(triangulation)
     , body_material(material)
     , mass_type(mass_matrix)
@@ -114,9 +116,26 @@ namespace warpchol::fem
     for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
       rest[v] = to_vector(triangulation.get_vertices()[v]);
 
-    // Free vertices get consecutive unknowns in vertex order.
+    // Free vertices get consecutive unknowns in vertex order or in the order given.
+    std::vector<unsigned int> order(unknown_order);
+    if (order.empty())
+      {
+        order.resize(triangulation.n_vertices());
+        std::iota(order.begin(), order.end(), 0u);
+      }
+    std::vector<bool> listed(triangulation.n_vertices(), false);
+    for (const unsigned int v : order)
+      {
+        if (v >= listed.size() || listed[v])
+          throw InputError("unknown order: vertex " + std::to_string(v) +
+                           (v >= listed.size() ? " does not exist" : " is listed twice"));
+        listed[v] = true;
+      }
+    if (order.size() != listed.size())
+      throw InputError("unknown order: " + std::to_string(order.size()) + " vertices listed for " +
+                       std::to_string(listed.size()));
     first_unknown_of_vertex.assign(triangulation.n_vertices(), -1);
-    for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+    for (const unsigned int v : order)
       if (!fixed_vertex[v])
         {
           free_vertices.push_back(v);

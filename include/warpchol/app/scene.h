@@ -48,6 +48,8 @@ namespace warpchol::app
     const std::vector<unsigned int> &fixed_vertices() const;
     /** "torus (12 toroidal cells, 0 refinements)" or the mesh file's name. */
     const std::string &mesh_description() const;
+    /** The order of the cells and the unknowns (Mesh/Cell order). */
+    const fem::CellOrder &cell_order() const;
 
     /** The cuts, grasps and material changes of the parameters, for the time integrator. */
     fem::Surgery surgery() const;

@@ -2,6 +2,7 @@
 
 #include <warpchol/app/parameters.h>
 #include <warpchol/fem/elastic_body.h>
+#include <warpchol/mesh/cell_order.h>
 #include <warpchol/mesh/mesh_readers.h>
 
 #include <deal.II/grid/tria.h>
@@ -28,6 +29,11 @@ namespace warpchol::app
     explicit SceneMesh(const AllParameters &parameters);
 
     const dealii::Triangulation<3> &triangulation() const;
+    /**
+     * The order of the cells and the unknowns (Mesh/Cell order): each cell's index in the
+     * file's (or the generator's) order, the order of the unknowns.
+     */
+    const fem::CellOrder &cell_order() const;
     /** "generated torus (R 0.3, r 0.1, 16 toroidal cells, 1 refinements)" or the mesh file's name. */
     const std::string &description() const;
 
@@ -61,6 +67,7 @@ namespace warpchol::app
     const AllParameters     &all;
     dealii::Triangulation<3> tria;
     fem::MeshFileNumbering   numbering;
+    fem::CellOrder           order;
     std::string              text;
   };
 } // namespace warpchol::app

@@ -56,7 +56,8 @@ namespace warpchol::fem
    * active_cell_index() e, and its local vertex a is the cell's vertex a. The DoFHandler is
    * renumbered so that the dof of component c at vertex v is 3 v + c: a vector of per-vertex
    * 3-vectors is then a dof vector. The linear systems are posed on the *unknowns*, the
-   * dofs of the vertices that are not fixed, numbered 3 k + c for the k-th free vertex.
+   * dofs of the vertices that are not fixed, numbered 3 k + c for the k-th free vertex, in
+   * vertex order or in the order given (a locality order: fem::order_cells_for_locality()).
    *
    * Element matrices are 12x12 with rows 3 a + c (see small_dense.h): K_e, the rest
    * stiffness of isotropic linear elasticity, and the mass, stored as the 4x4 scalar matrix
@@ -68,10 +69,13 @@ namespace warpchol::fem
     /**
      * Set the body up on @p triangulation (which must outlive it, hold only tetrahedra and
      * use every vertex). @p fixed_vertex[v] is true for the vertices held at rest.
+     * @p unknown_order lists every vertex once, in the order the free ones get their
+     * unknowns (empty: vertex order).
      * Throws InputError naming the cell when an element has no volume.
      */
     ElasticBody(const dealii::Triangulation<3> &triangulation, const Material &material,
-                MassMatrix mass_matrix, const std::vector<bool> &fixed_vertex);
+                MassMatrix mass_matrix, const std::vector<bool> &fixed_vertex,
+                const std::vector<unsigned int> &unknown_order = {});
 
     unsigned int n_vertices() const;
     unsigned int n_elements() const;

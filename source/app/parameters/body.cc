@@ -23,6 +23,14 @@ namespace warpchol::app
       prm.declare_entry("Refinements", "0", Patterns::Integer(0, 4),
                         "Source = file: global refinements of the mesh read (deal.II's: each "
                         "tetrahedron into 8); a vertex id of the file keeps its vertex");
+      prm.declare_entry("Cell order", "automatic", Patterns::Selection("automatic|locality|given"),
+                        "locality: the cells sorted, and the unknowns numbered, along a "
+                        "Cuthill-McKee order of the vertices, so that the element kernels find "
+                        "the system matrix's columns in cache (the vertices keep their numbers, "
+                        "the file's; the output's cells and their fields follow the sorted "
+                        "order); given: the file's or the generator's order; automatic: "
+                        "sorted if that makes the cells meet their vertices sooner again (the "
+                        "files' meshes mostly, not the generated ones)");
       prm.declare_entry("Torus major radius", "0.3", Patterns::Double(0),
                         "Radius of the torus' centre line (m); the torus turns around the y axis");
       prm.declare_entry("Torus minor radius", "0.1", Patterns::Double(0),
@@ -76,6 +84,10 @@ namespace warpchol::app
       file_name = prm.get("File");
       scale     = prm.get_double("Scale");
       refinements = prm.get_integer("Refinements");
+      const std::string order = prm.get("Cell order");
+      cell_order = order == "locality" ? fem::CellOrderChoice::locality :
+                   order == "given"    ? fem::CellOrderChoice::given :
+                                         fem::CellOrderChoice::automatic;
       if (source == "file" && file_name.empty())
         file.fail(prm, "Mesh", "File", "Source = file needs a mesh file");
       require_positive(prm, file, "Mesh", "Scale");

@@ -4,6 +4,7 @@
 #include <warpchol/app/parameters/parameter_file.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/small_dense.h>
+#include <warpchol/mesh/cell_order.h>
 #include <warpchol/mesh/mesh_generators.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -30,6 +31,8 @@ namespace warpchol::app
       double                scale = 1;
       /** Global refinements of a mesh read from a file (each tetrahedron into 8). */
       unsigned int          refinements = 0;
+      /** The cells' and the unknowns' order (fem::order_cells_for_locality()). */
+      fem::CellOrderChoice  cell_order = fem::CellOrderChoice::automatic;
       fem::TorusGeometry    torus;
       fem::BoxGeometry      box;
       fem::CylinderGeometry cylinder;
