@@ -188,6 +188,7 @@ namespace warpchol::fem
     volumes[e]         = 0;
     const Eigen::Vector4d row_sums = mass[e].rowwise().sum();
     mass[e].setZero();
+    mass_diagonal[e].fill(0);
     for (unsigned int a = 0; a < 4; ++a)
       {
         const unsigned int v = vertices_of_element[e][a];
@@ -260,7 +261,10 @@ namespace warpchol::fem
       {
         volumes[e] = rest_volumes[e] * stiffness_scale[e];
         if (cut[e])
-          mass[e].setZero();
+          {
+            mass[e].setZero();
+            mass_diagonal[e].fill(0);
+          }
       }
   }
 
@@ -276,6 +280,7 @@ namespace warpchol::fem
     inverse_rest_edges.resize(n_cells);
     stiffness.resize(n_cells);
     mass.resize(n_cells);
+    mass_diagonal.resize(n_cells);
     lumped_mass.assign(tria.n_vertices(), 0.0);
 
     // Rest edge matrices Dm = [X1 - X0, X2 - X0, X3 - X0]; a (nearly) singular one is a
@@ -361,6 +366,8 @@ namespace warpchol::fem
           lumped_mass[vertices_of_element[e][a]] += row_sums[a];
         if (mass_type == MassMatrix::lumped)
           m = row_sums.asDiagonal();
+        for (unsigned int a = 0; a < 4; ++a)
+          mass_diagonal[e][a] = m(a, a);
       }
   }
 
