@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <mutex>
 #include <numeric>
 
@@ -160,12 +161,22 @@ namespace warpchol::fem
         for (unsigned int a = 0; a < 4; ++a)
           vertices_of_element[e][a] = cell->vertex_index(a);
       }
-    local_index_around_vertex.resize(triangulation.n_vertices());
+    if (vertices_of_element.size() > std::numeric_limits<unsigned int>::max() / 4)
+      throw InputError("the mesh has " + std::to_string(vertices_of_element.size()) +
+                       " cells, more than 2^30");
+    around_start.assign(triangulation.n_vertices() + 1, 0);
+    for (const auto &vertices : vertices_of_element)
+      for (const unsigned int v : vertices)
+        ++around_start[v + 1];
+    std::partial_sum(around_start.begin(), around_start.end(), around_start.begin());
+    around_entry.resize(around_start.back());
+    std::vector<unsigned int> filled(around_start.begin(), around_start.end() - 1);
     for (unsigned int e = 0; e < vertices_of_element.size(); ++e)
       for (unsigned int a = 0; a < 4; ++a)
         {
-          elements_around_vertex[vertices_of_element[e][a]].push_back(e);
-          local_index_around_vertex[vertices_of_element[e][a]].push_back(a);
+          const unsigned int v = vertices_of_element[e][a];
+          elements_around_vertex[v].push_back(e);
+          around_entry[filled[v]++] = 4 * e + a;
         }
 
     compute_element_matrices();
@@ -516,16 +527,15 @@ namespace warpchol::fem
       [&](const unsigned int begin, const unsigned int end) {
         for (unsigned int v = begin; v < end; ++v)
           {
-            const auto &elements = elements_around_vertex[v];
-            const auto &local    = local_index_around_vertex[v];
-            Vector3     sum      = Vector3::Zero();
-            for (std::size_t k = 0; k < elements.size(); ++k)
+            Vector3 sum = Vector3::Zero();
+            for (unsigned int k = around_start[v]; k < around_start[v + 1]; ++k)
               {
-                const Matrix3 &forces = element_forces[elements[k]];
-                if (local[k] == 0)
+                const Matrix3     &forces = element_forces[around_entry[k] / 4];
+                const unsigned int local  = around_entry[k] % 4;
+                if (local == 0)
                   sum -= forces.rowwise().sum();
                 else
-                  sum += forces.col(local[k] - 1);
+                  sum += forces.col(local - 1);
               }
             out[v] += sum;
           }

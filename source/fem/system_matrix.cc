@@ -159,7 +159,10 @@ namespace warpchol::fem
           if (p0 < 0 ||
               (!every_column && !selected(std::min(where.free_vertex[block_row[k]], where.free_vertex[block_column[k]]))))
             continue;
-          const std::int64_t stride    = where.stride[k];
+          // The block lands in the columns of its row vertex when transposed, else of its
+          // column vertex (the diagonal blocks: either).
+          const std::int64_t stride =
+            where.stride[(where.transposed >> k) & 1u ? block_row[k] : block_column[k]];
           const std::int64_t offset[3] = {0, stride, 2 * stride - 1};
           const auto        &block     = blocks.value[k];
           if (block_row[k] == block_column[k])
@@ -240,13 +243,16 @@ namespace warpchol::fem
       {
         const auto &vertices = body.element_vertices(e);
         for (unsigned int a = 0; a < 4; ++a)
-          scatter[e].free_vertex[a] = static_cast<std::int32_t>(free_index(vertices[a]));
+          {
+            const Index free           = free_index(vertices[a]);
+            scatter[e].free_vertex[a] = static_cast<std::int32_t>(free);
+            scatter[e].stride[a]      = free < 0 ? 0 : column_stride[free];
+          }
         for (unsigned int k = 0; k < n_blocks; ++k)
           {
             const Index row = free_index(vertices[block_row[k]]), column = free_index(vertices[block_column[k]]);
             auto       &position = scatter[e].position[k];
             // The block lands in the column of the vertex of smaller unknown.
-            scatter[e].stride[k] = row < 0 || column < 0 ? 0 : column_stride[std::min(row, column)];
             if (row < 0 || column < 0)
               position = -1;
             else if (row == column)

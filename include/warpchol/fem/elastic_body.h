@@ -353,8 +353,12 @@ namespace warpchol::fem
 
     std::vector<std::array<unsigned int, 4>> vertices_of_element;
     std::vector<std::vector<unsigned int>>   elements_around_vertex;
-    /** The local index (0..3) of vertex v in each of elements_around_vertex[v]. */
-    std::vector<std::vector<unsigned char>>  local_index_around_vertex;
+    /**
+     * elements_around_vertex in one array, with the local index a (0..3) of the vertex in
+     * each, as the gather of the forces reads them: 4 e + a, those of v at
+     * [around_start[v], around_start[v + 1]) (small vectors cost the gather a pointer each).
+     */
+    std::vector<unsigned int>                around_start, around_entry;
     std::vector<Index>                       first_unknown_of_vertex;
     std::vector<unsigned int>                free_vertices;
     Index                                    unknown_count = 0;

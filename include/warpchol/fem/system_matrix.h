@@ -186,11 +186,14 @@ namespace warpchol::fem
     {
       /**
        * Block k = a (a + 1) / 2 + b (a >= b): the position in the values of its entry
-       * (0, 0) in the column vertex's first column, -1 if a vertex is fixed; the stride
-       * 3 n + 2 of that vertex's columns.
+       * (0, 0) in the column vertex's first column, -1 if a vertex is fixed.
        */
       std::array<std::int32_t, 10> position;
-      std::array<std::int32_t, 10> stride;
+      /**
+       * Per vertex, the stride 3 n + 2 of its columns (0 if fixed): a block's second column
+       * starts that far after its first, in the columns of its vertex of smaller unknown.
+       */
+      std::array<std::int32_t, 4> stride;
       /** The free index of each vertex (-1: fixed); block k lands in the columns of the smaller. */
       std::array<std::int32_t, 4> free_vertex;
       /** Bit k: block k lands as its transpose (the row vertex a has the smaller unknown). */

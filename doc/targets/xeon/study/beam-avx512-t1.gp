@@ -6,24 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.0132327 0.481913 0.242526 "0.3" "0.3"
-0.00589509 0.506458 0.248093 "1" "1"
+0.0151693 0.481913 0.242526 "0.3" "0.3"
+0.00654915 0.506458 0.248093 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0117027 0.000303467 0.000148343 "0.3" "0.3"
-0.010977 0.000468059 0.000243914 "1" "1"
-0.00975414 0.00038655 0.000202923 "inf" "inf"
+0.0138154 0.00046687 0.000238869 "0.3" "0.3"
+0.0117744 0.000468059 0.000243914 "1" "1"
+0.0100545 0.000174544 7.28611e-05 "inf" "inf"
 EOD
 $front_max << EOD
-0.00589509 0.506458
-0.00975414 0.00038655
-0.0117027 0.000303467
+0.00654915 0.506458
+0.0100545 0.000174544
 EOD
 $front_rms << EOD
-0.00589509 0.248093
-0.00975414 0.000202923
-0.0117027 0.000148343
+0.00654915 0.248093
+0.0100545 7.28611e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +37,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0312735]
-set arrow 1 from 0.028957, graph 0 to 0.028957, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.028957, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0369165]
+set arrow 1 from 0.034182, graph 0 to 0.034182, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.034182, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

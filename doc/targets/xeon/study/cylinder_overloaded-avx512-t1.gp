@@ -6,24 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.0280933 0.271319 0.156756 "0.3" "0.3"
-0.011126 0.975953 0.619078 "1" "1"
+0.0293252 0.274583 0.158262 "0.3" "0.3"
+0.0115238 0.975953 0.619078 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0196587 0.00171346 0.000999427 "0.3" "0.3"
-0.0167437 0.00102218 0.000550705 "1" "1"
-0.0128631 0.00107787 0.000656353 "inf" "inf"
+0.0189078 0.000320666 0.00015182 "0.3" "0.3"
+0.0168512 0.00069825 0.000438617 "1" "1"
+0.0123525 0.000704417 0.000349249 "inf" "inf"
 EOD
 $front_max << EOD
-0.011126 0.975953
-0.0128631 0.00107787
-0.0167437 0.00102218
+0.0115238 0.975953
+0.0123525 0.000704417
+0.0168512 0.00069825
+0.0189078 0.000320666
 EOD
 $front_rms << EOD
-0.011126 0.619078
-0.0128631 0.000656353
-0.0167437 0.000550705
+0.0115238 0.619078
+0.0123525 0.000349249
+0.0189078 0.00015182
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +40,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0303408]
-set arrow 1 from 0.0239628, graph 0 to 0.0239628, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0239628, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0316713]
+set arrow 1 from 0.026107, graph 0 to 0.026107, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.026107, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,24 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.0244089 0.272167 0.156682 "0.3" "0.3"
-0.00934902 0.975953 0.619078 "1" "1"
+0.0235674 0.26836 0.154585 "0.3" "0.3"
+0.00912928 0.975953 0.619078 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0154694 0.00092195 0.000536404 "0.3" "0.3"
-0.0135476 0.00130483 0.000770595 "1" "1"
-0.00966083 0.001115 0.000727125 "inf" "inf"
+0.0139476 0.000454147 0.00017894 "0.3" "0.3"
+0.012466 0.000380845 0.000166367 "1" "1"
+0.00906901 0.00098156 0.000637069 "inf" "inf"
 EOD
 $front_max << EOD
-0.00934902 0.975953
-0.00966083 0.001115
-0.0154694 0.00092195
+0.00906901 0.00098156
+0.012466 0.000380845
 EOD
 $front_rms << EOD
-0.00934902 0.619078
-0.00966083 0.000727125
-0.0154694 0.000536404
+0.00906901 0.000637069
+0.012466 0.000166367
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +37,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0263616]
-set arrow 1 from 0.0203054, graph 0 to 0.0203054, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0203054, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0254528]
+set arrow 1 from 0.0196486, graph 0 to 0.0196486, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0196486, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

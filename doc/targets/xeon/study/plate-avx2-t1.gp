@@ -6,22 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.0769015 0.965727 0.497772 "0.3" "0.3"
-0.0318021 1 0.938817 "1 (diverged: 1.8)" "1"
+0.0838765 0.965727 0.497772 "0.3" "0.3"
+0.0354641 1 0.938817 "1 (diverged: 1.8)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.042675 0.00445703 0.00215779 "0.3" "0.3"
-0.033732 0.00176013 0.000734134 "1" "1"
-0.028212 0.00382925 0.00218469 "inf" "inf"
+0.0459722 0.00455778 0.00228024 "0.3" "0.3"
+0.0382403 0.00297199 0.00137605 "1" "1"
+0.0302328 0.00382925 0.00218469 "inf" "inf"
 EOD
 $front_max << EOD
-0.028212 0.00382925
-0.033732 0.00176013
+0.0302328 0.00382925
+0.0382403 0.00297199
 EOD
 $front_rms << EOD
-0.028212 0.00218469
-0.033732 0.000734134
+0.0302328 0.00218469
+0.0382403 0.00137605
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +37,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0840501]
+set xrange [0:0.0905866]
 set yrange [*:2]
-set arrow 1 from 0.0778242, graph 0 to 0.0778242, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0778242, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0838543, graph 0 to 0.0838543, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0838543, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,21 +6,20 @@
 
 # WCC partial
 $group0 << EOD
-0.0774564 0.965514 0.497659 "0.3" "0.3"
-0.031752 1 0.938817 "1 (diverged: 1.8)" "1"
+0.0858678 0.965514 0.497659 "0.3" "0.3"
+0.0347592 1 0.938817 "1 (diverged: 1.8)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0432372 0.00311676 0.00139571 "0.3" "0.3"
-0.0344583 0.001488 0.000625398 "1" "1"
-0.026734 0.00129008 0.000687814 "inf" "inf"
+0.044792 0.00311676 0.00139571 "0.3" "0.3"
+0.0363761 0.001488 0.000625398 "1" "1"
+0.0298383 0.00148746 0.000590276 "inf" "inf"
 EOD
 $front_max << EOD
-0.026734 0.00129008
+0.0298383 0.00148746
 EOD
 $front_rms << EOD
-0.026734 0.000687814
-0.0344583 0.000625398
+0.0298383 0.000590276
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -36,10 +35,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0845267]
+set xrange [0:0.0939347]
 set yrange [*:2]
-set arrow 1 from 0.0782654, graph 0 to 0.0782654, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0782654, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0869766, graph 0 to 0.0869766, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0869766, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

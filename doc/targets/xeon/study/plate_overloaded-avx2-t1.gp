@@ -6,22 +6,20 @@
 
 # WCC partial
 $group0 << EOD
-0.0893517 0.202245 0.103378 "0.3" "0.3"
-0.033542 1 0.609487 "1 (diverged: 1.2)" "1"
+0.100885 0.202245 0.103378 "0.3" "0.3"
+0.0384972 1 0.609487 "1 (diverged: 1.2)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.045038 0.00342815 0.00180502 "0.3" "0.3"
-0.0373722 0.00162708 0.000816634 "1" "1"
-0.0277781 0.00307289 0.000937423 "inf" "inf"
+0.0501386 0.00342815 0.00180502 "0.3" "0.3"
+0.0427818 0.0031283 0.00162689 "1" "1"
+0.0303855 0.00307289 0.000937423 "inf" "inf"
 EOD
 $front_max << EOD
-0.0277781 0.00307289
-0.0373722 0.00162708
+0.0303855 0.00307289
 EOD
 $front_rms << EOD
-0.0277781 0.000937423
-0.0373722 0.000816634
+0.0303855 0.000937423
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +35,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0964998]
+set xrange [0:0.108956]
 set yrange [*:2]
-set arrow 1 from 0.0817393, graph 0 to 0.0817393, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0817393, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0870375, graph 0 to 0.0870375, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0870375, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
