@@ -1,5 +1,7 @@
 #pragma once
 
+#include <warpchol/base/named_values.h>
+
 #include <deal.II/grid/tria.h>
 
 #include <array>
@@ -23,6 +25,11 @@ namespace warpchol::fem
     /** The file's or the generator's order, unknowns in vertex order. */
     given
   };
+
+  /** The names of Mesh/Cell order (base/named_values.h): "automatic", "locality", "given". */
+  inline constexpr NameTable<CellOrderChoice, 3> cell_order_names{{{CellOrderChoice::automatic, "automatic"},
+                                                                  {CellOrderChoice::locality, "locality"},
+                                                                  {CellOrderChoice::given, "given"}}};
 
   /** What order_cells_for_locality() did. */
   struct CellOrder

@@ -23,7 +23,7 @@ namespace warpchol::app
       prm.declare_entry("Refinements", "0", Patterns::Integer(0, 4),
                         "Source = file: global refinements of the mesh read (deal.II's: each "
                         "tetrahedron into 8); a vertex id of the file keeps its vertex");
-      prm.declare_entry("Cell order", "automatic", Patterns::Selection("automatic|locality|given"),
+      prm.declare_entry("Cell order", "automatic", Patterns::Selection(selection_of(fem::cell_order_names)),
                         "locality: the cells sorted, and the unknowns numbered, along a "
                         "Cuthill-McKee order of the vertices, so that the element kernels find "
                         "the system matrix's columns in cache (the vertices keep their numbers, "
@@ -84,10 +84,7 @@ namespace warpchol::app
       file_name = prm.get("File");
       scale     = prm.get_double("Scale");
       refinements = prm.get_integer("Refinements");
-      const std::string order = prm.get("Cell order");
-      cell_order = order == "locality" ? fem::CellOrderChoice::locality :
-                   order == "given"    ? fem::CellOrderChoice::given :
-                                         fem::CellOrderChoice::automatic;
+      cell_order  = parse_name(fem::cell_order_names, prm.get("Cell order"), "cell order");
       if (source == "file" && file_name.empty())
         file.fail(prm, "Mesh", "File", "Source = file needs a mesh file");
       require_positive(prm, file, "Mesh", "Scale");
