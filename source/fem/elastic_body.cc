@@ -154,29 +154,29 @@ namespace warpchol::fem
     dofs.renumber_dofs(new_numbers);
 
     vertices_of_element.resize(triangulation.n_active_cells());
-    elements_around_vertex.resize(triangulation.n_vertices());
     for (const auto &cell : triangulation.active_cell_iterators())
       {
         const unsigned int e = cell->active_cell_index();
         for (unsigned int a = 0; a < 4; ++a)
           vertices_of_element[e][a] = cell->vertex_index(a);
       }
-    if (vertices_of_element.size() > std::numeric_limits<unsigned int>::max() / 4)
+    if (4 * vertices_of_element.size() > std::numeric_limits<unsigned int>::max())
       throw InputError("the mesh has " + std::to_string(vertices_of_element.size()) +
-                       " cells, more than 2^30");
+                       " cells, more than 2^30 (4 per cell around the vertices)");
     around_start.assign(triangulation.n_vertices() + 1, 0);
     for (const auto &vertices : vertices_of_element)
       for (const unsigned int v : vertices)
         ++around_start[v + 1];
     std::partial_sum(around_start.begin(), around_start.end(), around_start.begin());
-    around_entry.resize(around_start.back());
+    around_element.resize(around_start.back());
+    around_local.resize(around_start.back());
     std::vector<unsigned int> filled(around_start.begin(), around_start.end() - 1);
     for (unsigned int e = 0; e < vertices_of_element.size(); ++e)
       for (unsigned int a = 0; a < 4; ++a)
         {
-          const unsigned int v = vertices_of_element[e][a];
-          elements_around_vertex[v].push_back(e);
-          around_entry[filled[v]++] = 4 * e + a;
+          const unsigned int k = filled[vertices_of_element[e][a]]++;
+          around_element[k]    = e;
+          around_local[k]      = static_cast<unsigned char>(a);
         }
 
     compute_element_matrices();
@@ -186,7 +186,7 @@ namespace warpchol::fem
     particle_mass.assign(n_vertices(), 0.0);
     live_elements.resize(n_vertices());
     for (unsigned int v = 0; v < n_vertices(); ++v)
-      live_elements[v] = elements_around_vertex[v].size();
+      live_elements[v] = around_start[v + 1] - around_start[v];
   }
 
   std::vector<unsigned int> ElasticBody::cut_element(const unsigned int e)
@@ -402,9 +402,9 @@ namespace warpchol::fem
     return vertices_of_element[e];
   }
 
-  const std::vector<unsigned int> &ElasticBody::elements_of_vertex(const unsigned int v) const
+  dealii::ArrayView<const unsigned int> ElasticBody::elements_of_vertex(const unsigned int v) const
   {
-    return elements_around_vertex[v];
+    return {around_element.data() + around_start[v], around_start[v + 1] - around_start[v]};
   }
 
   unsigned int ElasticBody::vertex_of_unknown(const Index unknown) const
@@ -530,8 +530,8 @@ namespace warpchol::fem
             Vector3 sum = Vector3::Zero();
             for (unsigned int k = around_start[v]; k < around_start[v + 1]; ++k)
               {
-                const Matrix3     &forces = element_forces[around_entry[k] / 4];
-                const unsigned int local  = around_entry[k] % 4;
+                const Matrix3     &forces = element_forces[around_element[k]];
+                const unsigned int local  = around_local[k];
                 if (local == 0)
                   sum -= forces.rowwise().sum();
                 else
@@ -602,7 +602,7 @@ namespace warpchol::fem
             for (unsigned int k = 0; k < count; ++k)
               {
                 weighted_sums[k].setZero();
-                for (const unsigned int e : elements_around_vertex[first + k])
+                for (const unsigned int e : elements_of_vertex(first + k))
                   weighted_sums[k] += volumes[e] * element_rotations[e];
               }
             rotations_of(weighted_sums.data(), nodal_rotations.data() + first, count);

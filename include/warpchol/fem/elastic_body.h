@@ -5,6 +5,7 @@
 #include <warpchol/fem/rotations.h>
 #include <warpchol/fem/small_dense.h>
 
+#include <deal.II/base/array_view.h>
 #include <deal.II/dofs/dof_handler.h>
 #include <deal.II/fe/fe_system.h>
 #include <deal.II/fe/mapping_fe.h>
@@ -85,7 +86,7 @@ namespace warpchol::fem
     /** The global vertices of element @p e, in the order of the element matrices. */
     const std::array<unsigned int, 4> &element_vertices(unsigned int e) const;
     /** The elements that contain vertex @p v, in increasing order. */
-    const std::vector<unsigned int> &elements_of_vertex(unsigned int v) const;
+    dealii::ArrayView<const unsigned int> elements_of_vertex(unsigned int v) const;
     /** The first of the 3 unknowns of vertex @p v, or -1 when it is fixed. */
     Index first_unknown(unsigned int v) const
     {
@@ -352,13 +353,13 @@ namespace warpchol::fem
     dealii::DoFHandler<3>           dofs;
 
     std::vector<std::array<unsigned int, 4>> vertices_of_element;
-    std::vector<std::vector<unsigned int>>   elements_around_vertex;
     /**
-     * elements_around_vertex in one array, with the local index a (0..3) of the vertex in
-     * each, as the gather of the forces reads them: 4 e + a, those of v at
-     * [around_start[v], around_start[v + 1]) (small vectors cost the gather a pointer each).
+     * The elements around each vertex, in increasing order, in one array (small vectors
+     * would cost the gather of the forces a pointer each): those of v at
+     * [around_start[v], around_start[v + 1]), with v's local index (0..3) in each.
      */
-    std::vector<unsigned int>                around_start, around_entry;
+    std::vector<unsigned int>                around_start, around_element;
+    std::vector<unsigned char>               around_local;
     std::vector<Index>                       first_unknown_of_vertex;
     std::vector<unsigned int>                free_vertices;
     Index                                    unknown_count = 0;
