@@ -121,36 +121,45 @@ namespace warpchol::fem
 
     /**
      * The blocks of the contributions of @p elements[0 .. count) in @p frames, lane by lane
-     * (lanes past count repeat the last element), on the SIMD target chosen at run time.
+     * (lanes past count repeat the last element), on the SIMD target chosen at run time;
+     * block k of element e transposed where bit k of @p transposed[e] is set.
      */
     void form_blocks(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
-                     const unsigned int *elements, const unsigned int count, LaneBlocks &out);
+                     const std::uint16_t *transposed, const unsigned int *elements, const unsigned int count,
+                     LaneBlocks &out);
 
-    /** The blocks of the elements' dense matrices from @p element_matrix, lane by lane. */
-    auto function_blocks(const SystemMatrix::ElementMatrixFunction &element_matrix)
+    /** The blocks of the elements' dense matrices from @p element_matrix, lane by lane, alike. */
+    auto function_blocks(const SystemMatrix::ElementMatrixFunction &element_matrix, const std::uint16_t *transposed)
     {
-      return [&element_matrix](const unsigned int *elements, const unsigned int count, LaneBlocks &out) {
+      return [&element_matrix, transposed](const unsigned int *elements, const unsigned int count, LaneBlocks &out) {
         ElementMatrix matrix;
         for (unsigned int l = 0; l < count; ++l)
           {
             element_matrix(elements[l], matrix);
             for (unsigned int k = 0; k < n_blocks; ++k)
-              for (unsigned int j = 0; j < 3; ++j)
-                for (unsigned int i = 0; i < 3; ++i)
-                  out.value[k][i + 3 * j][l] = matrix(3 * block_row[k] + i, 3 * block_column[k] + j);
+              {
+                // Block (b, a) = block (a, b)^T: A is symmetric.
+                const bool         swap = (transposed[elements[l]] >> k) & 1u;
+                const unsigned int row = swap ? block_column[k] : block_row[k];
+                const unsigned int column = swap ? block_row[k] : block_column[k];
+                for (unsigned int j = 0; j < 3; ++j)
+                  for (unsigned int i = 0; i < 3; ++i)
+                    out.value[k][i + 3 * j][l] = matrix(3 * row + i, 3 * column + j);
+              }
           }
       };
     }
 
     /**
-     * Add the blocks of lane @p l of @p blocks to @p values where @p where puts them (an
-     * ElementScatter), those of a column @p selected rejects left out unless
-     * @p every_column. The blocks are unrolled, so that whether a block is diagonal and
-     * whether a column is to be tested are known at compile time, not tested per block.
+     * Add the blocks of lane @p l of @p blocks (formed as they land: transposed where bit k
+     * of @p transposed is set) to @p values where @p where puts them (an ElementScatter),
+     * those of a column @p selected rejects left out unless @p every_column. The blocks are
+     * unrolled, so that whether a block is diagonal and whether a column is to be tested
+     * are known at compile time, not tested per block.
      */
     template <bool every_column, typename Scatter, typename Selected>
-    inline void add_blocks_of_lane(double *values, const Scatter &where, const LaneBlocks &blocks,
-                                   const unsigned int l, const Selected &selected)
+    inline void add_blocks_of_lane(double *values, const Scatter &where, const std::uint16_t transposed,
+                                   const LaneBlocks &blocks, const unsigned int l, const Selected &selected)
     {
 #pragma GCC unroll 10
       for (unsigned int k = 0; k < n_blocks; ++k)
@@ -161,26 +170,12 @@ namespace warpchol::fem
             continue;
           // The block lands in the columns of its row vertex when transposed, else of its
           // column vertex (the diagonal blocks: either).
-          const std::int64_t stride =
-            where.stride[(where.transposed >> k) & 1u ? block_row[k] : block_column[k]];
+          const std::int64_t stride    = where.stride[(transposed >> k) & 1u ? block_row[k] : block_column[k]];
           const std::int64_t offset[3] = {0, stride, 2 * stride - 1};
           const auto        &block     = blocks.value[k];
-          if (block_row[k] == block_column[k])
-            {
-              for (unsigned int c = 0; c < 3; ++c)
-                for (unsigned int r = c; r < 3; ++r)
-                  values[p0 + offset[c] + r] += block[r + 3 * c][l];
-            }
-          else if (!((where.transposed >> k) & 1u))
-            {
-              for (unsigned int c = 0; c < 3; ++c)
-                for (unsigned int r = 0; r < 3; ++r)
-                  values[p0 + offset[c] + r] += block[r + 3 * c][l];
-            }
-          else
-            for (unsigned int c = 0; c < 3; ++c)
-              for (unsigned int r = 0; r < 3; ++r)
-                values[p0 + offset[c] + r] += block[c + 3 * r][l];
+          for (unsigned int c = 0; c < 3; ++c)
+            for (unsigned int r = block_row[k] == block_column[k] ? c : 0; r < 3; ++r)
+              values[p0 + offset[c] + r] += block[r + 3 * c][l];
         }
     }
 
@@ -239,6 +234,7 @@ namespace warpchol::fem
       throw MatrixError("system matrix: " + std::to_string(lower_matrix.values.size()) +
                         " entries in its lower triangle, more than the assembly's 32-bit positions reach");
     scatter.resize(body.n_elements());
+    transposed_blocks.assign(body.n_elements(), 0);
     for (unsigned int e = 0; e < body.n_elements(); ++e)
       {
         const auto &vertices = body.element_vertices(e);
@@ -264,7 +260,7 @@ namespace warpchol::fem
                 const Index rank = std::lower_bound(list.begin(), list.end(), high) - list.begin();
                 position         = static_cast<std::int32_t>(lower_matrix.column_start[3 * low] + 3 + 3 * rank);
                 if (row < column)
-                  scatter[e].transposed |= static_cast<std::uint16_t>(1u << k);
+                  transposed_blocks[e] |= static_cast<std::uint16_t>(1u << k);
               }
           }
       }
@@ -307,10 +303,13 @@ namespace warpchol::fem
         const unsigned int count = static_cast<unsigned int>(std::min<std::size_t>(lanes, elements.size() - first));
         blocks(elements.data() + first, count, lane_blocks);
         for (unsigned int l = 0; l < count; ++l)
-          if (all_selected)
-            add_blocks_of_lane<true>(values, scatter[elements[first + l]], lane_blocks, l, selected);
-          else
-            add_blocks_of_lane<false>(values, scatter[elements[first + l]], lane_blocks, l, selected);
+          {
+            const unsigned int e = elements[first + l];
+            if (all_selected)
+              add_blocks_of_lane<true>(values, scatter[e], transposed_blocks[e], lane_blocks, l, selected);
+            else
+              add_blocks_of_lane<false>(values, scatter[e], transposed_blocks[e], lane_blocks, l, selected);
+          }
       }
 
     // The tools' springs and the free particles' masses, after the elements: a column's
@@ -378,7 +377,7 @@ namespace warpchol::fem
   void SystemMatrix::assemble(const ElementFrames &frames)
   {
     const auto blocks = [&](const unsigned int *elements, const unsigned int count, LaneBlocks &out) {
-      form_blocks(body, coefficients, frames, elements, count, out);
+      form_blocks(body, coefficients, frames, transposed_blocks.data(), elements, count, out);
     };
     for_each_range([&](const ColumnRange &range) { assemble_range(range, range.elements, nullptr, blocks); });
   }
@@ -445,7 +444,7 @@ namespace warpchol::fem
     for (const Index j : touched)
       selected[j] = 1;
     const auto blocks = [&](const unsigned int *elements, const unsigned int count, LaneBlocks &out) {
-      form_blocks(body, coefficients, frames, elements, count, out);
+      form_blocks(body, coefficients, frames, transposed_blocks.data(), elements, count, out);
     };
     for_each_range([&](const ColumnRange &range) {
       // The elements around the touched vertices of this range, in increasing order.
@@ -468,7 +467,7 @@ namespace warpchol::fem
   void SystemMatrix::assemble(const ElementMatrixFunction &element_matrix)
   {
     // The function need not be thread-safe: one range, one element after the other.
-    assemble_range(whole, whole.elements, nullptr, function_blocks(element_matrix));
+    assemble_range(whole, whole.elements, nullptr, function_blocks(element_matrix, transposed_blocks.data()));
   }
 
   std::vector<Index> SystemMatrix::reassemble(const std::vector<unsigned int> &changed_elements,
@@ -485,7 +484,7 @@ namespace warpchol::fem
       }
     std::sort(elements.begin(), elements.end());
     elements.erase(std::unique(elements.begin(), elements.end()), elements.end());
-    assemble_range(whole, elements, &selected, function_blocks(element_matrix));
+    assemble_range(whole, elements, &selected, function_blocks(element_matrix, transposed_blocks.data()));
     return columns_of(touched);
   }
 
@@ -700,20 +699,42 @@ namespace warpchol::fem::HWY_NAMESPACE
      * V the volume, lambda and mu the material's,
      *   B_ab = c_K V (lambda u_aa u_bb^T + mu u_ab u_ba^T + mu (g_a.g_b) T_a T_b^T) + c_M m_ab T_a T_b^T
      * with u_ab = T_a g_b. Where every T_a is the same rotation R, T_a T_b^T = I and
-     * u_ab = R g_b: the rotated and rest cases skip the products of frames.
+     * u_ab = R g_b: the rotated and rest cases skip the products of frames. A diagonal
+     * block is (lambda + mu) V u_aa u_aa^T plus its diagonal, formed in its lower triangle
+     * (what is scattered); an off-diagonal block as it lands, transposed in the lanes whose
+     * bit k of @p transposed is set.
      */
     void form_part(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
-                   const unsigned int *elements, const unsigned int count, const unsigned int first, LaneBlocks &out)
+                   const std::uint16_t *transposed, const unsigned int *elements, const unsigned int count,
+                   const unsigned int first, LaneBlocks &out)
     {
       const PartInputs in = gather_inputs(body, coefficients, elements, count, first);
       // Entry (k, i) of lanes [first, first + width) of the group.
       const auto store = [&](const unsigned int k, const unsigned int i, const Part &value) {
         std::memcpy(reinterpret_cast<double *>(&out.value[k][i]) + first, &value, sizeof value);
       };
+      // Off-diagonal block k from its entries v(i, j) = value[i + 3 j]: a blend per lane,
+      // not a branch per element in the scatter.
+      using Bits = std::int64_t __attribute__((vector_size(8 * width)));
+      Bits bits;
+      for (unsigned int l = 0; l < width; ++l)
+        bits[l] = transposed[elements[std::min(first + l, count - 1)]];
+      const auto store_off_diagonal = [&](const unsigned int k, const Part (&value)[9]) {
+        const Bits swap = ((bits >> k) & 1) != 0;
+        for (unsigned int j = 0; j < 3; ++j)
+          for (unsigned int i = 0; i < 3; ++i)
+            store(k, i + 3 * j, i == j ? value[i + 3 * j] : swap ? value[j + 3 * i] : value[i + 3 * j]);
+      };
+      const auto store_diagonal = [&](const unsigned int k, const Part (&lambda_mu_u)[3], const Part (&u)[3]) {
+        for (unsigned int j = 0; j < 3; ++j)
+          for (unsigned int i = j; i < 3; ++i)
+            store(k, i + 3 * j, i == j ? lambda_mu_u[i] * u[i] + in.diagonal[k] : lambda_mu_u[i] * u[j]);
+      };
+      const Part lambda_mu_volume = in.lambda_volume + in.mu_volume;
       if (frames.kind != ElementFrames::Kind::warped)
         {
-          // h_a = R g_a (R = I at rest), and lambda V h_a, mu V h_a.
-          Part h[4][3], lambda_h[4][3], mu_h[4][3];
+          // h_a = R g_a (R = I at rest), and (lambda + mu) V h_a.
+          Part h[4][3], lambda_mu_h[4][3];
           if (frames.kind == ElementFrames::Kind::rest)
             std::copy(&in.g[0][0], &in.g[0][0] + 12, &h[0][0]);
           else
@@ -731,17 +752,30 @@ namespace warpchol::fem::HWY_NAMESPACE
             }
           for (unsigned int a = 0; a < 4; ++a)
             for (unsigned int i = 0; i < 3; ++i)
-              {
-                lambda_h[a][i] = in.lambda_volume * h[a][i];
-                mu_h[a][i]     = in.mu_volume * h[a][i];
-              }
+              lambda_mu_h[a][i] = lambda_mu_volume * h[a][i];
           for (unsigned int k = 0; k < n_blocks; ++k)
             {
               const unsigned int a = block_row[k], b = block_column[k];
+              if (a == b)
+                {
+                  store_diagonal(k, lambda_mu_h[a], h[a]);
+                  continue;
+                }
+              // B_ba = B_ab^T is the same formula with a and b exchanged: exchanged in the
+              // lanes where the block lands transposed.
+              const Bits swap = ((bits >> k) & 1) != 0;
+              Part       h_a[3], h_b[3], lambda_h_a[3], mu_h_b[3];
+              for (unsigned int i = 0; i < 3; ++i)
+                {
+                  h_a[i]        = swap ? h[b][i] : h[a][i];
+                  h_b[i]        = swap ? h[a][i] : h[b][i];
+                  lambda_h_a[i] = in.lambda_volume * h_a[i];
+                  mu_h_b[i]     = in.mu_volume * h_b[i];
+                }
               for (unsigned int j = 0; j < 3; ++j)
                 for (unsigned int i = 0; i < 3; ++i)
                   {
-                    Part value = lambda_h[a][i] * h[b][j] + mu_h[b][i] * h[a][j];
+                    Part value = lambda_h_a[i] * h_b[j] + mu_h_b[i] * h_a[j];
                     if (i == j)
                       value += in.diagonal[k];
                     store(k, i + 3 * j, value);
@@ -767,34 +801,33 @@ namespace warpchol::fem::HWY_NAMESPACE
       for (unsigned int k = 0; k < n_blocks; ++k)
         {
           const unsigned int a = block_row[k], b = block_column[k];
+          if (a == b)
+            {
+              // T_a T_a^T = I.
+              Part lambda_mu_u[3];
+              for (unsigned int i = 0; i < 3; ++i)
+                lambda_mu_u[i] = lambda_mu_volume * u[a][a][i];
+              store_diagonal(k, lambda_mu_u, u[a][a]);
+              continue;
+            }
+          Part value[9];
           for (unsigned int j = 0; j < 3; ++j)
             for (unsigned int i = 0; i < 3; ++i)
-              {
-                Part value = in.lambda_volume * u[a][a][i] * u[b][b][j] + in.mu_volume * u[a][b][i] * u[b][a][j];
-                // (T_a T_b^T)(i, j): the identity on the diagonal blocks.
-                if (a != b)
-                  value += in.diagonal[k] * (t[a][i] * t[b][j] + t[a][i + 3] * t[b][j + 3] + t[a][i + 6] * t[b][j + 6]);
-                else if (i == j)
-                  value += in.diagonal[k];
-                store(k, i + 3 * j, value);
-              }
+              // The diagonal's coefficient times (T_a T_b^T)(i, j).
+              value[i + 3 * j] = in.lambda_volume * u[a][a][i] * u[b][b][j] + in.mu_volume * u[a][b][i] * u[b][a][j] +
+                                 in.diagonal[k] * (t[a][i] * t[b][j] + t[a][i + 3] * t[b][j + 3] + t[a][i + 6] * t[b][j + 6]);
+          store_off_diagonal(k, value);
         }
-    }
-
-
-    void form_blocks_here(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
-                          const unsigned int *elements, const unsigned int count, LaneBlocks &out)
-    {
-      for (unsigned int first = 0; first < lanes; first += width)
-        form_part(body, coefficients, frames, elements, count, first, out);
     }
   } // namespace
 
-  /** form_blocks() on this target. */
+  /** form_blocks() on this target: the group of eight in parts of this target's width. */
   void FormBlocks(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
-                  const unsigned int *elements, const unsigned int count, LaneBlocks &out)
+                  const std::uint16_t *transposed, const unsigned int *elements, const unsigned int count,
+                  LaneBlocks &out)
   {
-    form_blocks_here(body, coefficients, frames, elements, count, out);
+    for (unsigned int first = 0; first < lanes; first += width)
+      form_part(body, coefficients, frames, transposed, elements, count, first, out);
   }
 } // namespace warpchol::fem::HWY_NAMESPACE
 #pragma GCC pop_options
@@ -808,10 +841,11 @@ namespace warpchol::fem
   namespace
   {
     void form_blocks(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
-                     const unsigned int *elements, const unsigned int count, LaneBlocks &out)
+                     const std::uint16_t *transposed, const unsigned int *elements, const unsigned int count,
+                     LaneBlocks &out)
     {
       simd::use_target_from_environment();
-      HWY_DYNAMIC_DISPATCH(FormBlocks)(body, coefficients, frames, elements, count, out);
+      HWY_DYNAMIC_DISPATCH(FormBlocks)(body, coefficients, frames, transposed, elements, count, out);
     }
   } // namespace
 } // namespace warpchol::fem

@@ -196,8 +196,6 @@ namespace warpchol::fem
       std::array<std::int32_t, 4> stride;
       /** The free index of each vertex (-1: fixed); block k lands in the columns of the smaller. */
       std::array<std::int32_t, 4> free_vertex;
-      /** Bit k: block k lands as its transpose (the row vertex a has the smaller unknown). */
-      std::uint16_t transposed = 0;
     };
 
     /** A range of free vertices whose columns one task assembles, and the elements that touch it. */
@@ -237,6 +235,12 @@ namespace warpchol::fem
     SystemCoefficients           coefficients;
     sparse::CSCMatrix            lower_matrix;
     std::vector<ElementScatter>  scatter;
+    /**
+     * Per element, bit k: block k lands as its transpose (its row vertex a has the smaller
+     * unknown). The blocks are formed so (form_blocks()): the scatter adds every block
+     * alike, with no branch on a bit that changes from one element to the next.
+     */
+    std::vector<std::uint16_t> transposed_blocks;
     /** One range of every column and element: the serial assembly and the reference path. */
     ColumnRange                  whole;
     /** The ranges of the threaded assembly, made for ranges_threads threads. */
