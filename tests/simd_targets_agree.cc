@@ -83,9 +83,9 @@ namespace
     for (const auto &force : state.forces)
       results.forces.insert(results.forces.end(), force.data(), force.data() + 3);
     results.energies.push_back(state.elastic_energy);
-    std::vector<fem::Vector3> product(body.n_vertices(), fem::Vector3::Zero());
+    std::vector<fem::Vector3> product;
     std::vector<fem::Matrix3> work;
-    body.add_corotated_stiffness_times(&state.element_rotations, velocities, product, work);
+    body.corotated_stiffness_times(&state.element_rotations, velocities, product, work);
     for (const auto &value : product)
       results.product.insert(results.product.end(), value.data(), value.data() + 3);
 

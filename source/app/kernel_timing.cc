@@ -44,10 +44,8 @@ namespace warpchol::app
       ns_per_tet([&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements_and_vertices, state); });
     std::vector<fem::Vector3> product(body.n_vertices());
     std::vector<fem::Matrix3> work;
-    times.corotated_product = ns_per_tet([&] {
-      std::fill(product.begin(), product.end(), fem::Vector3::Zero());
-      body.add_corotated_stiffness_times(&state.element_rotations, positions, product, work);
-    });
+    times.corotated_product =
+      ns_per_tet([&] { body.corotated_stiffness_times(&state.element_rotations, positions, product, work); });
     // A from R_e K_e R_e^T, as the exact path assembles it in every step, and re-assembled
     // for a tenth of the elements (spread over the body), as a WCC update does.
     const auto                   &time_stepping = scene.parameters().time_stepping;

@@ -3,6 +3,7 @@
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/rotations.h>
 
+#include <deal.II/base/multithread_info.h>
 #include <deal.II/base/parallel.h>
 #include <deal.II/base/quadrature_lib.h>
 #include <deal.II/fe/fe_simplex_p.h>
@@ -15,6 +16,8 @@
 #include <limits>
 #include <mutex>
 #include <numeric>
+
+#include <tbb/parallel_for.h>
 
 #include <warpchol/base/simd.h>
 
@@ -60,6 +63,8 @@ namespace warpchol::fem
       const Matrix3 *given_rotations;
       /** The corotated stiffness times the field (CorotatedForces()) instead of the forces. */
       bool product;
+      /** Per vertex, the first and last element around it. */
+      const std::array<unsigned int, 2> *element_span;
     };
 
     /** What it writes (per element, from element 0; energies and norms may be nullptr). */
@@ -67,9 +72,22 @@ namespace warpchol::fem
     {
       /** The rotations computed here (rotations_of()); nullptr: the given ones. */
       Matrix3 *rotations;
-      Matrix3 *forces;
+      /** Per vertex: the forces of its elements added where the range holds them all. */
+      Vector3 *vertex_forces;
+      /** Per element: its forces, where a vertex of it has elements outside the range. */
+      Matrix3 *shared_forces;
       double  *energies, *force_norms;
     };
+
+    /** The forces of element forces @p forces (on vertices 1..3 as columns) on its vertex @p local. */
+    inline void add_force_on_vertex(const Matrix3 &forces, const unsigned int local, Vector3 &sum)
+    {
+      // Vertex 0's is minus the sum of the others'.
+      if (local == 0)
+        sum -= forces.rowwise().sum();
+      else
+        sum += forces.col(local - 1);
+    }
 
     /**
      * The fused element pass over the elements [begin, end) on the SIMD target chosen at run
@@ -178,6 +196,10 @@ namespace warpchol::fem
           around_element[k]    = e;
           around_local[k]      = static_cast<unsigned char>(a);
         }
+    element_span.assign(triangulation.n_vertices(), {{0, 0}});
+    for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+      if (around_start[v + 1] > around_start[v])
+        element_span[v] = {{around_element[around_start[v]], around_element[around_start[v + 1] - 1]}};
 
     compute_element_matrices();
     rest_volumes = volumes;
@@ -519,30 +541,6 @@ namespace warpchol::fem
     return volumes[e] * (stress(displacement_gradient) * inverse_rest_edges[e].transpose());
   }
 
-  void ElasticBody::gather_element_forces(const std::vector<Matrix3> &element_forces,
-                                          std::vector<Vector3>       &out) const
-  {
-    dealii::parallel::apply_to_subranges(
-      0u, n_vertices(),
-      [&](const unsigned int begin, const unsigned int end) {
-        for (unsigned int v = begin; v < end; ++v)
-          {
-            Vector3 sum = Vector3::Zero();
-            for (unsigned int k = around_start[v]; k < around_start[v + 1]; ++k)
-              {
-                const Matrix3     &forces = element_forces[around_element[k]];
-                const unsigned int local  = around_local[k];
-                if (local == 0)
-                  sum -= forces.rowwise().sum();
-                else
-                  sum += forces.col(local - 1);
-              }
-            out[v] += sum;
-          }
-      },
-      256);
-  }
-
   void ElasticBody::evaluate(const std::vector<Vector3> &positions, const Rotations rotations,
                              State &state) const
   {
@@ -550,18 +548,16 @@ namespace warpchol::fem
     const bool         rotate  = rotations != Rotations::none;
     state.element_rotations.resize(rotate ? n_cells : 0);
     state.element_force_norms.resize(n_cells);
-    state.element_forces.resize(n_cells);
     std::vector<double> energies(n_cells);
     state.rotation_paths = RotationPaths();
     // The fused element pass: F, R_e, G = R_e^T F - I, the local forces K_e u_e and the
     // world forces -R_e K_e u_e, the energy.
-    fused_pass(positions, nullptr, false, rotate ? state.element_rotations.data() : nullptr, state.element_forces.data(),
-               energies.data(), state.element_force_norms.data(), &state.rotation_paths);
+    state.forces.assign(n_vertices(), Vector3::Zero());
+    fused_pass(positions, nullptr, false, rotate ? state.element_rotations.data() : nullptr, state.forces,
+               energies.data(), state.element_force_norms.data(), &state.rotation_paths, state.element_forces);
     state.elastic_energy = 0;
     for (const double energy : energies)
       state.elastic_energy += energy;
-    state.forces.assign(n_vertices(), Vector3::Zero());
-    gather_element_forces(state.element_forces, state.forces);
     if (rotations == Rotations::elements_and_vertices)
       compute_nodal_rotations(state.element_rotations, state.nodal_rotations);
     else
@@ -611,25 +607,18 @@ namespace warpchol::fem
       256);
   }
 
-  void ElasticBody::forces_at_given_rotations(const std::vector<Vector3> &positions,
-                                              const std::vector<Matrix3> *element_rotations,
-                                              std::vector<Matrix3> &element_forces, std::vector<double> &energies) const
-  {
-    element_forces.resize(n_elements());
-    energies.resize(n_elements());
-    std::vector<double> force_norms(n_elements());
-    fused_pass(positions, element_rotations, false, nullptr, element_forces.data(), energies.data(), force_norms.data(),
-               nullptr);
-  }
-
   void ElasticBody::add_elastic_forces(const std::vector<Vector3> &positions,
                                        const std::vector<Matrix3> *element_rotations,
                                        std::vector<Vector3>       &forces) const
   {
-    std::vector<Matrix3> element_forces;
-    std::vector<double>  energies;
-    forces_at_given_rotations(positions, element_rotations, element_forces, energies);
-    gather_element_forces(element_forces, forces);
+    // Summed apart, then added: each vertex gets the same sum whatever it held.
+    std::vector<Vector3> sums(n_vertices(), Vector3::Zero());
+    std::vector<Matrix3> shared_forces;
+    std::vector<double>  energies(n_elements()), force_norms(n_elements());
+    fused_pass(positions, element_rotations, false, nullptr, sums, energies.data(), force_norms.data(), nullptr,
+               shared_forces);
+    for (unsigned int v = 0; v < n_vertices(); ++v)
+      forces[v] += sums[v];
   }
 
   double ElasticBody::elastic_energy(const std::vector<Vector3> &positions,
@@ -644,9 +633,11 @@ namespace warpchol::fem
   std::vector<double> ElasticBody::element_energies(const std::vector<Vector3> &positions,
                                                     const std::vector<Matrix3> *element_rotations) const
   {
-    std::vector<Matrix3> element_forces;
-    std::vector<double>  energies;
-    forces_at_given_rotations(positions, element_rotations, element_forces, energies);
+    std::vector<Vector3> forces(n_vertices(), Vector3::Zero());
+    std::vector<Matrix3> shared_forces;
+    std::vector<double>  energies(n_elements()), force_norms(n_elements());
+    fused_pass(positions, element_rotations, false, nullptr, forces, energies.data(), force_norms.data(), nullptr,
+               shared_forces);
     return energies;
   }
 
@@ -848,10 +839,28 @@ namespace warpchol::fem::HWY_NAMESPACE
               for (unsigned int i = 0; i < 9; ++i)
                 r[i][l] = in.given_rotations != nullptr ? in.given_rotations[first + k].data()[i] : i % 4 == 0 ? 1. : 0.;
             }
+        Matrix3 forces[force_lanes];
         CorotatedForces(count, f, r, in.inverse_rest_edges + first, in.volumes + first,
                         in.plastic_strains != nullptr ? in.plastic_strains + first : nullptr, in.mu, in.lambda,
-                        in.product, out.forces + first, out.energies ? out.energies + first : nullptr,
+                        in.product, forces, out.energies ? out.energies + first : nullptr,
                         out.force_norms ? out.force_norms + first : nullptr);
+        // On the vertices whose elements this range holds all, in element order; kept for
+        // the others.
+        for (unsigned int l = 0; l < count; ++l)
+          {
+            const auto &v      = in.vertices[first + l];
+            bool        shared = false;
+            for (unsigned int a = 0; a < 4; ++a)
+              {
+                const auto &span = in.element_span[v[a]];
+                if (span[0] < begin || span[1] >= end)
+                  shared = true;
+                else
+                  add_force_on_vertex(forces[l], a, out.vertex_forces[v[a]]);
+              }
+            if (shared)
+              out.shared_forces[first + l] = forces[l];
+          }
       }
   }
 } // namespace warpchol::fem::HWY_NAMESPACE
@@ -873,11 +882,12 @@ namespace warpchol::fem
   } // namespace
 
   void ElasticBody::fused_pass(const std::vector<Vector3> &field, const std::vector<Matrix3> *given_rotations,
-                               const bool product, Matrix3 *computed_rotations, Matrix3 *forces, double *energies,
-                               double *force_norms, RotationPaths *paths) const
+                               const bool product, Matrix3 *computed_rotations, std::vector<Vector3> &vertex_forces,
+                               double *energies, double *force_norms, RotationPaths *paths,
+                               std::vector<Matrix3> &shared_forces) const
   {
     // A plastic strain shifts the forces, not the stiffness a product multiplies by.
-    const FusedPassInput  input{field.data(),
+    const FusedPassInput input{field.data(),
                                vertices_of_element.data(),
                                inverse_rest_edges.data(),
                                volumes.data(),
@@ -885,33 +895,59 @@ namespace warpchol::fem
                                mu,
                                lambda,
                                given_rotations ? given_rotations->data() : nullptr,
-                               product};
-    const FusedPassOutput output{computed_rotations, forces, energies, force_norms};
-    std::mutex            paths_mutex;
+                               product,
+                               element_span.data()};
+    // Ranges of elements in a row, four per thread for the balance, of 512 elements at least.
+    const unsigned int n_threads = dealii::MultithreadInfo::n_threads();
+    const unsigned int n_ranges  = std::max(1u, std::min(n_threads <= 1 ? 1u : 4 * n_threads, n_elements() / 512));
+    std::vector<unsigned int> range_start(n_ranges + 1);
+    for (unsigned int r = 0; r <= n_ranges; ++r)
+      range_start[r] = static_cast<unsigned int>(static_cast<std::uint64_t>(n_elements()) * r / n_ranges);
+    if (n_ranges > 1)
+      shared_forces.resize(n_elements());
+    const FusedPassOutput output{computed_rotations, vertex_forces.data(), shared_forces.data(), energies,
+                                 force_norms};
+    std::vector<RotationPaths> range_paths(n_ranges);
+    const auto                 pass_over_range = [&](const std::size_t r) {
+      fused_pass_range(input, output, range_start[r], range_start[r + 1], range_paths[r]);
+    };
+    if (n_ranges == 1)
+      pass_over_range(0);
+    else
+      tbb::parallel_for(std::size_t(0), std::size_t(n_ranges), pass_over_range);
+    if (paths != nullptr)
+      for (const auto &taken : range_paths)
+        *paths += taken;
+    if (n_ranges == 1)
+      return;
+
+    // The vertices whose elements two ranges share, from the kept forces, in element order.
+    const auto range_of = [&](const unsigned int e) {
+      return std::upper_bound(range_start.begin(), range_start.end(), e) - range_start.begin();
+    };
     dealii::parallel::apply_to_subranges(
-      0u, n_elements(),
+      0u, n_vertices(),
       [&](const unsigned int begin, const unsigned int end) {
-        RotationPaths range_paths;
-        fused_pass_range(input, output, begin, end, range_paths);
-        if (paths != nullptr)
-          {
-            const std::lock_guard<std::mutex> lock(paths_mutex);
-            *paths += range_paths;
-          }
+        for (unsigned int v = begin; v < end; ++v)
+          if (around_start[v + 1] > around_start[v] && range_of(element_span[v][0]) != range_of(element_span[v][1]))
+            {
+              Vector3 sum = Vector3::Zero();
+              for (unsigned int k = around_start[v]; k < around_start[v + 1]; ++k)
+                add_force_on_vertex(shared_forces[around_element[k]], around_local[k], sum);
+              vertex_forces[v] += sum;
+            }
       },
-      512);
+      256);
   }
 
-  void ElasticBody::add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
-                                                  const std::vector<Vector3> &v,
-                                                  std::vector<Vector3>       &out,
-                                                  std::vector<Matrix3>       &work) const
+  void ElasticBody::corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
+                                              const std::vector<Vector3> &v, std::vector<Vector3> &out,
+                                              std::vector<Matrix3> &work) const
   {
     // R_e K_e R_e^T v_e: the gradient of v in the element's frame is R_e^T grad v; a
     // plastic strain shifts the forces, not the matrix.
-    work.resize(n_elements());
-    fused_pass(v, element_rotations, true, nullptr, work.data(), nullptr, nullptr, nullptr);
-    gather_element_forces(work, out);
+    out.assign(n_vertices(), Vector3::Zero());
+    fused_pass(v, element_rotations, true, nullptr, out, nullptr, nullptr, nullptr, work);
   }
 
 } // namespace warpchol::fem

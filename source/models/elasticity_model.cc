@@ -603,10 +603,11 @@ namespace warpchol::fem
       bytes.product = static_cast<double>(system.lower().values.size()) * (sizeof(double) + sizeof(Index)) +
                       2 * n * sizeof(double);
     else
+      // The forces are summed on the vertices as the elements give them (no array of the
+      // elements' forces written and read back).
       bytes.product = static_cast<double>(body.n_elements()) *
-                        (3 * sizeof(Matrix3) + sizeof(double) + 4 * sizeof(unsigned int) + 4 * sizeof(Vector3)) +
-                      static_cast<double>(body.n_elements()) * 4 * (sizeof(unsigned int) + sizeof(unsigned char)) +
-                      n * sizeof(double);
+                        (2 * sizeof(Matrix3) + sizeof(double) + 4 * sizeof(unsigned int) + 4 * sizeof(Vector3)) +
+                      static_cast<double>(body.n_vertices()) * 2 * sizeof(unsigned int) + n * sizeof(double);
     bytes.vectors = 10 * n * sizeof(double);
     return bytes;
   }
@@ -634,9 +635,7 @@ namespace warpchol::fem
     // R^T (c_M M + c_K sum_e R_e K_e R_e^T + tool springs) R y, matrix-free over the
     // elements; fixed vertices have no velocity.
     from_solve_frame(y.begin(), vertex_work);
-    vertex_product.assign(body.n_vertices(), Vector3::Zero());
-    body.add_corotated_stiffness_times(&elastic_state.element_rotations, vertex_work, vertex_product,
-                                       element_work);
+    body.corotated_stiffness_times(&elastic_state.element_rotations, vertex_work, vertex_product, element_work);
     mass_product.assign(body.n_vertices(), Vector3::Zero());
     body.add_mass_times(vertex_work, mass_product);
     for (unsigned int v = 0; v < body.n_vertices(); ++v)

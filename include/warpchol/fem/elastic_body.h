@@ -250,7 +250,7 @@ namespace warpchol::fem
       std::vector<double> element_force_norms;
       /** Sum over elements of 1/2 u_e^T K_e u_e, u_e = R_e^T x_e - X_e. */
       double elastic_energy = 0;
-      /** Per element, its world-frame forces on vertices 1..3 (work array of the gather). */
+      /** Work array of the sums of the forces (the forces of the elements at range borders). */
       std::vector<Matrix3> element_forces;
       /** The paths the element rotations took (rotations_of()). */
       RotationPaths rotation_paths;
@@ -294,13 +294,12 @@ namespace warpchol::fem
                                          const std::vector<Matrix3> *element_rotations) const;
 
     /**
-     * out += K^ v with K^ = sum over elements of R_e K_e R_e^T (K_e alone when
+     * out = K^ v with K^ = sum over elements of R_e K_e R_e^T (K_e alone when
      * @p element_rotations is null): the corotated stiffness applied without forming it,
-     * on threads, the result independent of their number.
+     * on threads, the result independent of their number; @p work is a work array.
      */
-    void add_corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
-                                       const std::vector<Vector3> &v, std::vector<Vector3> &out,
-                                       std::vector<Matrix3> &work) const;
+    void corotated_stiffness_times(const std::vector<Matrix3> *element_rotations, const std::vector<Vector3> &v,
+                                   std::vector<Vector3> &out, std::vector<Matrix3> &work) const;
 
     /** out += M v (the mass matrix of the chosen type). */
     void add_mass_times(const std::vector<Vector3> &velocities, std::vector<Vector3> &out) const;
@@ -324,23 +323,20 @@ namespace warpchol::fem
      * target chosen at run time, with @p field the positions (or, for a @p product, the
      * field the corotated stiffness multiplies): per element F, its rotation (computed into
      * @p computed_rotations if not null, else @p given_rotations, else I), the world forces
-     * (a product's: R K_e R^T field_e, no plastic strain) into @p forces, and where not null
-     * the energies and force norms; the rotations' paths added to @p paths if not null.
+     * (a product's: R K_e R^T field_e, no plastic strain), and where not null the energies
+     * and force norms; the rotations' paths added to @p paths if not null.
+     *
+     * The forces are summed on the vertices: @p vertex_forces[v] += the sum over v's
+     * elements, in element order (the bits do not depend on the threads). Each thread takes
+     * a range of elements and adds an element's forces to the vertices whose elements all
+     * lie in its range as soon as it has them, not through an array of every element's
+     * forces written and read back (144 bytes per element from memory on a large body);
+     * the forces of the elements around a vertex two ranges share are kept in
+     * @p shared_forces (a work array) and summed after the ranges.
      */
     void fused_pass(const std::vector<Vector3> &field, const std::vector<Matrix3> *given_rotations, bool product,
-                    Matrix3 *computed_rotations, Matrix3 *forces, double *energies, double *force_norms,
-                    RotationPaths *paths) const;
-
-    /** Per element, its world forces and energy at @p positions for the given rotations (I if null). */
-    void forces_at_given_rotations(const std::vector<Vector3> &positions, const std::vector<Matrix3> *element_rotations,
-                                   std::vector<Matrix3> &element_forces, std::vector<double> &energies) const;
-
-    /**
-     * out[v] += the forces of @p element_forces (per element, its forces on vertices 1..3
-     * as columns; vertex 0's is minus their sum) on each vertex v, summed in element order.
-     */
-    void gather_element_forces(const std::vector<Matrix3> &element_forces,
-                               std::vector<Vector3> &out) const;
+                    Matrix3 *computed_rotations, std::vector<Vector3> &vertex_forces, double *energies,
+                    double *force_norms, RotationPaths *paths, std::vector<Matrix3> &shared_forces) const;
 
     const dealii::Triangulation<3> &tria;
     Material                        body_material;
@@ -360,6 +356,8 @@ namespace warpchol::fem
      */
     std::vector<unsigned int>                around_start, around_element;
     std::vector<unsigned char>               around_local;
+    /** The first and last element around each vertex: whether one range of elements holds them all. */
+    std::vector<std::array<unsigned int, 2>> element_span;
     std::vector<Index>                       first_unknown_of_vertex;
     std::vector<unsigned int>                free_vertices;
     Index                                    unknown_count = 0;

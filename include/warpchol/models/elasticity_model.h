@@ -347,8 +347,8 @@ namespace warpchol::fem
      * twice (the forward and the backward solve: its values, in the precision the
      * preconditioner keeps them, and its row indices), the product (the assembled A's lower
      * triangle, or the matrix-free corotated product: per element its rotation, inverse
-     * rest edges, volume and vertices, the 4 vertices' values, its forces written and read
-     * back by the gather), and CG's own passes over its vectors (ten of n doubles).
+     * rest edges, volume and vertices, the 4 vertices' values; per vertex the span of its
+     * elements and its sum written), and CG's own passes over its vectors (ten of n doubles).
      */
     struct IterationBytes
     {
