@@ -16,6 +16,7 @@
 #include <warpchol/mesh/mesh_readers.h>
 
 #include <deal.II/base/multithread_info.h>
+#include <deal.II/grid/grid_tools.h>
 #include <deal.II/grid/tria.h>
 
 #include <cstring>
@@ -67,14 +68,10 @@ namespace
   void check_body(const std::string &name, const dealii::Triangulation<3> &triangulation,
                   const std::vector<unsigned int> &unknown_order)
   {
-    const auto  &points = triangulation.get_vertices();
-    fem::Vector3 lower = fem::Vector3::Constant(1e300), upper = -lower;
-    for (const auto &p : points)
-      for (unsigned int d = 0; d < 3; ++d)
-        {
-          lower[d] = std::min(lower[d], p[d]);
-          upper[d] = std::max(upper[d], p[d]);
-        }
+    const auto          &points = triangulation.get_vertices();
+    const auto           box    = dealii::GridTools::compute_bounding_box(triangulation).get_boundary_points();
+    const fem::Vector3   lower(box.first[0], box.first[1], box.first[2]);
+    const fem::Vector3   upper(box.second[0], box.second[1], box.second[2]);
     std::vector<bool> fixed(points.size());
     for (unsigned int v = 0; v < points.size(); ++v)
       fixed[v] = points[v][0] < lower[0] + 0.05 * (upper[0] - lower[0]);
