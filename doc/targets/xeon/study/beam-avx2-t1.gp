@@ -6,22 +6,24 @@
 
 # WCC partial
 $group0 << EOD
-0.0144856 0.481913 0.242526 "0.3" "0.3"
-0.00612922 0.506458 0.248093 "1" "1"
+0.0144719 0.481913 0.242526 "0.3" "0.3"
+0.00615653 0.506458 0.248093 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0129706 0.000451218 0.000231203 "0.3" "0.3"
-0.0104713 0.000187587 9.59881e-05 "1" "1"
-0.00909061 0.000174552 7.27943e-05 "inf" "inf"
+0.0124755 0.000450923 0.000231829 "0.3" "0.3"
+0.0107337 0.000174551 8.55976e-05 "1" "1"
+0.0088293 0.000700984 0.000348556 "inf" "inf"
 EOD
 $front_max << EOD
-0.00612922 0.506458
-0.00909061 0.000174552
+0.00615653 0.506458
+0.0088293 0.000700984
+0.0107337 0.000174551
 EOD
 $front_rms << EOD
-0.00612922 0.248093
-0.00909061 7.27943e-05
+0.00615653 0.248093
+0.0088293 0.000348556
+0.0107337 8.55976e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,9 +39,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0351427]
-set arrow 1 from 0.0325395, graph 0 to 0.0325395, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0325395, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0335271]
+set arrow 1 from 0.0310436, graph 0 to 0.0310436, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0310436, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

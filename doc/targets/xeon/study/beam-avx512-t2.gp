@@ -6,22 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0108179 0.481913 0.242526 "0.3" "0.3"
-0.00445396 0.506458 0.248093 "1" "1"
+0.0103392 0.481913 0.242526 "0.3" "0.3"
+0.00420532 0.506458 0.248093 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.00953417 0.000387005 0.000199104 "0.3" "0.3"
-0.00778709 0.000294663 0.000151616 "1" "1"
-0.0065057 0.000174552 8.3028e-05 "inf" "inf"
+0.00923523 0.000266356 0.000134266 "0.3" "0.3"
+0.00806885 0.000354314 0.000181859 "1" "1"
+0.00660334 0.000264808 0.000134315 "inf" "inf"
 EOD
 $front_max << EOD
-0.00445396 0.506458
-0.0065057 0.000174552
+0.00420532 0.506458
+0.00660334 0.000264808
 EOD
 $front_rms << EOD
-0.00445396 0.248093
-0.0065057 8.3028e-05
+0.00420532 0.248093
+0.00660334 0.000134315
+0.00923523 0.000134266
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,9 +38,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0272355]
-set arrow 1 from 0.025218, graph 0 to 0.025218, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.025218, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0240876]
+set arrow 1 from 0.0223033, graph 0 to 0.0223033, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0223033, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,22 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.039601 0.411017 0.234712 "0.3" "0.3"
-0.0182063 1 0.72048 "1 (diverged: 1.4)" "1"
+0.0387359 0.421295 0.240549 "0.3" "0.3"
+0.0174448 1 0.72048 "1 (diverged: 1.4)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0196726 0.000878376 0.000296107 "0.3" "0.3"
-0.0172798 0.00491652 0.00245407 "1" "1"
-0.0118129 0.00163272 0.0010431 "inf" "inf"
+0.0184127 0.00198878 0.000810499 "0.3" "0.3"
+0.0151213 0.00321106 0.00191602 "1" "1"
+0.010588 0.00215489 0.00137728 "inf" "inf"
 EOD
 $front_max << EOD
-0.0118129 0.00163272
-0.0196726 0.000878376
+0.010588 0.00215489
+0.0184127 0.00198878
 EOD
 $front_rms << EOD
-0.0118129 0.0010431
-0.0196726 0.000296107
+0.010588 0.00137728
+0.0184127 0.000810499
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +37,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.042769]
+set xrange [0:0.0418348]
 set yrange [*:2]
-set arrow 1 from 0.0331097, graph 0 to 0.0331097, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0331097, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0316078, graph 0 to 0.0316078, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0316078, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,22 +6,20 @@
 
 # WCC partial
 $group0 << EOD
-0.0334012 0.411482 0.235051 "0.3" "0.3"
-0.0143162 1 0.720809 "1 (diverged: 1.4)" "1"
+0.0301051 0.412153 0.235551 "0.3" "0.3"
+0.0128759 1 0.720908 "1 (diverged: 1.4)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0159951 0.00124346 0.000712844 "0.3" "0.3"
-0.0134384 0.00117017 0.000568615 "1" "1"
-0.00833279 0.00220398 0.00101243 "inf" "inf"
+0.0150607 0.00553101 0.00300571 "0.3" "0.3"
+0.0124679 0.00417691 0.0020093 "1" "1"
+0.0082622 0.00101132 0.000370817 "inf" "inf"
 EOD
 $front_max << EOD
-0.00833279 0.00220398
-0.0134384 0.00117017
+0.0082622 0.00101132
 EOD
 $front_rms << EOD
-0.00833279 0.00101243
-0.0134384 0.000568615
+0.0082622 0.000370817
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +35,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0360733]
+set xrange [0:0.0325135]
 set yrange [*:2]
-set arrow 1 from 0.025491, graph 0 to 0.025491, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.025491, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0237582, graph 0 to 0.0237582, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0237582, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

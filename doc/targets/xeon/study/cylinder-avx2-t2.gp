@@ -6,23 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0177971 0.698246 0.363794 "0.3" "0.3"
-0.00509925 1 0.779359 "1 (diverged: 1.5)" "1"
+0.0164199 0.698011 0.363692 "0.3" "0.3"
+0.00481231 1 0.779359 "1 (diverged: 1.5)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0108322 0.00202397 0.00106002 "0.3" "0.3"
-0.00814036 0.000325913 0.000163287 "1" "1"
-0.00672849 0.00118973 0.000602569 "inf" "inf"
+0.0112932 0.0017002 0.000899249 "0.3" "0.3"
+0.00872905 0.000484253 0.000260337 "1" "1"
+0.00715296 0.00266812 0.00139045 "inf" "inf"
 EOD
 $front_max << EOD
-0.00672849 0.00118973
-0.00814036 0.000325913
+0.00715296 0.00266812
+0.00872905 0.000484253
 EOD
 $front_rms << EOD
-0.00509925 0.779359
-0.00672849 0.000602569
-0.00814036 0.000163287
+0.00481231 0.779359
+0.00715296 0.00139045
+0.00872905 0.000260337
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -38,10 +38,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0218586]
+set xrange [0:0.0205454]
 set yrange [*:2]
-set arrow 1 from 0.0202394, graph 0 to 0.0202394, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0202394, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0190236, graph 0 to 0.0190236, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0190236, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

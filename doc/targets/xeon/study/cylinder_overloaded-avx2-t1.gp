@@ -6,26 +6,24 @@
 
 # WCC partial
 $group0 << EOD
-0.027937 0.267277 0.154418 "0.3" "0.3"
-0.0111552 0.975953 0.619078 "1" "1"
+0.0291628 0.266838 0.153557 "0.3" "0.3"
+0.0109965 0.975953 0.619078 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0184176 0.000528624 0.000240893 "0.3" "0.3"
-0.0161892 0.000712261 0.000408148 "1" "1"
-0.0121234 0.00112423 0.000686475 "inf" "inf"
+0.0179953 0.00156693 0.000907272 "0.3" "0.3"
+0.0151468 0.000770985 0.000506015 "1" "1"
+0.0113235 0.0010891 0.00065303 "inf" "inf"
 EOD
 $front_max << EOD
-0.0111552 0.975953
-0.0121234 0.00112423
-0.0161892 0.000712261
-0.0184176 0.000528624
+0.0109965 0.975953
+0.0113235 0.0010891
+0.0151468 0.000770985
 EOD
 $front_rms << EOD
-0.0111552 0.619078
-0.0121234 0.000686475
-0.0161892 0.000408148
-0.0184176 0.000240893
+0.0109965 0.619078
+0.0113235 0.00065303
+0.0151468 0.000506015
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -41,9 +39,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.030172]
-set arrow 1 from 0.0243322, graph 0 to 0.0243322, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0243322, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0314959]
+set arrow 1 from 0.0239992, graph 0 to 0.0239992, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0239992, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,25 +6,27 @@
 
 # WCC partial
 $group0 << EOD
-0.000199977 0.0261565 0.0117701 "0.3" "0.3"
-0.000171748 0.0406232 0.0183263 "1" "1"
-8.44285e-05 0.119057 0.0606778 "inf" "inf"
+0.000185436 0.0261565 0.0117701 "0.3" "0.3"
+0.000164309 0.0406232 0.0183263 "1" "1"
+8.21227e-05 0.119057 0.0606778 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.00024982 0.000118866 2.24838e-05 "0.3" "0.3"
-0.00025317 6.84224e-05 1.41356e-05 "1" "1"
-0.000161632 8.59023e-05 1.96602e-05 "inf" "inf"
+0.00026642 0.000118866 2.24838e-05 "0.3" "0.3"
+0.000254789 6.84224e-05 1.41356e-05 "1" "1"
+0.000167807 8.59023e-05 1.96602e-05 "inf" "inf"
 EOD
 $front_max << EOD
-8.44285e-05 0.119057
-0.000161632 8.59023e-05
-0.00025317 6.84224e-05
+8.21227e-05 0.119057
+0.000164309 0.0406232
+0.000167807 8.59023e-05
+0.000254789 6.84224e-05
 EOD
 $front_rms << EOD
-8.44285e-05 0.0606778
-0.000161632 1.96602e-05
-0.00025317 1.41356e-05
+8.21227e-05 0.0606778
+0.000164309 0.0183263
+0.000167807 1.96602e-05
+0.000254789 1.41356e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -40,9 +42,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.00070382]
-set arrow 1 from 0.000651685, graph 0 to 0.000651685, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.000651685, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.000650004]
+set arrow 1 from 0.000601856, graph 0 to 0.000601856, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.000601856, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,22 +6,21 @@
 
 # WCC partial
 $group0 << EOD
-0.0838765 0.965727 0.497772 "0.3" "0.3"
-0.0354641 1 0.938817 "1 (diverged: 1.8)" "1"
+0.0824779 0.965492 0.497647 "0.3" "0.3"
+0.0342796 1 0.938817 "1 (diverged: 1.8)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0459722 0.00455778 0.00228024 "0.3" "0.3"
-0.0382403 0.00297199 0.00137605 "1" "1"
-0.0302328 0.00382925 0.00218469 "inf" "inf"
+0.0420525 0.00301519 0.00146311 "0.3" "0.3"
+0.0356428 0.00191756 0.00116542 "1" "1"
+0.0298888 0.00192924 0.0010171 "inf" "inf"
 EOD
 $front_max << EOD
-0.0302328 0.00382925
-0.0382403 0.00297199
+0.0298888 0.00192924
+0.0356428 0.00191756
 EOD
 $front_rms << EOD
-0.0302328 0.00218469
-0.0382403 0.00137605
+0.0298888 0.0010171
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +36,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0905866]
+set xrange [0:0.090501]
 set yrange [*:2]
-set arrow 1 from 0.0838543, graph 0 to 0.0838543, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0838543, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0837972, graph 0 to 0.0837972, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0837972, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

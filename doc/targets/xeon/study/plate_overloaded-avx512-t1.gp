@@ -6,22 +6,24 @@
 
 # WCC partial
 $group0 << EOD
-0.09805 0.202245 0.103422 "0.3" "0.3"
-0.0364384 1 0.609487 "1 (diverged: 1.2)" "1"
+0.0930491 0.202245 0.10353 "0.3" "0.3"
+0.0356068 1 0.609487 "1 (diverged: 1.2)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0482138 0.00184824 0.00118289 "0.3" "0.3"
-0.041679 0.00269982 0.00139854 "1" "1"
-0.03126 0.00282285 0.0010491 "inf" "inf"
+0.045577 0.00195317 0.00111582 "0.3" "0.3"
+0.0380924 0.00225952 0.00115313 "1" "1"
+0.0264191 0.00423904 0.00253966 "inf" "inf"
 EOD
 $front_max << EOD
-0.03126 0.00282285
-0.041679 0.00269982
-0.0482138 0.00184824
+0.0264191 0.00423904
+0.0380924 0.00225952
+0.045577 0.00195317
 EOD
 $front_rms << EOD
-0.03126 0.0010491
+0.0264191 0.00253966
+0.0380924 0.00115313
+0.045577 0.00111582
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +39,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.105894]
+set xrange [0:0.100493]
 set yrange [*:2]
-set arrow 1 from 0.0863431, graph 0 to 0.0863431, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0863431, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0817613, graph 0 to 0.0817613, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0817613, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,25 +6,24 @@
 
 # WCC partial
 $group0 << EOD
-0.0183889 0.0161133 0.00868627 "0.3" "0.3"
-0.0132764 0.0633659 0.0348156 "1" "1"
-0.00263297 0.110339 0.0583573 "inf" "inf"
+0.0187715 0.0161133 0.00868627 "0.3" "0.3"
+0.0131795 0.0633659 0.0348156 "1" "1"
+0.00260713 0.110339 0.0583573 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.00666067 0.00057141 0.000274834 "0.3" "0.3"
-0.00532639 0.000709332 0.00034606 "1" "1"
-0.00317263 0.000581478 0.000277719 "inf" "inf"
+0.00709943 0.000580396 0.000278474 "0.3" "0.3"
+0.00553048 0.000715315 0.000347938 "1" "1"
+0.00347687 0.000581478 0.000277719 "inf" "inf"
 EOD
 $front_max << EOD
-0.00263297 0.110339
-0.00317263 0.000581478
-0.00666067 0.00057141
+0.00260713 0.110339
+0.00347687 0.000581478
+0.00709943 0.000580396
 EOD
 $front_rms << EOD
-0.00263297 0.0583573
-0.00317263 0.000277719
-0.00666067 0.000274834
+0.00260713 0.0583573
+0.00347687 0.000277719
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -40,9 +39,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0294179]
-set arrow 1 from 0.0272388, graph 0 to 0.0272388, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0272388, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0298421]
+set arrow 1 from 0.0276316, graph 0 to 0.0276316, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0276316, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,25 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.026007 0.0161133 0.00868627 "0.3" "0.3"
-0.0171867 0.0633659 0.0348156 "1" "1"
-0.00328284 0.110339 0.0583573 "inf" "inf"
+0.0292893 0.0161133 0.00868627 "0.3" "0.3"
+0.0191553 0.0633659 0.0348156 "1" "1"
+0.00334027 0.110339 0.0583573 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.00914399 0.00029298 0.00014859 "0.3" "0.3"
-0.0077276 0.00043697 0.00021415 "1" "1"
-0.00425203 0.000412981 0.000208372 "inf" "inf"
+0.00903116 0.000448432 0.00021707 "0.3" "0.3"
+0.00721879 0.000440329 0.000217011 "1" "1"
+0.00386725 0.000412981 0.000208372 "inf" "inf"
 EOD
 $front_max << EOD
-0.00328284 0.110339
-0.00425203 0.000412981
-0.00914399 0.00029298
+0.00334027 0.110339
+0.00386725 0.000412981
 EOD
 $front_rms << EOD
-0.00328284 0.0583573
-0.00425203 0.000208372
-0.00914399 0.00014859
+0.00334027 0.0583573
+0.00386725 0.000208372
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -40,9 +38,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0389078]
-set arrow 1 from 0.0360258, graph 0 to 0.0360258, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0360258, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.044039]
+set arrow 1 from 0.0407768, graph 0 to 0.0407768, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0407768, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
