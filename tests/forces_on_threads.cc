@@ -3,7 +3,7 @@
 // at once, one that two ranges share is summed after them from the kept forces. On SOFA's
 // cylinder (its file's order, cells sorted for locality) and on a generated torus, bent and
 // twisted, with a plastic strain on some elements: the forces, the energy and the corotated
-// product are the same bits on one thread and on two (eight ranges), and equal to a sum of
+// product are the same bits on one thread and on two (two ranges), and equal to a sum of
 // each element's forces from the element's own functions (stiffness_forces()) to 1e-13.
 // add_elastic_forces() adds to what the vector held.
 
@@ -41,7 +41,7 @@ namespace
     body.evaluate(positions, fem::ElasticBody::Rotations::elements, state);
     outcome.forces = state.forces;
     outcome.energy = state.elastic_energy;
-    std::vector<fem::Matrix3> work;
+    fem::ElasticBody::ForceWork work;
     body.corotated_stiffness_times(&state.element_rotations, velocities, outcome.product, work);
     outcome.added = velocities;
     body.add_elastic_forces(positions, &state.element_rotations, outcome.added);

@@ -84,7 +84,7 @@ namespace
       results.forces.insert(results.forces.end(), force.data(), force.data() + 3);
     results.energies.push_back(state.elastic_energy);
     std::vector<fem::Vector3> product;
-    std::vector<fem::Matrix3> work;
+    fem::ElasticBody::ForceWork work;
     body.corotated_stiffness_times(&state.element_rotations, velocities, product, work);
     for (const auto &value : product)
       results.product.insert(results.product.end(), value.data(), value.data() + 3);

@@ -43,7 +43,7 @@ namespace warpchol::app
     times.fused_pass_nodal =
       ns_per_tet([&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements_and_vertices, state); });
     std::vector<fem::Vector3> product(body.n_vertices());
-    std::vector<fem::Matrix3> work;
+    fem::ElasticBody::ForceWork work;
     times.corotated_product =
       ns_per_tet([&] { body.corotated_stiffness_times(&state.element_rotations, positions, product, work); });
     // A from R_e K_e R_e^T, as the exact path assembles it in every step, and re-assembled

@@ -554,7 +554,7 @@ namespace warpchol::fem
     // world forces -R_e K_e u_e, the energy.
     state.forces.assign(n_vertices(), Vector3::Zero());
     fused_pass(positions, nullptr, false, rotate ? state.element_rotations.data() : nullptr, state.forces,
-               energies.data(), state.element_force_norms.data(), &state.rotation_paths, state.element_forces);
+               energies.data(), state.element_force_norms.data(), &state.rotation_paths, state.force_work);
     state.elastic_energy = 0;
     for (const double energy : energies)
       state.elastic_energy += energy;
@@ -613,10 +613,9 @@ namespace warpchol::fem
   {
     // Summed apart, then added: each vertex gets the same sum whatever it held.
     std::vector<Vector3> sums(n_vertices(), Vector3::Zero());
-    std::vector<Matrix3> shared_forces;
+    ForceWork            work;
     std::vector<double>  energies(n_elements()), force_norms(n_elements());
-    fused_pass(positions, element_rotations, false, nullptr, sums, energies.data(), force_norms.data(), nullptr,
-               shared_forces);
+    fused_pass(positions, element_rotations, false, nullptr, sums, energies.data(), force_norms.data(), nullptr, work);
     for (unsigned int v = 0; v < n_vertices(); ++v)
       forces[v] += sums[v];
   }
@@ -634,10 +633,9 @@ namespace warpchol::fem
                                                     const std::vector<Matrix3> *element_rotations) const
   {
     std::vector<Vector3> forces(n_vertices(), Vector3::Zero());
-    std::vector<Matrix3> shared_forces;
+    ForceWork            work;
     std::vector<double>  energies(n_elements()), force_norms(n_elements());
-    fused_pass(positions, element_rotations, false, nullptr, forces, energies.data(), force_norms.data(), nullptr,
-               shared_forces);
+    fused_pass(positions, element_rotations, false, nullptr, forces, energies.data(), force_norms.data(), nullptr, work);
     return energies;
   }
 
@@ -884,7 +882,7 @@ namespace warpchol::fem
   void ElasticBody::fused_pass(const std::vector<Vector3> &field, const std::vector<Matrix3> *given_rotations,
                                const bool product, Matrix3 *computed_rotations, std::vector<Vector3> &vertex_forces,
                                double *energies, double *force_norms, RotationPaths *paths,
-                               std::vector<Matrix3> &shared_forces) const
+                               ForceWork &work) const
   {
     // A plastic strain shifts the forces, not the stiffness a product multiplies by.
     const FusedPassInput input{field.data(),
@@ -897,18 +895,30 @@ namespace warpchol::fem
                                given_rotations ? given_rotations->data() : nullptr,
                                product,
                                element_span.data()};
-    // Ranges of elements in a row, four per thread for the balance, of 512 elements at least.
+    // A range of elements in a row per thread, of 512 elements at least: the fewer the
+    // borders, the fewer the vertices two ranges share (with four ranges per thread, 55-64 %
+    // of the elements of SOFA's raptor and the Gmsh torus touch one; with one, 8-9 %).
     const unsigned int n_threads = dealii::MultithreadInfo::n_threads();
-    const unsigned int n_ranges  = std::max(1u, std::min(n_threads <= 1 ? 1u : 4 * n_threads, n_elements() / 512));
+    const unsigned int n_ranges  = std::max(1u, std::min(n_threads, n_elements() / 512));
     std::vector<unsigned int> range_start(n_ranges + 1);
     for (unsigned int r = 0; r <= n_ranges; ++r)
       range_start[r] = static_cast<unsigned int>(static_cast<std::uint64_t>(n_elements()) * r / n_ranges);
+    // On threads, each range sums into an array of its own: vertices of two ranges side by
+    // side in memory would have their cache lines written by both threads.
     if (n_ranges > 1)
-      shared_forces.resize(n_elements());
-    const FusedPassOutput output{computed_rotations, vertex_forces.data(), shared_forces.data(), energies,
-                                 force_norms};
+      {
+        work.shared_forces.resize(n_elements());
+        work.range_sums.resize(n_ranges);
+      }
     std::vector<RotationPaths> range_paths(n_ranges);
     const auto                 pass_over_range = [&](const std::size_t r) {
+      Vector3 *sums = vertex_forces.data();
+      if (n_ranges > 1)
+        {
+          work.range_sums[r].assign(n_vertices(), Vector3::Zero());
+          sums = work.range_sums[r].data();
+        }
+      const FusedPassOutput output{computed_rotations, sums, work.shared_forces.data(), energies, force_norms};
       fused_pass_range(input, output, range_start[r], range_start[r + 1], range_paths[r]);
     };
     if (n_ranges == 1)
@@ -920,29 +930,36 @@ namespace warpchol::fem
         *paths += taken;
     if (n_ranges == 1)
       return;
-
-    // The vertices whose elements two ranges share, from the kept forces, in element order.
+    // Each vertex's sum from the range that holds its elements, or, where two ranges share
+    // them, from the kept forces, in element order.
     const auto range_of = [&](const unsigned int e) {
-      return std::upper_bound(range_start.begin(), range_start.end(), e) - range_start.begin();
+      return std::upper_bound(range_start.begin(), range_start.end(), e) - range_start.begin() - 1;
     };
     dealii::parallel::apply_to_subranges(
       0u, n_vertices(),
       [&](const unsigned int begin, const unsigned int end) {
         for (unsigned int v = begin; v < end; ++v)
-          if (around_start[v + 1] > around_start[v] && range_of(element_span[v][0]) != range_of(element_span[v][1]))
-            {
-              Vector3 sum = Vector3::Zero();
-              for (unsigned int k = around_start[v]; k < around_start[v + 1]; ++k)
-                add_force_on_vertex(shared_forces[around_element[k]], around_local[k], sum);
-              vertex_forces[v] += sum;
-            }
+          {
+            if (around_start[v + 1] == around_start[v])
+              continue;
+            const auto range = range_of(element_span[v][0]);
+            if (range == range_of(element_span[v][1]))
+              {
+                vertex_forces[v] += work.range_sums[range][v];
+                continue;
+              }
+            Vector3 sum = Vector3::Zero();
+            for (unsigned int k = around_start[v]; k < around_start[v + 1]; ++k)
+              add_force_on_vertex(work.shared_forces[around_element[k]], around_local[k], sum);
+            vertex_forces[v] += sum;
+          }
       },
       256);
   }
 
   void ElasticBody::corotated_stiffness_times(const std::vector<Matrix3> *element_rotations,
                                               const std::vector<Vector3> &v, std::vector<Vector3> &out,
-                                              std::vector<Matrix3> &work) const
+                                              ForceWork &work) const
   {
     // R_e K_e R_e^T v_e: the gradient of v in the element's frame is R_e^T grad v; a
     // plastic strain shifts the forces, not the matrix.

@@ -237,6 +237,16 @@ namespace warpchol::fem
       elements_and_vertices
     };
 
+    /**
+     * Work arrays of the sums of the elements' forces on their vertices on threads: the
+     * forces of the elements at range borders, and each range's sums.
+     */
+    struct ForceWork
+    {
+      std::vector<Matrix3>              shared_forces;
+      std::vector<std::vector<Vector3>> range_sums;
+    };
+
     /** What evaluate() computes for one configuration. */
     struct State
     {
@@ -250,8 +260,8 @@ namespace warpchol::fem
       std::vector<double> element_force_norms;
       /** Sum over elements of 1/2 u_e^T K_e u_e, u_e = R_e^T x_e - X_e. */
       double elastic_energy = 0;
-      /** Work array of the sums of the forces (the forces of the elements at range borders). */
-      std::vector<Matrix3> element_forces;
+      /** Work arrays of the sums of the forces. */
+      ForceWork force_work;
       /** The paths the element rotations took (rotations_of()). */
       RotationPaths rotation_paths;
     };
@@ -299,7 +309,7 @@ namespace warpchol::fem
      * on threads, the result independent of their number; @p work is a work array.
      */
     void corotated_stiffness_times(const std::vector<Matrix3> *element_rotations, const std::vector<Vector3> &v,
-                                   std::vector<Vector3> &out, std::vector<Matrix3> &work) const;
+                                   std::vector<Vector3> &out, ForceWork &work) const;
 
     /** out += M v (the mass matrix of the chosen type). */
     void add_mass_times(const std::vector<Vector3> &velocities, std::vector<Vector3> &out) const;
@@ -326,17 +336,17 @@ namespace warpchol::fem
      * (a product's: R K_e R^T field_e, no plastic strain), and where not null the energies
      * and force norms; the rotations' paths added to @p paths if not null.
      *
-     * The forces are summed on the vertices: @p vertex_forces[v] += the sum over v's
-     * elements, in element order (the bits do not depend on the threads). Each thread takes
-     * a range of elements and adds an element's forces to the vertices whose elements all
-     * lie in its range as soon as it has them, not through an array of every element's
-     * forces written and read back (144 bytes per element from memory on a large body);
-     * the forces of the elements around a vertex two ranges share are kept in
-     * @p shared_forces (a work array) and summed after the ranges.
+     * The forces are summed on the vertices: @p vertex_forces (zero on entry) gets at v the
+     * sum over v's elements, in element order (the bits do not depend on the threads). Each
+     * thread takes a range of elements and adds an element's forces to the vertices whose
+     * elements all lie in its range as soon as it has them (into sums of its own in
+     * @p work), not through an array of every element's forces written and read back (144
+     * bytes per element from memory on a large body); the forces of the elements around a
+     * vertex two ranges share are kept in @p work and summed after the ranges.
      */
     void fused_pass(const std::vector<Vector3> &field, const std::vector<Matrix3> *given_rotations, bool product,
                     Matrix3 *computed_rotations, std::vector<Vector3> &vertex_forces, double *energies,
-                    double *force_norms, RotationPaths *paths, std::vector<Matrix3> &shared_forces) const;
+                    double *force_norms, RotationPaths *paths, ForceWork &work) const;
 
     const dealii::Triangulation<3> &tria;
     Material                        body_material;

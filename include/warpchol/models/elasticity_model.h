@@ -525,7 +525,7 @@ namespace warpchol::fem
 
     /** Work arrays of the matrix-free products (per vertex, per element). */
     mutable std::vector<Vector3> vertex_work, vertex_product, mass_product;
-    mutable std::vector<Matrix3> element_work;
+    mutable ElasticBody::ForceWork element_work;
 
     /** A full factorization of A by the peer's solver, recorded in @p statistics. */
     void factorize_with_peer(StepStatistics &statistics);
