@@ -6,24 +6,26 @@
 
 # WCC partial
 $group0 << EOD
-0.0144719 0.481913 0.242526 "0.3" "0.3"
-0.00615653 0.506458 0.248093 "1" "1"
+0.0136728 0.481913 0.242526 "0.3" "0.3"
+0.00614444 0.506458 0.248093 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0124755 0.000450923 0.000231829 "0.3" "0.3"
-0.0107337 0.000174551 8.55976e-05 "1" "1"
-0.0088293 0.000700984 0.000348556 "inf" "inf"
+0.0119888 0.000293946 0.000141281 "0.3" "0.3"
+0.0110029 0.000386896 0.000193782 "1" "1"
+0.00910722 0.00057035 0.000288116 "inf" "inf"
 EOD
 $front_max << EOD
-0.00615653 0.506458
-0.0088293 0.000700984
-0.0107337 0.000174551
+0.00614444 0.506458
+0.00910722 0.00057035
+0.0110029 0.000386896
+0.0119888 0.000293946
 EOD
 $front_rms << EOD
-0.00615653 0.248093
-0.0088293 0.000348556
-0.0107337 8.55976e-05
+0.00614444 0.248093
+0.00910722 0.000288116
+0.0110029 0.000193782
+0.0119888 0.000141281
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +41,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0335271]
-set arrow 1 from 0.0310436, graph 0 to 0.0310436, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0310436, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0321619]
+set arrow 1 from 0.0297795, graph 0 to 0.0297795, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0297795, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,22 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.0102432 0.481913 0.242526 "0.3" "0.3"
-0.00418276 0.506458 0.248093 "1" "1"
+0.0107501 0.481913 0.242526 "0.3" "0.3"
+0.00423175 0.506458 0.248093 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.00901339 0.000197901 9.86008e-05 "0.3" "0.3"
-0.0081078 0.000354191 0.000175851 "1" "1"
-0.00686161 0.000190451 9.63801e-05 "inf" "inf"
+0.00923206 0.000331886 0.000167727 "0.3" "0.3"
+0.00768713 0.000516763 0.000262421 "1" "1"
+0.0068507 0.000190451 9.63801e-05 "inf" "inf"
 EOD
 $front_max << EOD
-0.00418276 0.506458
-0.00686161 0.000190451
+0.00423175 0.506458
+0.0068507 0.000190451
 EOD
 $front_rms << EOD
-0.00418276 0.248093
-0.00686161 9.63801e-05
+0.00423175 0.248093
+0.0068507 9.63801e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,9 +37,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0252874]
-set arrow 1 from 0.0234143, graph 0 to 0.0234143, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0234143, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0251055]
+set arrow 1 from 0.0232459, graph 0 to 0.0232459, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0232459, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

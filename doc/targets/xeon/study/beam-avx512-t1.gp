@@ -6,24 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.0129533 0.481913 0.242526 "0.3" "0.3"
-0.00594202 0.506458 0.248093 "1" "1"
+0.0135915 0.481913 0.242526 "0.3" "0.3"
+0.00601396 0.506458 0.248093 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0114336 0.000296248 0.000144424 "0.3" "0.3"
-0.0113049 0.000443763 0.000226783 "1" "1"
-0.00873516 0.000381729 0.000201211 "inf" "inf"
+0.0121564 0.000389011 0.000192029 "0.3" "0.3"
+0.0110786 0.000443763 0.000226783 "1" "1"
+0.00958641 0.000174544 7.2861e-05 "inf" "inf"
 EOD
 $front_max << EOD
-0.00594202 0.506458
-0.00873516 0.000381729
-0.0114336 0.000296248
+0.00601396 0.506458
+0.00958641 0.000174544
 EOD
 $front_rms << EOD
-0.00594202 0.248093
-0.00873516 0.000201211
-0.0114336 0.000144424
+0.00601396 0.248093
+0.00958641 7.2861e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +37,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0300903]
-set arrow 1 from 0.0278614, graph 0 to 0.0278614, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0278614, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0328999]
+set arrow 1 from 0.0304629, graph 0 to 0.0304629, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0304629, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,22 +6,21 @@
 
 # WCC partial
 $group0 << EOD
-0.0387359 0.421295 0.240549 "0.3" "0.3"
-0.0174448 1 0.72048 "1 (diverged: 1.4)" "1"
+0.0399123 0.421295 0.240549 "0.3" "0.3"
+0.0173766 1 0.72048 "1 (diverged: 1.4)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0184127 0.00198878 0.000810499 "0.3" "0.3"
-0.0151213 0.00321106 0.00191602 "1" "1"
-0.010588 0.00215489 0.00137728 "inf" "inf"
+0.0191033 0.00253623 0.00110793 "0.3" "0.3"
+0.0168746 0.00387745 0.00227185 "1" "1"
+0.0116606 0.00234736 0.00151178 "inf" "inf"
 EOD
 $front_max << EOD
-0.010588 0.00215489
-0.0184127 0.00198878
+0.0116606 0.00234736
 EOD
 $front_rms << EOD
-0.010588 0.00137728
-0.0184127 0.000810499
+0.0116606 0.00151178
+0.0191033 0.00110793
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +36,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0418348]
+set xrange [0:0.0431053]
 set yrange [*:2]
-set arrow 1 from 0.0316078, graph 0 to 0.0316078, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0316078, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0312945, graph 0 to 0.0312945, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0312945, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

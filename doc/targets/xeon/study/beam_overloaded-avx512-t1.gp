@@ -6,20 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.0396366 0.421295 0.240549 "0.3" "0.3"
-0.0170481 1 0.72048 "1 (diverged: 1.4)" "1"
+0.0389811 0.421295 0.240549 "0.3" "0.3"
+0.0168548 1 0.72048 "1 (diverged: 1.4)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0190982 0.00293249 0.00168397 "0.3" "0.3"
-0.0163616 0.00371667 0.00223592 "1" "1"
-0.0118566 0.0018638 0.00120482 "inf" "inf"
+0.0193756 0.0013955 0.00066914 "0.3" "0.3"
+0.0163217 0.00371667 0.00223592 "1" "1"
+0.0124948 0.0018737 0.00120751 "inf" "inf"
 EOD
 $front_max << EOD
-0.0118566 0.0018638
+0.0124948 0.0018737
+0.0193756 0.0013955
 EOD
 $front_rms << EOD
-0.0118566 0.00120482
+0.0124948 0.00120751
+0.0193756 0.00066914
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -35,10 +37,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0428075]
+set xrange [0:0.0420996]
 set yrange [*:2]
-set arrow 1 from 0.0323588, graph 0 to 0.0323588, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0323588, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0327503, graph 0 to 0.0327503, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0327503, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,20 +6,20 @@
 
 # WCC partial
 $group0 << EOD
-0.0301051 0.412153 0.235551 "0.3" "0.3"
-0.0128759 1 0.720908 "1 (diverged: 1.4)" "1"
+0.0293478 0.412153 0.235551 "0.3" "0.3"
+0.0126496 1 0.720908 "1 (diverged: 1.4)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0150607 0.00553101 0.00300571 "0.3" "0.3"
-0.0124679 0.00417691 0.0020093 "1" "1"
-0.0082622 0.00101132 0.000370817 "inf" "inf"
+0.0149421 0.00207274 0.00116592 "0.3" "0.3"
+0.0128557 0.00177944 0.00106747 "1" "1"
+0.00904371 0.00110181 0.000506375 "inf" "inf"
 EOD
 $front_max << EOD
-0.0082622 0.00101132
+0.00904371 0.00110181
 EOD
 $front_rms << EOD
-0.0082622 0.000370817
+0.00904371 0.000506375
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -35,10 +35,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0325135]
+set xrange [0:0.0316956]
 set yrange [*:2]
-set arrow 1 from 0.0237582, graph 0 to 0.0237582, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0237582, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0226835, graph 0 to 0.0226835, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0226835, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,25 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.0194573 0.698152 0.363741 "0.3" "0.3"
-0.00606395 1 0.779359 "1 (diverged: 1.5)" "1"
+0.0201765 0.698152 0.363741 "0.3" "0.3"
+0.00599992 1 0.779359 "1 (diverged: 1.5)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0127833 0.000643643 0.000347349 "0.3" "0.3"
-0.0107137 0.00111489 0.00058345 "1" "1"
-0.00839152 0.00137271 0.000717332 "inf" "inf"
+0.0132971 0.000620634 0.000341444 "0.3" "0.3"
+0.0100392 0.00176058 0.000945548 "1" "1"
+0.0086653 0.00312151 0.00162322 "inf" "inf"
 EOD
 $front_max << EOD
-0.00839152 0.00137271
-0.0107137 0.00111489
-0.0127833 0.000643643
+0.0086653 0.00312151
+0.0100392 0.00176058
+0.0132971 0.000620634
 EOD
 $front_rms << EOD
-0.00606395 0.779359
-0.00839152 0.000717332
-0.0107137 0.00058345
-0.0127833 0.000347349
+0.00599992 0.779359
+0.0086653 0.00162322
+0.0100392 0.000945548
+0.0132971 0.000341444
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -40,10 +40,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0247913]
+set xrange [0:0.0247307]
 set yrange [*:2]
-set arrow 1 from 0.0229549, graph 0 to 0.0229549, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0229549, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0228988, graph 0 to 0.0228988, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0228988, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

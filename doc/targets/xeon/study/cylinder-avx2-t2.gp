@@ -6,23 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0164199 0.698011 0.363692 "0.3" "0.3"
-0.00481231 1 0.779359 "1 (diverged: 1.5)" "1"
+0.0160707 0.698011 0.363692 "0.3" "0.3"
+0.0045956 1 0.779359 "1 (diverged: 1.5)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0112932 0.0017002 0.000899249 "0.3" "0.3"
-0.00872905 0.000484253 0.000260337 "1" "1"
-0.00715296 0.00266812 0.00139045 "inf" "inf"
+0.0115252 0.0015686 0.0008098 "0.3" "0.3"
+0.00754905 0.000229353 0.000123253 "1" "1"
+0.00616003 0.00118574 0.000599823 "inf" "inf"
 EOD
 $front_max << EOD
-0.00715296 0.00266812
-0.00872905 0.000484253
+0.00616003 0.00118574
+0.00754905 0.000229353
 EOD
 $front_rms << EOD
-0.00481231 0.779359
-0.00715296 0.00139045
-0.00872905 0.000260337
+0.0045956 0.779359
+0.00616003 0.000599823
+0.00754905 0.000123253
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -38,10 +38,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0205454]
+set xrange [0:0.0201275]
 set yrange [*:2]
-set arrow 1 from 0.0190236, graph 0 to 0.0190236, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0190236, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0186366, graph 0 to 0.0186366, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0186366, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,23 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.0205765 0.698152 0.363741 "0.3" "0.3"
-0.00617689 1 0.779359 "1 (diverged: 1.5)" "1"
+0.0204358 0.698152 0.363741 "0.3" "0.3"
+0.00591387 1 0.779359 "1 (diverged: 1.5)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0131987 0.00059376 0.000318787 "0.3" "0.3"
-0.0114275 0.00214161 0.00114703 "1" "1"
-0.00917689 0.00174793 0.000920145 "inf" "inf"
+0.0126054 0.000646448 0.000348361 "0.3" "0.3"
+0.0111022 0.0011447 0.000597574 "1" "1"
+0.00910075 0.00174793 0.000920145 "inf" "inf"
 EOD
 $front_max << EOD
-0.00917689 0.00174793
-0.0131987 0.00059376
+0.00910075 0.00174793
+0.0111022 0.0011447
+0.0126054 0.000646448
 EOD
 $front_rms << EOD
-0.00617689 0.779359
-0.00917689 0.000920145
-0.0131987 0.000318787
+0.00591387 0.779359
+0.00910075 0.000920145
+0.0111022 0.000597574
+0.0126054 0.000348361
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -38,10 +40,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0256831]
+set xrange [0:0.0254835]
 set yrange [*:2]
-set arrow 1 from 0.0237807, graph 0 to 0.0237807, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0237807, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0235958, graph 0 to 0.0235958, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0235958, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,21 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0167061 0.698011 0.363692 "0.3" "0.3"
-0.00494688 1 0.779359 "1 (diverged: 1.5)" "1"
+0.0159792 0.698011 0.363692 "0.3" "0.3"
+0.00487297 1 0.779359 "1 (diverged: 1.5)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0108098 0.00114847 0.000612543 "0.3" "0.3"
-0.00880411 0.00137679 0.000739927 "1" "1"
-0.00719986 0.000950476 0.000504705 "inf" "inf"
+0.0119745 0.000741934 0.000378115 "0.3" "0.3"
+0.00828173 0.000305576 0.000158612 "1" "1"
+0.00707517 0.000906126 0.000459959 "inf" "inf"
 EOD
 $front_max << EOD
-0.00719986 0.000950476
+0.00707517 0.000906126
+0.00828173 0.000305576
 EOD
 $front_rms << EOD
-0.00494688 0.779359
-0.00719986 0.000504705
+0.00487297 0.779359
+0.00707517 0.000459959
+0.00828173 0.000158612
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -36,10 +38,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.021443]
+set xrange [0:0.0204912]
 set yrange [*:2]
-set arrow 1 from 0.0198546, graph 0 to 0.0198546, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0198546, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0189733, graph 0 to 0.0189733, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0189733, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

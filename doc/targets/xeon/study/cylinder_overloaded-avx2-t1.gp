@@ -6,24 +6,26 @@
 
 # WCC partial
 $group0 << EOD
-0.0291628 0.266838 0.153557 "0.3" "0.3"
-0.0109965 0.975953 0.619078 "1" "1"
+0.0256396 0.266838 0.153557 "0.3" "0.3"
+0.010198 0.975953 0.619078 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0179953 0.00156693 0.000907272 "0.3" "0.3"
-0.0151468 0.000770985 0.000506015 "1" "1"
-0.0113235 0.0010891 0.00065303 "inf" "inf"
+0.0160827 0.000707151 0.000470497 "0.3" "0.3"
+0.0145436 0.000841596 0.000491983 "1" "1"
+0.0110896 0.00138562 0.000812538 "inf" "inf"
 EOD
 $front_max << EOD
-0.0109965 0.975953
-0.0113235 0.0010891
-0.0151468 0.000770985
+0.010198 0.975953
+0.0110896 0.00138562
+0.0145436 0.000841596
+0.0160827 0.000707151
 EOD
 $front_rms << EOD
-0.0109965 0.619078
-0.0113235 0.00065303
-0.0151468 0.000506015
+0.010198 0.619078
+0.0110896 0.000812538
+0.0145436 0.000491983
+0.0160827 0.000470497
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +41,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0314959]
-set arrow 1 from 0.0239992, graph 0 to 0.0239992, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0239992, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0276908]
+set arrow 1 from 0.0214655, graph 0 to 0.0214655, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0214655, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,25 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.0234185 0.268563 0.155341 "0.3" "0.3"
-0.00921064 0.975953 0.619078 "1" "1"
+0.0214587 0.268563 0.155341 "0.3" "0.3"
+0.00802643 0.975953 0.619078 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0140009 0.000601832 0.000275232 "0.3" "0.3"
-0.0114579 0.000931332 0.000558253 "1" "1"
-0.0094828 0.000890748 0.000582459 "inf" "inf"
+0.0125676 0.000896579 0.000472581 "0.3" "0.3"
+0.0103416 0.000672703 0.000378935 "1" "1"
+0.00806271 0.000423473 0.000285813 "inf" "inf"
 EOD
 $front_max << EOD
-0.00921064 0.975953
-0.0094828 0.000890748
-0.0140009 0.000601832
+0.00802643 0.975953
+0.00806271 0.000423473
 EOD
 $front_rms << EOD
-0.00921064 0.619078
-0.0094828 0.000582459
-0.0114579 0.000558253
-0.0140009 0.000275232
+0.00802643 0.619078
+0.00806271 0.000285813
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -40,9 +37,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.025292]
-set arrow 1 from 0.019784, graph 0 to 0.019784, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.019784, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0231753]
+set arrow 1 from 0.0176315, graph 0 to 0.0176315, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0176315, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,24 +6,26 @@
 
 # WCC partial
 $group0 << EOD
-0.0288337 0.266838 0.153557 "0.3" "0.3"
-0.0113331 0.975953 0.619078 "1" "1"
+0.028107 0.266838 0.153557 "0.3" "0.3"
+0.0105701 0.975953 0.619078 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0188404 0.00135827 0.000832043 "0.3" "0.3"
-0.0153712 0.000684794 0.000275877 "1" "1"
-0.0119604 0.000897531 0.000542483 "inf" "inf"
+0.0169793 0.000557178 0.000269091 "0.3" "0.3"
+0.0157374 0.00134841 0.00087394 "1" "1"
+0.011289 0.00154179 0.000937999 "inf" "inf"
 EOD
 $front_max << EOD
-0.0113331 0.975953
-0.0119604 0.000897531
-0.0153712 0.000684794
+0.0105701 0.975953
+0.011289 0.00154179
+0.0157374 0.00134841
+0.0169793 0.000557178
 EOD
 $front_rms << EOD
-0.0113331 0.619078
-0.0119604 0.000542483
-0.0153712 0.000275877
+0.0105701 0.619078
+0.011289 0.000937999
+0.0157374 0.00087394
+0.0169793 0.000269091
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +41,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0311404]
-set arrow 1 from 0.0245611, graph 0 to 0.0245611, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0245611, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0303555]
+set arrow 1 from 0.0246574, graph 0 to 0.0246574, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0246574, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

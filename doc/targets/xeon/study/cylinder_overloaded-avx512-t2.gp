@@ -6,24 +6,24 @@
 
 # WCC partial
 $group0 << EOD
-0.023494 0.268563 0.155341 "0.3" "0.3"
-0.00896982 0.975953 0.619078 "1" "1"
+0.0229922 0.268563 0.155341 "0.3" "0.3"
+0.00884358 0.975953 0.619078 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.014443 0.000934061 0.000612703 "0.3" "0.3"
-0.012386 0.00137319 0.000865366 "1" "1"
-0.00923857 0.00104469 0.000656009 "inf" "inf"
+0.0129783 0.000887545 0.000454565 "0.3" "0.3"
+0.0114254 0.000699865 0.000407846 "1" "1"
+0.00900731 0.00120687 0.000688244 "inf" "inf"
 EOD
 $front_max << EOD
-0.00896982 0.975953
-0.00923857 0.00104469
-0.014443 0.000934061
+0.00884358 0.975953
+0.00900731 0.00120687
+0.0114254 0.000699865
 EOD
 $front_rms << EOD
-0.00896982 0.619078
-0.00923857 0.000656009
-0.014443 0.000612703
+0.00884358 0.619078
+0.00900731 0.000688244
+0.0114254 0.000407846
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +39,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0253735]
-set arrow 1 from 0.019434, graph 0 to 0.019434, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.019434, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0248316]
+set arrow 1 from 0.0192407, graph 0 to 0.0192407, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0192407, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,27 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.000185436 0.0261565 0.0117701 "0.3" "0.3"
-0.000164309 0.0406232 0.0183263 "1" "1"
-8.21227e-05 0.119057 0.0606778 "inf" "inf"
+0.000189962 0.0261565 0.0117701 "0.3" "0.3"
+0.000166195 0.0406232 0.0183263 "1" "1"
+8.03402e-05 0.119057 0.0606778 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.00026642 0.000118866 2.24838e-05 "0.3" "0.3"
-0.000254789 6.84224e-05 1.41356e-05 "1" "1"
-0.000167807 8.59023e-05 1.96602e-05 "inf" "inf"
+0.000246521 0.000118866 2.24838e-05 "0.3" "0.3"
+0.000234379 6.84224e-05 1.6988e-05 "1" "1"
+0.000155636 8.59023e-05 1.96602e-05 "inf" "inf"
 EOD
 $front_max << EOD
-8.21227e-05 0.119057
-0.000164309 0.0406232
-0.000167807 8.59023e-05
-0.000254789 6.84224e-05
+8.03402e-05 0.119057
+0.000155636 8.59023e-05
+0.000234379 6.84224e-05
 EOD
 $front_rms << EOD
-8.21227e-05 0.0606778
-0.000164309 0.0183263
-0.000167807 1.96602e-05
-0.000254789 1.41356e-05
+8.03402e-05 0.0606778
+0.000155636 1.96602e-05
+0.000234379 1.6988e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -42,9 +40,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.000650004]
-set arrow 1 from 0.000601856, graph 0 to 0.000601856, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.000601856, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.000650702]
+set arrow 1 from 0.000602502, graph 0 to 0.000602502, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.000602502, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,27 +6,29 @@
 
 # WCC partial
 $group0 << EOD
-0.000196006 0.0261565 0.0117701 "0.3" "0.3"
-0.000153074 0.0406232 0.0183263 "1" "1"
-0.000135216 0.119057 0.0606778 "inf" "inf"
+0.000186544 0.0261565 0.0117701 "0.3" "0.3"
+0.000181852 0.0406232 0.0183263 "1" "1"
+0.000136247 0.119057 0.0606778 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.000242772 0.000118866 2.24838e-05 "0.3" "0.3"
-0.000228545 6.84224e-05 1.75407e-05 "1" "1"
-0.000178533 8.59023e-05 1.78882e-05 "inf" "inf"
+0.000248652 0.000118866 2.24838e-05 "0.3" "0.3"
+0.00023021 5.78874e-05 1.68253e-05 "1" "1"
+0.000188266 8.59023e-05 1.78882e-05 "inf" "inf"
 EOD
 $front_max << EOD
-0.000135216 0.119057
-0.000153074 0.0406232
-0.000178533 8.59023e-05
-0.000228545 6.84224e-05
+0.000136247 0.119057
+0.000181852 0.0406232
+0.000186544 0.0261565
+0.000188266 8.59023e-05
+0.00023021 5.78874e-05
 EOD
 $front_rms << EOD
-0.000135216 0.0606778
-0.000153074 0.0183263
-0.000178533 1.78882e-05
-0.000228545 1.75407e-05
+0.000136247 0.0606778
+0.000181852 0.0183263
+0.000186544 0.0117701
+0.000188266 1.78882e-05
+0.00023021 1.68253e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -42,9 +44,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.000733598]
-set arrow 1 from 0.000679257, graph 0 to 0.000679257, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.000679257, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.000769536]
+set arrow 1 from 0.000712533, graph 0 to 0.000712533, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.000712533, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,27 +6,27 @@
 
 # WCC partial
 $group0 << EOD
-0.000187274 0.0261565 0.0117701 "0.3" "0.3"
-0.000160979 0.0406232 0.0183263 "1" "1"
-8.73385e-05 0.119057 0.0606778 "inf" "inf"
+0.000192619 0.0261565 0.0117701 "0.3" "0.3"
+0.00017258 0.0406232 0.0183263 "1" "1"
+9.53796e-05 0.119057 0.0606778 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.000251123 0.000118866 2.24838e-05 "0.3" "0.3"
-0.000233733 6.84224e-05 1.46617e-05 "1" "1"
-0.000177428 8.59023e-05 1.96602e-05 "inf" "inf"
+0.000265444 0.000118866 2.24838e-05 "0.3" "0.3"
+0.000244075 6.84224e-05 1.46617e-05 "1" "1"
+0.000174758 8.59023e-05 1.96602e-05 "inf" "inf"
 EOD
 $front_max << EOD
-8.73385e-05 0.119057
-0.000160979 0.0406232
-0.000177428 8.59023e-05
-0.000233733 6.84224e-05
+9.53796e-05 0.119057
+0.00017258 0.0406232
+0.000174758 8.59023e-05
+0.000244075 6.84224e-05
 EOD
 $front_rms << EOD
-8.73385e-05 0.0606778
-0.000160979 0.0183263
-0.000177428 1.96602e-05
-0.000233733 1.46617e-05
+9.53796e-05 0.0606778
+0.00017258 0.0183263
+0.000174758 1.96602e-05
+0.000244075 1.46617e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -42,9 +42,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.000641993]
-set arrow 1 from 0.000594438, graph 0 to 0.000594438, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.000594438, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.000668385]
+set arrow 1 from 0.000618875, graph 0 to 0.000618875, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.000618875, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,29 +6,29 @@
 
 # WCC partial
 $group0 << EOD
-0.000182531 0.0261565 0.0117701 "0.3" "0.3"
-0.000153613 0.0406232 0.0183263 "1" "1"
-0.000150538 0.119057 0.0606778 "inf" "inf"
+0.000194081 0.0261565 0.0117701 "0.3" "0.3"
+0.000164277 0.0406232 0.0183263 "1" "1"
+0.000139586 0.119057 0.0606778 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.000251206 0.000118866 2.24838e-05 "0.3" "0.3"
-0.000254143 6.03732e-05 1.61689e-05 "1" "1"
-0.000192001 7.96045e-05 1.81684e-05 "inf" "inf"
+0.000256413 0.000118866 2.24838e-05 "0.3" "0.3"
+0.000245557 6.84224e-05 1.41356e-05 "1" "1"
+0.000205486 7.96045e-05 1.81507e-05 "inf" "inf"
 EOD
 $front_max << EOD
-0.000150538 0.119057
-0.000153613 0.0406232
-0.000182531 0.0261565
-0.000192001 7.96045e-05
-0.000254143 6.03732e-05
+0.000139586 0.119057
+0.000164277 0.0406232
+0.000194081 0.0261565
+0.000205486 7.96045e-05
+0.000245557 6.84224e-05
 EOD
 $front_rms << EOD
-0.000150538 0.0606778
-0.000153613 0.0183263
-0.000182531 0.0117701
-0.000192001 1.81684e-05
-0.000254143 1.61689e-05
+0.000139586 0.0606778
+0.000164277 0.0183263
+0.000194081 0.0117701
+0.000205486 1.81507e-05
+0.000245557 1.41356e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -44,9 +44,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.000773002]
-set arrow 1 from 0.000715742, graph 0 to 0.000715742, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.000715742, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.000793672]
+set arrow 1 from 0.000734881, graph 0 to 0.000734881, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.000734881, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,21 +6,21 @@
 
 # WCC partial
 $group0 << EOD
-0.0824779 0.965492 0.497647 "0.3" "0.3"
-0.0342796 1 0.938817 "1 (diverged: 1.8)" "1"
+0.0816041 0.965492 0.497647 "0.3" "0.3"
+0.0307975 1 0.938817 "1 (diverged: 1.8)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0420525 0.00301519 0.00146311 "0.3" "0.3"
-0.0356428 0.00191756 0.00116542 "1" "1"
-0.0298888 0.00192924 0.0010171 "inf" "inf"
+0.0401025 0.00301519 0.00146311 "0.3" "0.3"
+0.0345667 0.00212771 0.0011794 "1" "1"
+0.0275687 0.00218122 0.0009914 "inf" "inf"
 EOD
 $front_max << EOD
-0.0298888 0.00192924
-0.0356428 0.00191756
+0.0275687 0.00218122
+0.0345667 0.00212771
 EOD
 $front_rms << EOD
-0.0298888 0.0010171
+0.0275687 0.0009914
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -36,10 +36,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.090501]
+set xrange [0:0.0921807]
 set yrange [*:2]
-set arrow 1 from 0.0837972, graph 0 to 0.0837972, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0837972, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0853525, graph 0 to 0.0853525, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0853525, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,22 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.0597709 0.965886 0.497855 "0.3" "0.3"
-0.0228783 1 0.938817 "1 (diverged: 1.8)" "1"
+0.0595785 0.965886 0.497855 "0.3" "0.3"
+0.0224282 1 0.938817 "1 (diverged: 1.8)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0319213 0.00385238 0.00163947 "0.3" "0.3"
-0.0258599 0.00131594 0.000526166 "1" "1"
-0.021983 0.00345726 0.00154892 "inf" "inf"
+0.0315276 0.00180361 0.000796224 "0.3" "0.3"
+0.0263078 0.00493893 0.0024269 "1" "1"
+0.0216423 0.00200496 0.000927207 "inf" "inf"
 EOD
 $front_max << EOD
-0.021983 0.00345726
-0.0258599 0.00131594
+0.0216423 0.00200496
+0.0315276 0.00180361
 EOD
 $front_rms << EOD
-0.021983 0.00154892
-0.0258599 0.000526166
+0.0216423 0.000927207
+0.0315276 0.000796224
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +37,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0645525]
+set xrange [0:0.0643447]
 set yrange [*:2]
-set arrow 1 from 0.0591977, graph 0 to 0.0591977, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0591977, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0576068, graph 0 to 0.0576068, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0576068, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

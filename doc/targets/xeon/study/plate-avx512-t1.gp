@@ -6,22 +6,24 @@
 
 # WCC partial
 $group0 << EOD
-0.0794911 0.965492 0.497647 "0.3" "0.3"
-0.0336244 1 0.938817 "1 (diverged: 1.8)" "1"
+0.083715 0.965492 0.497647 "0.3" "0.3"
+0.0341516 1 0.938817 "1 (diverged: 1.8)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0430323 0.00390304 0.00188146 "0.3" "0.3"
-0.0341947 0.00145254 0.000601689 "1" "1"
-0.0289925 0.00294994 0.00173003 "inf" "inf"
+0.0450132 0.00267498 0.0012881 "0.3" "0.3"
+0.0369225 0.00289998 0.00167756 "1" "1"
+0.0306301 0.00294994 0.00173003 "inf" "inf"
 EOD
 $front_max << EOD
-0.0289925 0.00294994
-0.0341947 0.00145254
+0.0306301 0.00294994
+0.0369225 0.00289998
+0.0450132 0.00267498
 EOD
 $front_rms << EOD
-0.0289925 0.00173003
-0.0341947 0.000601689
+0.0306301 0.00173003
+0.0369225 0.00167756
+0.0450132 0.0012881
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +39,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0905327]
+set xrange [0:0.0904122]
 set yrange [*:2]
-set arrow 1 from 0.0838266, graph 0 to 0.0838266, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0838266, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.083131, graph 0 to 0.083131, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.083131, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,22 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.0606531 0.965886 0.497855 "0.3" "0.3"
-0.0233505 1 0.938817 "1 (diverged: 1.8)" "1"
+0.0614059 0.965886 0.497855 "0.3" "0.3"
+0.0229611 1 0.938817 "1 (diverged: 1.8)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0331804 0.00254683 0.00111966 "0.3" "0.3"
-0.0271311 0.00141885 0.000550757 "1" "1"
-0.0219302 0.00192366 0.000892311 "inf" "inf"
+0.030893 0.00234131 0.00104481 "0.3" "0.3"
+0.0263666 0.00163267 0.000689908 "1" "1"
+0.0225871 0.00171637 0.000820861 "inf" "inf"
 EOD
 $front_max << EOD
-0.0219302 0.00192366
-0.0271311 0.00141885
+0.0225871 0.00171637
+0.0263666 0.00163267
 EOD
 $front_rms << EOD
-0.0219302 0.000892311
-0.0271311 0.000550757
+0.0225871 0.000820861
+0.0263666 0.000689908
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +37,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0655053]
+set xrange [0:0.0663184]
 set yrange [*:2]
-set arrow 1 from 0.0595096, graph 0 to 0.0595096, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0595096, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0590006, graph 0 to 0.0590006, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0590006, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

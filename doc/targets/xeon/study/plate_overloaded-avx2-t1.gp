@@ -6,24 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.0973549 0.202245 0.10353 "0.3" "0.3"
-0.0366228 1 0.609487 "1 (diverged: 1.2)" "1"
+0.0913491 0.202245 0.10353 "0.3" "0.3"
+0.0338746 1 0.609487 "1 (diverged: 1.2)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0453089 0.00172704 0.000951091 "0.3" "0.3"
-0.0390652 0.00435949 0.00193611 "1" "1"
-0.0288617 0.0069713 0.00274778 "inf" "inf"
+0.0444632 0.00323972 0.00174825 "0.3" "0.3"
+0.0360656 0.00118512 0.000557202 "1" "1"
+0.0257715 0.00341195 0.00207703 "inf" "inf"
 EOD
 $front_max << EOD
-0.0288617 0.0069713
-0.0390652 0.00435949
-0.0453089 0.00172704
+0.0257715 0.00341195
+0.0360656 0.00118512
 EOD
 $front_rms << EOD
-0.0288617 0.00274778
-0.0390652 0.00193611
-0.0453089 0.000951091
+0.0257715 0.00207703
+0.0360656 0.000557202
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,10 +37,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.105143]
+set xrange [0:0.098657]
 set yrange [*:2]
-set arrow 1 from 0.0829787, graph 0 to 0.0829787, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0829787, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0791437, graph 0 to 0.0791437, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0791437, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,24 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0693119 0.202245 0.103475 "0.3" "0.3"
-0.0246663 1 0.609487 "1 (diverged: 1.2)" "1"
+0.0682095 0.202245 0.103475 "0.3" "0.3"
+0.0246052 1 0.609487 "1 (diverged: 1.2)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0365878 0.00287117 0.0013672 "0.3" "0.3"
-0.030253 0.00320525 0.00162216 "1" "1"
-0.0214283 0.00595017 0.0030901 "inf" "inf"
+0.0339353 0.00145799 0.000871199 "0.3" "0.3"
+0.0293579 0.00167991 0.000711783 "1" "1"
+0.0207063 0.00581776 0.00295251 "inf" "inf"
 EOD
 $front_max << EOD
-0.0214283 0.00595017
-0.030253 0.00320525
-0.0365878 0.00287117
+0.0207063 0.00581776
+0.0293579 0.00167991
+0.0339353 0.00145799
 EOD
 $front_rms << EOD
-0.0214283 0.0030901
-0.030253 0.00162216
-0.0365878 0.0013672
+0.0207063 0.00295251
+0.0293579 0.000711783
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,10 +38,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0748568]
+set xrange [0:0.0736662]
 set yrange [*:2]
-set arrow 1 from 0.0600029, graph 0 to 0.0600029, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0600029, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0579474, graph 0 to 0.0579474, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0579474, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,24 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0930491 0.202245 0.10353 "0.3" "0.3"
-0.0356068 1 0.609487 "1 (diverged: 1.2)" "1"
+0.0909841 0.202245 0.10353 "0.3" "0.3"
+0.0327681 1 0.609487 "1 (diverged: 1.2)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.045577 0.00195317 0.00111582 "0.3" "0.3"
-0.0380924 0.00225952 0.00115313 "1" "1"
-0.0264191 0.00423904 0.00253966 "inf" "inf"
+0.0460799 0.0019754 0.000885464 "0.3" "0.3"
+0.0399338 0.00476775 0.00240058 "1" "1"
+0.0268075 0.00423904 0.00253966 "inf" "inf"
 EOD
 $front_max << EOD
-0.0264191 0.00423904
-0.0380924 0.00225952
-0.045577 0.00195317
+0.0268075 0.00423904
+0.0460799 0.0019754
 EOD
 $front_rms << EOD
-0.0264191 0.00253966
-0.0380924 0.00115313
-0.045577 0.00111582
+0.0268075 0.00253966
+0.0399338 0.00240058
+0.0460799 0.000885464
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,10 +38,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.100493]
+set xrange [0:0.0982628]
 set yrange [*:2]
-set arrow 1 from 0.0817613, graph 0 to 0.0817613, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0817613, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0833523, graph 0 to 0.0833523, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0833523, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,22 +6,24 @@
 
 # WCC partial
 $group0 << EOD
-0.0688446 0.202245 0.103475 "0.3" "0.3"
-0.0245747 1 0.609487 "1 (diverged: 1.2)" "1"
+0.0695795 0.202245 0.103475 "0.3" "0.3"
+0.024757 1 0.609487 "1 (diverged: 1.2)" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0368289 0.00216256 0.00108207 "0.3" "0.3"
-0.0302319 0.00165622 0.000659444 "1" "1"
-0.0189438 0.00391943 0.00194942 "inf" "inf"
+0.0349125 0.00122561 0.000735123 "0.3" "0.3"
+0.0273918 0.00230658 0.00112487 "1" "1"
+0.0186261 0.00419089 0.00172182 "inf" "inf"
 EOD
 $front_max << EOD
-0.0189438 0.00391943
-0.0302319 0.00165622
+0.0186261 0.00419089
+0.0273918 0.00230658
+0.0349125 0.00122561
 EOD
 $front_rms << EOD
-0.0189438 0.00194942
-0.0302319 0.000659444
+0.0186261 0.00172182
+0.0273918 0.00112487
+0.0349125 0.000735123
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,10 +39,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0743522]
+set xrange [0:0.0751459]
 set yrange [*:2]
-set arrow 1 from 0.0584538, graph 0 to 0.0584538, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0584538, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0561371, graph 0 to 0.0561371, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0561371, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

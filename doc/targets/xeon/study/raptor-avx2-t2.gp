@@ -6,25 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.0284505 0.0250535 0.00842061 "0.3" "0.3"
-0.0215037 0.0964949 0.0376662 "1" "1"
-0.00536793 1 1 "inf (diverged: 5e+74)" "inf (diverged: 3.4e+73)"
+0.0297427 0.0250535 0.00842061 "0.3" "0.3"
+0.0218028 0.0964949 0.0376662 "1" "1"
+0.00525554 1 1 "inf (diverged: 5e+74)" "inf (diverged: 3.4e+73)"
 EOD
 # WCC auto
 $group1 << EOD
-0.0134139 0.00159671 0.000386318 "0.3" "0.3"
-0.0104647 0.00165441 0.00039511 "1" "1"
-0.00555655 0.00270777 0.000482162 "inf" "inf"
+0.0122597 0.00167862 0.000409188 "0.3" "0.3"
+0.00952303 0.00169204 0.000410764 "1" "1"
+0.00480676 0.00270777 0.000475053 "inf" "inf"
 EOD
 $front_max << EOD
-0.00555655 0.00270777
-0.0104647 0.00165441
-0.0134139 0.00159671
+0.00480676 0.00270777
+0.00952303 0.00169204
+0.0122597 0.00167862
 EOD
 $front_rms << EOD
-0.00555655 0.000482162
-0.0104647 0.00039511
-0.0134139 0.000386318
+0.00480676 0.000475053
+0.00952303 0.000410764
+0.0122597 0.000409188
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -40,10 +40,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0376116]
+set xrange [0:0.0413005]
 set yrange [*:2]
-set arrow 1 from 0.0348256, graph 0 to 0.0348256, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0348256, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0382412, graph 0 to 0.0382412, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0382412, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

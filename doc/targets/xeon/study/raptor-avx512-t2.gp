@@ -6,25 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0301958 0.0250535 0.00842061 "0.3" "0.3"
-0.0217556 0.0964949 0.0376662 "1" "1"
-0.00578473 1 1 "inf (diverged: 5e+74)" "inf (diverged: 3.4e+73)"
+0.0291393 0.0250535 0.00842061 "0.3" "0.3"
+0.0215513 0.0964949 0.0376662 "1" "1"
+0.00545064 1 1 "inf (diverged: 5e+74)" "inf (diverged: 3.4e+73)"
 EOD
 # WCC auto
 $group1 << EOD
-0.0139898 0.00153211 0.000375819 "0.3" "0.3"
-0.0111236 0.00165441 0.000395109 "1" "1"
-0.00596041 0.00270776 0.000460693 "inf" "inf"
+0.0128119 0.00167862 0.000409188 "0.3" "0.3"
+0.010011 0.00169203 0.000410764 "1" "1"
+0.00508727 0.00270776 0.0004074 "inf" "inf"
 EOD
 $front_max << EOD
-0.00596041 0.00270776
-0.0111236 0.00165441
-0.0139898 0.00153211
+0.00508727 0.00270776
+0.010011 0.00169203
+0.0128119 0.00167862
 EOD
 $front_rms << EOD
-0.00596041 0.000460693
-0.0111236 0.000395109
-0.0139898 0.000375819
+0.00508727 0.0004074
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -40,10 +38,10 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0405519]
+set xrange [0:0.0385856]
 set yrange [*:2]
-set arrow 1 from 0.0375481, graph 0 to 0.0375481, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0375481, graph 0.5 center rotate by 90 offset -1.2, 0
+set arrow 1 from 0.0357274, graph 0 to 0.0357274, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0357274, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,25 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.467505 0.00356364 0.0010711 "0.3" "0.3"
-0.400946 0.0151297 0.00385526 "1" "1"
-0.0591539 0.358343 0.067763 "inf" "inf"
+0.456327 0.00356364 0.0010711 "0.3" "0.3"
+0.383239 0.0151297 0.00385526 "1" "1"
+0.0596403 0.358343 0.067763 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.165923 0.000364874 1.84218e-05 "0.3" "0.3"
-0.149732 0.000364874 1.94185e-05 "1" "1"
-0.12281 0.000364874 2.96133e-05 "inf" "inf"
+0.152729 0.000364874 1.84218e-05 "0.3" "0.3"
+0.148793 0.000364874 1.94185e-05 "1" "1"
+0.105175 0.000364874 2.96133e-05 "inf" "inf"
 EOD
 $front_max << EOD
-0.0591539 0.358343
-0.12281 0.000364874
+0.0596403 0.358343
+0.105175 0.000364874
 EOD
 $front_rms << EOD
-0.0591539 0.067763
-0.12281 2.96133e-05
-0.149732 1.94185e-05
-0.165923 1.84218e-05
+0.0596403 0.067763
+0.105175 2.96133e-05
+0.148793 1.94185e-05
+0.152729 1.84218e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -40,9 +40,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.877364]
-set arrow 1 from 0.812374, graph 0 to 0.812374, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.812374, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.907153]
+set arrow 1 from 0.839957, graph 0 to 0.839957, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.839957, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,24 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.283213 0.00356364 0.0010711 "0.3" "0.3"
-0.246674 0.0151297 0.00385526 "1" "1"
-0.0385431 0.358343 0.067763 "inf" "inf"
+0.281447 0.00356364 0.0010711 "0.3" "0.3"
+0.248003 0.0151297 0.00385526 "1" "1"
+0.0398258 0.358343 0.067763 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.102662 0.000364874 1.84218e-05 "0.3" "0.3"
-0.103843 0.000364874 1.94185e-05 "1" "1"
-0.0855521 0.000364874 2.96133e-05 "inf" "inf"
+0.100092 0.000364874 1.84218e-05 "0.3" "0.3"
+0.0922609 0.000364874 1.94185e-05 "1" "1"
+0.0647478 0.000364874 2.96133e-05 "inf" "inf"
 EOD
 $front_max << EOD
-0.0385431 0.358343
-0.0855521 0.000364874
+0.0398258 0.358343
+0.0647478 0.000364874
 EOD
 $front_rms << EOD
-0.0385431 0.067763
-0.0855521 2.96133e-05
-0.102662 1.84218e-05
+0.0398258 0.067763
+0.0647478 2.96133e-05
+0.0922609 1.94185e-05
+0.100092 1.84218e-05
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +40,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.525862]
-set arrow 1 from 0.486909, graph 0 to 0.486909, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.486909, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.538928]
+set arrow 1 from 0.499007, graph 0 to 0.499007, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.499007, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

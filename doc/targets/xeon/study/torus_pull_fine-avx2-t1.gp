@@ -6,23 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.0265761 0.0161133 0.00868627 "0.3" "0.3"
-0.0178882 0.0633659 0.0348156 "1" "1"
-0.00291899 0.110339 0.0583573 "inf" "inf"
+0.0233312 0.0161133 0.00868627 "0.3" "0.3"
+0.0160153 0.0633659 0.0348156 "1" "1"
+0.0027083 0.110339 0.0583573 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.0084441 0.000452833 0.000219507 "0.3" "0.3"
-0.00686306 0.000443759 0.000217372 "1" "1"
-0.00355024 0.000412982 0.000208372 "inf" "inf"
+0.00734437 0.000292985 0.000148591 "0.3" "0.3"
+0.00616937 0.000273486 0.000139377 "1" "1"
+0.00327359 0.000412982 0.000208372 "inf" "inf"
 EOD
 $front_max << EOD
-0.00291899 0.110339
-0.00355024 0.000412982
+0.0027083 0.110339
+0.00327359 0.000412982
+0.00616937 0.000273486
 EOD
 $front_rms << EOD
-0.00291899 0.0583573
-0.00355024 0.000208372
+0.0027083 0.0583573
+0.00327359 0.000208372
+0.00616937 0.000139377
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -38,9 +40,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0396017]
-set arrow 1 from 0.0366682, graph 0 to 0.0366682, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0366682, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0358541]
+set arrow 1 from 0.0331982, graph 0 to 0.0331982, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0331982, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

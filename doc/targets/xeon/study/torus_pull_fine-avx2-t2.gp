@@ -6,24 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0187715 0.0161133 0.00868627 "0.3" "0.3"
-0.0131795 0.0633659 0.0348156 "1" "1"
-0.00260713 0.110339 0.0583573 "inf" "inf"
+0.0182364 0.0161133 0.00868627 "0.3" "0.3"
+0.0131234 0.0633659 0.0348156 "1" "1"
+0.00255704 0.110339 0.0583573 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.00709943 0.000580396 0.000278474 "0.3" "0.3"
-0.00553048 0.000715315 0.000347938 "1" "1"
-0.00347687 0.000581478 0.000277719 "inf" "inf"
+0.00630869 0.00069996 0.000342601 "0.3" "0.3"
+0.00511397 0.000707866 0.000345611 "1" "1"
+0.00299149 0.000452164 0.000213816 "inf" "inf"
 EOD
 $front_max << EOD
-0.00260713 0.110339
-0.00347687 0.000581478
-0.00709943 0.000580396
+0.00255704 0.110339
+0.00299149 0.000452164
 EOD
 $front_rms << EOD
-0.00260713 0.0583573
-0.00347687 0.000277719
+0.00255704 0.0583573
+0.00299149 0.000213816
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -39,9 +38,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0298421]
-set arrow 1 from 0.0276316, graph 0 to 0.0276316, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0276316, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0280166]
+set arrow 1 from 0.0259413, graph 0 to 0.0259413, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0259413, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,23 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.0292893 0.0161133 0.00868627 "0.3" "0.3"
-0.0191553 0.0633659 0.0348156 "1" "1"
-0.00334027 0.110339 0.0583573 "inf" "inf"
+0.0240343 0.0161133 0.00868627 "0.3" "0.3"
+0.0156454 0.0633659 0.0348156 "1" "1"
+0.00314635 0.110339 0.0583573 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.00903116 0.000448432 0.00021707 "0.3" "0.3"
-0.00721879 0.000440329 0.000217011 "1" "1"
-0.00386725 0.000412981 0.000208372 "inf" "inf"
+0.00776981 0.000292979 0.000148589 "0.3" "0.3"
+0.00647822 0.000443597 0.000217284 "1" "1"
+0.00370745 0.000412981 0.000208372 "inf" "inf"
 EOD
 $front_max << EOD
-0.00334027 0.110339
-0.00386725 0.000412981
+0.00314635 0.110339
+0.00370745 0.000412981
+0.00776981 0.000292979
 EOD
 $front_rms << EOD
-0.00334027 0.0583573
-0.00386725 0.000208372
+0.00314635 0.0583573
+0.00370745 0.000208372
+0.00776981 0.000148589
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -38,9 +40,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.044039]
-set arrow 1 from 0.0407768, graph 0 to 0.0407768, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0407768, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.03614]
+set arrow 1 from 0.0334629, graph 0 to 0.0334629, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0334629, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,25 +6,25 @@
 
 # WCC partial
 $group0 << EOD
-0.0201897 0.0161133 0.00868627 "0.3" "0.3"
-0.0135592 0.0633659 0.0348156 "1" "1"
-0.00279597 0.110339 0.0583573 "inf" "inf"
+0.0185375 0.0161133 0.00868627 "0.3" "0.3"
+0.0119269 0.0633659 0.0348156 "1" "1"
+0.0026523 0.110339 0.0583573 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.00739051 0.000571074 0.000274646 "0.3" "0.3"
-0.00598629 0.000710555 0.000346364 "1" "1"
-0.00358919 0.000583741 0.000278435 "inf" "inf"
+0.00647015 0.00057141 0.000274834 "0.3" "0.3"
+0.00526103 0.000710555 0.000346364 "1" "1"
+0.00310236 0.000583249 0.000278387 "inf" "inf"
 EOD
 $front_max << EOD
-0.00279597 0.110339
-0.00358919 0.000583741
-0.00739051 0.000571074
+0.0026523 0.110339
+0.00310236 0.000583249
+0.00647015 0.00057141
 EOD
 $front_rms << EOD
-0.00279597 0.0583573
-0.00358919 0.000278435
-0.00739051 0.000274646
+0.0026523 0.0583573
+0.00310236 0.000278387
+0.00647015 0.000274834
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -40,9 +40,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0313787]
-set arrow 1 from 0.0290544, graph 0 to 0.0290544, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0290544, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.02792]
+set arrow 1 from 0.0258519, graph 0 to 0.0258519, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0258519, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,23 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0124275 0.00714489 0.00318615 "0.3" "0.3"
-0.00915695 0.0152339 0.00674871 "1" "1"
-0.00275807 0.0185998 0.0113943 "inf" "inf"
+0.0119727 0.00714489 0.00318615 "0.3" "0.3"
+0.0084489 0.0152339 0.00674871 "1" "1"
+0.00272404 0.0185998 0.0113943 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.00805119 0.00293455 0.00118735 "0.3" "0.3"
-0.00692977 0.00293455 0.00118735 "1" "1"
-0.00452106 0.00293455 0.00118735 "inf" "inf"
+0.00752588 0.00293455 0.00118735 "0.3" "0.3"
+0.0061869 0.00293455 0.00118735 "1" "1"
+0.00417202 0.00293455 0.00118735 "inf" "inf"
 EOD
 $front_max << EOD
-0.00275807 0.0185998
-0.00452106 0.00293455
+0.00272404 0.0185998
+0.00417202 0.00293455
 EOD
 $front_rms << EOD
-0.00275807 0.0113943
-0.00452106 0.00118735
+0.00272404 0.0113943
+0.00417202 0.00118735
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -38,9 +38,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0334859]
-set arrow 1 from 0.0310055, graph 0 to 0.0310055, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0310055, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0319634]
+set arrow 1 from 0.0295958, graph 0 to 0.0295958, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0295958, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,23 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.00896221 0.00714489 0.00318615 "0.3" "0.3"
-0.0062468 0.0152339 0.00674871 "1" "1"
-0.00218798 0.0185998 0.0113943 "inf" "inf"
+0.00909355 0.00714489 0.00318615 "0.3" "0.3"
+0.00626948 0.0152339 0.00674871 "1" "1"
+0.00232305 0.0185998 0.0113943 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.00574083 0.00293455 0.00118735 "0.3" "0.3"
-0.00466668 0.00293455 0.00118735 "1" "1"
-0.003272 0.00293455 0.00118735 "inf" "inf"
+0.00569451 0.00293455 0.00118735 "0.3" "0.3"
+0.00448292 0.00293455 0.00118735 "1" "1"
+0.00344759 0.00293455 0.00118735 "inf" "inf"
 EOD
 $front_max << EOD
-0.00218798 0.0185998
-0.003272 0.00293455
+0.00232305 0.0185998
+0.00344759 0.00293455
 EOD
 $front_rms << EOD
-0.00218798 0.0113943
-0.003272 0.00118735
+0.00232305 0.0113943
+0.00344759 0.00118735
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -38,9 +38,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0258919]
-set arrow 1 from 0.023974, graph 0 to 0.023974, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.023974, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0234265]
+set arrow 1 from 0.0216912, graph 0 to 0.0216912, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0216912, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

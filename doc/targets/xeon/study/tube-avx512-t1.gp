@@ -6,23 +6,23 @@
 
 # WCC partial
 $group0 << EOD
-0.0128583 0.00714489 0.00318615 "0.3" "0.3"
-0.00901959 0.0152339 0.00674871 "1" "1"
-0.00294949 0.0185998 0.0113943 "inf" "inf"
+0.0125573 0.00714489 0.00318615 "0.3" "0.3"
+0.00909542 0.0152339 0.00674871 "1" "1"
+0.00300257 0.0185998 0.0113943 "inf" "inf"
 EOD
 # WCC auto
 $group1 << EOD
-0.00850655 0.00293454 0.00118735 "0.3" "0.3"
-0.00694388 0.00293454 0.00118735 "1" "1"
-0.00480146 0.00293454 0.00118735 "inf" "inf"
+0.00854868 0.00293454 0.00118735 "0.3" "0.3"
+0.00702812 0.00293454 0.00118735 "1" "1"
+0.00496669 0.00293454 0.00118735 "inf" "inf"
 EOD
 $front_max << EOD
-0.00294949 0.0185998
-0.00480146 0.00293454
+0.00300257 0.0185998
+0.00496669 0.00293454
 EOD
 $front_rms << EOD
-0.00294949 0.0113943
-0.00480146 0.00118735
+0.00300257 0.0113943
+0.00496669 0.00118735
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -38,9 +38,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0333313]
-set arrow 1 from 0.0308623, graph 0 to 0.0308623, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0308623, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0340847]
+set arrow 1 from 0.03156, graph 0 to 0.03156, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.03156, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

@@ -6,22 +6,20 @@
 
 # WCC partial
 $group0 << EOD
-0.0111928 0.0241361 0.00956516 "0.3" "0.3"
-0.00788784 0.0522001 0.0210923 "1" "1"
+0.0110869 0.0241361 0.00956516 "0.3" "0.3"
+0.00773134 0.0522001 0.0210923 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.00690376 0.00127085 0.000413319 "0.3" "0.3"
-0.00563262 0.000510684 0.00018589 "1" "1"
-0.0035274 0.000676791 0.000258355 "inf" "inf"
+0.00639532 0.00051351 0.000193578 "0.3" "0.3"
+0.005469 0.000708692 0.000263897 "1" "1"
+0.00351842 0.000390117 0.000169826 "inf" "inf"
 EOD
 $front_max << EOD
-0.0035274 0.000676791
-0.00563262 0.000510684
+0.00351842 0.000390117
 EOD
 $front_rms << EOD
-0.0035274 0.000258355
-0.00563262 0.00018589
+0.00351842 0.000169826
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,9 +35,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0248527]
-set arrow 1 from 0.0230118, graph 0 to 0.0230118, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0230118, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.0243501]
+set arrow 1 from 0.0225464, graph 0 to 0.0225464, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.0225464, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \

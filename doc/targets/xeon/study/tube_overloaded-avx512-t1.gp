@@ -6,22 +6,22 @@
 
 # WCC partial
 $group0 << EOD
-0.015377 0.0241361 0.00956516 "0.3" "0.3"
-0.0111135 0.0522001 0.0210923 "1" "1"
+0.0145287 0.0241361 0.00956516 "0.3" "0.3"
+0.0105072 0.0522001 0.0210923 "1" "1"
 EOD
 # WCC auto
 $group1 << EOD
-0.0105212 0.000390116 0.000169825 "0.3" "0.3"
-0.0088432 0.000294437 0.000128387 "1" "1"
-0.00536661 0.000390116 0.000169825 "inf" "inf"
+0.010112 0.000390116 0.000169825 "0.3" "0.3"
+0.00828655 0.000294437 0.000128387 "1" "1"
+0.00532187 0.000390116 0.000169825 "inf" "inf"
 EOD
 $front_max << EOD
-0.00536661 0.000390116
-0.0088432 0.000294437
+0.00532187 0.000390116
+0.00828655 0.000294437
 EOD
 $front_rms << EOD
-0.00536661 0.000169825
-0.0088432 0.000128387
+0.00532187 0.000169825
+0.00828655 0.000128387
 EOD
 
 if (strstrt(GPVAL_TERMINALS, "pngcairo") > 0) {
@@ -37,9 +37,9 @@ set format y "%.0e"
 set grid
 set key at screen 0.8922, screen 0.9154 left top vertical Left reverse
 set xlabel "seconds per step"
-set xrange [0:0.0331215]
-set arrow 1 from 0.0306681, graph 0 to 0.0306681, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
-set label 1 "corotational (error 0)" at 0.0306681, graph 0.5 center rotate by 90 offset -1.2, 0
+set xrange [0:0.031076]
+set arrow 1 from 0.028774, graph 0 to 0.028774, graph 1 nohead dashtype 2 linewidth 2 linecolor rgb "black"
+set label 1 "corotational (error 0)" at 0.028774, graph 0.5 center rotate by 90 offset -1.2, 0
 set ylabel "worst vertex error over the largest displacement (max over steps)"
 plot $front_max using 1:2 with lines linewidth 2 linecolor rgb "gray40" title "Pareto front", \
      $group0 using 1:2 with points pointtype 5 pointsize 1.6 linecolor rgb "#9400d3" title "WCC partial", \
