@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <mutex>
 #include <numeric>
 
 #include <tbb/parallel_for.h>
@@ -607,15 +606,26 @@ namespace warpchol::fem
       256);
   }
 
+  void ElasticBody::forces_at_given_rotations(const std::vector<Vector3> &positions,
+                                              const std::vector<Matrix3> *element_rotations,
+                                              std::vector<Vector3> &vertex_forces, std::vector<double> &energies) const
+  {
+    vertex_forces.assign(n_vertices(), Vector3::Zero());
+    energies.resize(n_elements());
+    std::vector<double> force_norms(n_elements());
+    ForceWork           work;
+    fused_pass(positions, element_rotations, false, nullptr, vertex_forces, energies.data(), force_norms.data(),
+               nullptr, work);
+  }
+
   void ElasticBody::add_elastic_forces(const std::vector<Vector3> &positions,
                                        const std::vector<Matrix3> *element_rotations,
                                        std::vector<Vector3>       &forces) const
   {
     // Summed apart, then added: each vertex gets the same sum whatever it held.
-    std::vector<Vector3> sums(n_vertices(), Vector3::Zero());
-    ForceWork            work;
-    std::vector<double>  energies(n_elements()), force_norms(n_elements());
-    fused_pass(positions, element_rotations, false, nullptr, sums, energies.data(), force_norms.data(), nullptr, work);
+    std::vector<Vector3> sums;
+    std::vector<double>  energies;
+    forces_at_given_rotations(positions, element_rotations, sums, energies);
     for (unsigned int v = 0; v < n_vertices(); ++v)
       forces[v] += sums[v];
   }
@@ -632,10 +642,9 @@ namespace warpchol::fem
   std::vector<double> ElasticBody::element_energies(const std::vector<Vector3> &positions,
                                                     const std::vector<Matrix3> *element_rotations) const
   {
-    std::vector<Vector3> forces(n_vertices(), Vector3::Zero());
-    ForceWork            work;
-    std::vector<double>  energies(n_elements()), force_norms(n_elements());
-    fused_pass(positions, element_rotations, false, nullptr, forces, energies.data(), force_norms.data(), nullptr, work);
+    std::vector<Vector3> forces;
+    std::vector<double>  energies;
+    forces_at_given_rotations(positions, element_rotations, forces, energies);
     return energies;
   }
 

@@ -719,8 +719,10 @@ namespace warpchol::fem::HWY_NAMESPACE
       Bits bits;
       for (unsigned int l = 0; l < width; ++l)
         bits[l] = transposed[elements[std::min(first + l, count - 1)]];
+      // All ones in the lanes where block k lands transposed.
+      const auto transposed_lanes = [&](const unsigned int k) -> Bits { return ((bits >> k) & 1) != 0; };
       const auto store_off_diagonal = [&](const unsigned int k, const Part (&value)[9]) {
-        const Bits swap = ((bits >> k) & 1) != 0;
+        const Bits swap = transposed_lanes(k);
         for (unsigned int j = 0; j < 3; ++j)
           for (unsigned int i = 0; i < 3; ++i)
             store(k, i + 3 * j, i == j ? value[i + 3 * j] : swap ? value[j + 3 * i] : value[i + 3 * j]);
@@ -763,7 +765,7 @@ namespace warpchol::fem::HWY_NAMESPACE
                 }
               // B_ba = B_ab^T is the same formula with a and b exchanged: exchanged in the
               // lanes where the block lands transposed.
-              const Bits swap = ((bits >> k) & 1) != 0;
+              const Bits swap = transposed_lanes(k);
               Part       h_a[3], h_b[3], lambda_h_a[3], mu_h_b[3];
               for (unsigned int i = 0; i < 3; ++i)
                 {

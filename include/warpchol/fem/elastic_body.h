@@ -348,6 +348,10 @@ namespace warpchol::fem
                     Matrix3 *computed_rotations, std::vector<Vector3> &vertex_forces, double *energies,
                     double *force_norms, RotationPaths *paths, ForceWork &work) const;
 
+    /** The forces on the vertices and each element's energy at @p positions for the given rotations (I if null). */
+    void forces_at_given_rotations(const std::vector<Vector3> &positions, const std::vector<Matrix3> *element_rotations,
+                                   std::vector<Vector3> &vertex_forces, std::vector<double> &energies) const;
+
     const dealii::Triangulation<3> &tria;
     Material                        body_material;
     /** Lame's parameters of the material, for the element kernels. */
