@@ -70,20 +70,31 @@ def read_pvd(path):
 
 
 def read_material(prm):
-    """Young's modulus and Poisson's ratio of the Material subsection of the file @p prm."""
-    if not os.path.isfile(prm):
-        raise InputError(f"{prm}: no such file")
-    values, subsection = {}, []
-    with open(prm) as file:
-        for line in file:
-            line = line.split("#", 1)[0].strip()
-            if line.startswith("subsection "):
-                subsection.append(line[len("subsection "):].strip())
-            elif line == "end" and subsection:
-                subsection.pop()
-            elif line.startswith("set ") and subsection == ["Material"] and "=" in line:
-                key, value = line[4:].split("=", 1)
-                values[key.strip()] = value.strip()
+    """Young's modulus and Poisson's ratio of the Material subsection of the parameter file
+    @p prm (its includes followed, relative to the including file's folder)."""
+    values = {}
+
+    def read(path, depth):
+        if not os.path.isfile(path):
+            raise InputError(f"{path}: no such file")
+        if depth > 16:
+            raise InputError(f"{path}: includes nested too deep")
+        subsection = []
+        with open(path) as file:
+            for line in file:
+                line = line.split("#", 1)[0].strip()
+                if line.startswith("include ") and not subsection:
+                    read(os.path.join(os.path.dirname(path), line[len("include "):].strip()),
+                         depth + 1)
+                elif line.startswith("subsection "):
+                    subsection.append(line[len("subsection "):].strip())
+                elif line == "end" and subsection:
+                    subsection.pop()
+                elif line.startswith("set ") and subsection == ["Material"] and "=" in line:
+                    key, value = line[4:].split("=", 1)
+                    values[key.strip()] = value.strip()
+
+    read(prm, 0)
     try:
         return float(values["Young's modulus"]), float(values["Poisson's ratio"])
     except (KeyError, ValueError):
@@ -158,10 +169,27 @@ class Run:
             cell_fields[data.GetArrayName(i)] = ns.vtk_to_numpy(data.GetArray(i)).astype(float)
         if "displacement" not in point_fields:
             raise InputError(f"{path}: no point field 'displacement' (not written by warpchol?)")
-        # Each vertex once: equal positions are one vertex (deal.II's copies are exact).
-        points, first, inverse = np.unique(points, axis=0, return_index=True, return_inverse=True)
+        # Each vertex once: equal positions of one body are one vertex (deal.II's copies are
+        # exact).
+        body = np.zeros(len(points))
+        if "body" in cell_fields:
+            body[cells.ravel()] = np.repeat(cell_fields["body"], 4)
+        keys = np.column_stack([points, body])
+        _, first, inverse = np.unique(keys, axis=0, return_index=True, return_inverse=True)
         cells = inverse.reshape(-1)[cells]
+        points, body = points[first], body[first]
         point_fields = {name: values[first] for name, values in point_fields.items()}
+        # Several bodies are written side by side (Bodies/Spacing), but deal.II 9.4's
+        # DataOut::merge_patches() drops the shift of patches built with a mapping: in
+        # float32 files the bodies lie on top of each other. Drawn side by side here.
+        n_bodies = int(body.max()) + 1
+        if n_bodies > 1:
+            boxes = [(points[body == b].min(axis=0), points[body == b].max(axis=0))
+                     for b in range(n_bodies)]
+            if all(np.allclose(box[0], boxes[0][0]) and np.allclose(box[1], boxes[0][1])
+                   for box in boxes):
+                spacing = 1.25 * (boxes[0][1][0] - boxes[0][0][0])
+                points = points + np.outer(body, [spacing, 0.0, 0.0])
         return points, cells, point_fields, cell_fields
 
     def frame(self, path):
@@ -194,6 +222,10 @@ class Run:
         if on_cells:
             values = values[kept]
         cells = cells[kept]
+        # The colour range from what is drawn: a vertex a cut left in no cell is not.
+        drawn_values = values if on_cells else values[np.unique(cells)]
+        if len(cells) == 0:
+            raise InputError(f"{path}: every cell is cut: nothing to draw (--show-cut draws them)")
 
         # The deformed shape: rest positions plus displacement.
         grid = vtk.vtkUnstructuredGrid()
@@ -215,8 +247,14 @@ class Run:
 
         surface = vtk.vtkDataSetSurfaceFilter()
         surface.SetInputData(grid)
-        surface.Update()
-        return {"surface": surface.GetOutput(), "on_cells": on_cells, "values": values,
+        # Smooth shading, but sharp where faces meet at more than 50 degrees (a cut's
+        # faces, a box's edges).
+        normals = vtk.vtkPolyDataNormals()
+        normals.SetInputConnection(surface.GetOutputPort())
+        normals.SetFeatureAngle(50)
+        normals.SplittingOn()
+        normals.Update()
+        return {"surface": normals.GetOutput(), "on_cells": on_cells, "values": drawn_values,
                 "grasped": grasped_points, "cut": n_cut}
 
     def von_mises_stress(self, rest, cells, displacement):
@@ -300,10 +338,10 @@ def lookup_table(vtk, field, low, high):
             table.SetAnnotation(vtk.vtkVariant(float(value)), name)
         table.Build()
         return table
-    # A perceptual map (viridis: dark blue to yellow) over 256 entries.
-    anchors = [(0.0, (0.267, 0.005, 0.329)), (0.25, (0.230, 0.322, 0.546)),
-               (0.5, (0.128, 0.567, 0.551)), (0.75, (0.369, 0.789, 0.383)),
-               (1.0, (0.993, 0.906, 0.144))]
+    # A sequential map from pale blue-grey (tissue at rest) through yellow and orange to
+    # dark red, over 256 entries: the still parts stay light, the moved ones warm.
+    anchors = [(0.0, (0.84, 0.87, 0.92)), (0.3, (0.99, 0.86, 0.47)),
+               (0.65, (0.95, 0.45, 0.15)), (1.0, (0.60, 0.04, 0.10))]
     table.SetNumberOfTableValues(256)
     for i in range(256):
         t = i / 255
@@ -353,10 +391,10 @@ def body_actors(vtk, frame, table, radius, edges):
     body = vtk.vtkActor()
     body.SetMapper(mapper)
     body.GetProperty().SetEdgeVisibility(edges)
-    body.GetProperty().SetEdgeColor(0.3, 0.3, 0.3)
+    body.GetProperty().SetEdgeColor(0.42, 0.42, 0.45)
     body.GetProperty().SetLineWidth(0.5)
-    body.GetProperty().SetAmbient(0.35)
-    body.GetProperty().SetDiffuse(0.7)
+    body.GetProperty().SetAmbient(0.45)
+    body.GetProperty().SetDiffuse(0.65)
     actors = [body]
     if frame["grasped"] is not None:
         points = vtk.vtkPoints()
@@ -376,7 +414,8 @@ def body_actors(vtk, frame, table, radius, edges):
         glyph_mapper.ScalarVisibilityOff()
         grasp = vtk.vtkActor()
         grasp.SetMapper(glyph_mapper)
-        grasp.GetProperty().SetColor(0.85, 0.05, 0.55)
+        grasp.GetProperty().SetColor(0.10, 0.25, 0.85)
+        grasp.GetProperty().SetAmbient(0.5)
         actors.append(grasp)
     return actors
 
@@ -433,14 +472,23 @@ def scalar_bar(vtk, table, field, low, high):
     """A horizontal colour bar, its labels above it, for the band under the frames (its
     title is a text below it: the bar's own title would overlap the labels)."""
     bar = vtk.vtkScalarBarActor()
+    if field in TWO_VALUES:
+        # The bar of an indexed table draws annotated swatches only: two plain entries.
+        plain = vtk.vtkLookupTable()
+        plain.DeepCopy(table)
+        plain.IndexedLookupOff()
+        plain.SetTableRange(0, 1)
+        table = plain
     bar.SetLookupTable(table)
     bar.SetTitle("")
     bar.UnconstrainedFontSizeOn()
     bar.SetOrientationToHorizontal()
     bar.SetTextPositionToSucceedScalarBar()
     if field in TWO_VALUES:
-        bar.SetDrawAnnotations(True)
-        bar.SetNumberOfLabels(0)
+        # The names of the two values are texts above the bar (render_grid): the bar's
+        # annotations would not fit in the band.
+        bar.SetDrawAnnotations(False)
+        bar.SetDrawTickLabels(False)
     else:
         ticks = vtk.vtkDoubleArray()
         for tick in nice_ticks(low, high):
@@ -468,9 +516,8 @@ def scalar_bar(vtk, table, field, low, high):
 
 
 def background(renderer):
-    renderer.SetBackground(1.0, 1.0, 1.0)
-    renderer.SetBackground2(0.87, 0.90, 0.94)
-    renderer.GradientBackgroundOn()
+    # Flat: a gradient makes the PNG files several times larger.
+    renderer.SetBackground(0.95, 0.96, 0.98)
 
 
 def tile_caption(step, time, frame):
@@ -483,7 +530,7 @@ def tile_caption(step, time, frame):
 
 
 def render_grid(vtk, window, path, tiles, columns, tile_size, title, view, table, bar_title,
-                field, low, high, radius, edges):
+                field, low, high, radius, edges, surface_cells):
     """One PNG: @p title in a band on top, the @p tiles ((caption, frame) pairs) in a grid
     of @p columns, the colour bar in a band below; drawn in @p window (one for all: each
     window is a connection to the X server)."""
@@ -508,9 +555,9 @@ def render_grid(vtk, window, path, tiles, columns, tile_size, title, view, table
         renderer.SetViewport(column * tile_w / total_w, y1 - tile_h / total_h,
                              (column + 1) * tile_w / total_w, y1)
         background(renderer)
-        # Edges where they stay apart: up to about one surface triangle per 100 pixels.
-        show_edges = (edges == "on" or edges == "auto" and
-                      frame["surface"].GetNumberOfCells() * 100 < tile_w * tile_h)
+        # Edges where they stay apart: up to about one surface triangle per 100 pixels, in
+        # the frame of the run with the most (the same look in every frame).
+        show_edges = edges == "on" or edges == "auto" and surface_cells * 100 < tile_w * tile_h
         for actor in body_actors(vtk, frame, table, radius, show_edges):
             renderer.AddActor(actor)
         if caption:
@@ -526,6 +573,9 @@ def render_grid(vtk, window, path, tiles, columns, tile_size, title, view, table
     bottom.SetBackground(1, 1, 1)
     bottom.AddActor2D(scalar_bar(vtk, table, field, low, high))
     add_text(vtk, bottom, bar_title, 20, (0.5, 0.06), justify="center", vertical="bottom")
+    if field in TWO_VALUES:
+        for x, name in zip((0.35, 0.65), TWO_VALUES[field]):
+            add_text(vtk, bottom, name, 18, (x, 0.66), justify="center", vertical="bottom")
     window.AddRenderer(bottom)
 
     window.Render()
@@ -534,6 +584,7 @@ def render_grid(vtk, window, path, tiles, columns, tile_size, title, view, table
     grab.ReadFrontBufferOff()
     grab.Update()
     writer = vtk.vtkPNGWriter()
+    writer.SetCompressionLevel(9)
     writer.SetFileName(path)
     writer.SetInputConnection(grab.GetOutputPort())
     writer.Write()
@@ -665,8 +716,9 @@ def main(argv):
         if high <= low:
             high = low + 1.0
     table = lookup_table(vtk, options.field, low, high)
-    radius = 0.008 * float(numpy.linalg.norm(points.max(axis=0) - points.min(axis=0)))
+    radius = 0.012 * float(numpy.linalg.norm(points.max(axis=0) - points.min(axis=0)))
     bar_title = field_title(options.field)
+    surface_cells = max(f["surface"].GetNumberOfCells() for f in frames.values())
 
     window = vtk.vtkRenderWindow()
     window.SetOffScreenRendering(1)
@@ -678,7 +730,8 @@ def main(argv):
             extra = tile_caption(step, time, frames[step]).split(", ", 2)[2:]
             title = f"{scene}: step {step}, t = {time:.3g} s" + "".join(", " + e for e in extra)
             render_grid(vtk, window, path, [("", frames[step])], 1, options.size, title, view, table,
-                        bar_title, options.field, low, high, radius, options.edges)
+                        bar_title, options.field, low, high, radius, options.edges,
+                        surface_cells)
             written.append(path)
     if sheet_records:
         path = os.path.join(out, f"{stem}-sheet.png")
@@ -687,7 +740,7 @@ def main(argv):
                  for time, step, _ in sheet_records]
         render_grid(vtk, window, path, tiles, options.columns, (width * 3 // 4, height * 3 // 4),
                     f"{scene}: {bar_title}", view, table, bar_title, options.field, low, high,
-                    radius, options.edges)
+                    radius, options.edges, surface_cells)
         written.append(path)
     window.Finalize()
 
