@@ -645,8 +645,8 @@ def arguments(argv):
     parser.add_argument("--view", default="z", choices=["x", "-x", "y", "-y", "z", "-z"],
                         help="the axis the camera looks from (default z: from +z towards -z)")
     parser.add_argument("--up", choices=["x", "-x", "y", "-y", "z", "-z"],
-                        help="the axis that points up in the picture (default y; z when "
-                             "looking along y)")
+                        help="the axis that points up in the picture (default y; -z when "
+                             "looking from +y, z from -y)")
     parser.add_argument("--azimuth", type=float, default=25.0,
                         help="camera turned about the view-up axis, degrees (default 25)")
     parser.add_argument("--elevation", type=float, default=20.0,

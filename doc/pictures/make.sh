@@ -1,7 +1,7 @@
 #!/bin/sh
 # Re-make every picture that README.md and doc/ show: run each scene whole with
 # build/warpchol (each under 10 s on 2 cores; results in output/SCENE/), then draw its PVD
-# series with python/render_run.py into doc/pictures/. About 2 minutes; needs the build
+# series with python/render_run.py into doc/pictures/. About a minute; needs the build
 # (sh .ci/setup) and xvfb-run (Debian's VTK draws offscreen only with an X display).
 #
 #   sh doc/pictures/make.sh
