@@ -9,8 +9,8 @@ was; a matrix whose pattern is a subset of the analyzed one (explicit zeros drop
 the factor of the full pattern with explicit zeros, to the bit; bad input raises the
 module's exceptions with one-line messages (a NaN, an infinity and an entry outside the
 analyzed pattern each its own, naming the entry as the user stores it); the inverse as a
-SciPy LinearOperator; every call documented; the README's snippet runs and prints what
-the README shows.
+SciPy LinearOperator; every call documented; the snippets of the README and doc/python.md
+run and print what the pages show.
 
     PYTHONPATH=build/python python3 python/test_warpchol.py    (ctest -R python/warpchol)
 
@@ -516,24 +516,33 @@ class UpdateDowndate(unittest.TestCase):
 
 
 class ReadmeSnippet(unittest.TestCase):
-    """The README's Python snippet runs and prints what the README shows (numbers aside)."""
+    """The Python snippets of the README and of doc/python.md run and print what the page
+    shows (numbers aside)."""
 
-    def test_snippet(self):
-        readme = os.environ.get("WARPCHOL_README",
-                                os.path.join(os.path.dirname(__file__), "..", "README.md"))
-        with open(readme) as file:
+    readme = os.environ.get("WARPCHOL_README",
+                            os.path.join(os.path.dirname(__file__), "..", "README.md"))
+
+    def check_snippet(self, page, heading):
+        with open(page) as file:
             text = file.read()
-        section = text[text.index("## From other programs"):]
+        section = text[text.index(heading):]
         snippet = re.search(r"```python\n(.*?)```", section, re.S).group(1)
         shown = re.search(r"```python\n.*?```\n.*?```text\n(.*?)```", section, re.S).group(1)
         printed = io.StringIO()
         with contextlib.redirect_stdout(printed):
-            exec(compile(snippet, "README.md", "exec"), {})
+            exec(compile(snippet, os.path.basename(page), "exec"), {})
 
         def shape(output):
             return re.sub(r"[0-9][0-9.e+-]*", "#", output).strip()
 
         self.assertEqual(shape(printed.getvalue()), shape(shown))
+
+    def test_snippet(self):
+        self.check_snippet(self.readme, "## From other programs")
+
+    def test_python_page_snippet(self):
+        self.check_snippet(os.path.join(os.path.dirname(self.readme), "doc", "python.md"),
+                           "## A tour")
 
 
 if __name__ == "__main__":
