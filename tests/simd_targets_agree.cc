@@ -1,7 +1,8 @@
 // Every SIMD target this CPU runs gives the results of the baseline (scalar) kernels to
 // 1e-13 relative: the batched polar decomposition, the fused element pass (forces and
 // energy), the corotated product, the assembly of A (rest, rotated, warped) and the update
-// kernel of the factor (ranks 1 to 33: one and several chunks of columns). The targets are
+// kernel of the factor (ranks 1 to 64: every number of columns a chunk carries on any
+// target, and several chunks; a matrix whose top supernodes span several panels). The targets are
 // forced as WARPCHOL_SIMD_TARGET forces them (simd::use_target()); the list the machine
 // runs is not printed (it differs by CPU), only that the baseline is among them.
 
@@ -108,7 +109,7 @@ namespace
     base.analyze(spd);
     base.factorize(spd);
     const sparse::CSCMatrix full = sparse::to_full_storage(spd);
-    for (const Index rank : {1, 5, 16, 33})
+    for (const Index rank : {1, 2, 3, 5, 8, 9, 12, 13, 16, 17, 33, 64})
       {
         std::vector<std::vector<Index>> rows;
         for (Index t = 0; t < rank; ++t)
@@ -137,7 +138,7 @@ int main()
   for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
     fixed[v] = triangulation.get_vertices()[v][0] < 1e-12;
   const fem::ElasticBody  body(triangulation, fem::Material{1e5, 0.45, 1000}, fem::MassMatrix::consistent, fixed);
-  const sparse::CSCMatrix spd = tests::random_spd(600, 6, 3);
+  const sparse::CSCMatrix spd = tests::random_spd(2000, 6, 3);
 
   const std::vector<std::string> targets = simd::available_targets();
   tests::check("the baseline is available", !targets.empty() && targets.back() == "baseline");

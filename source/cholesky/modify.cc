@@ -11,6 +11,7 @@
 #include <cstring>
 #include <memory>
 #include <string>
+#include <type_traits>
 
 #include "subtree_tasks.h"
 
@@ -25,9 +26,12 @@ namespace warpchol::cholesky
   {
     /** Columns of C per pass over the paths: one bit each in a supernode's mask. */
     constexpr Index group_columns = 64;
-    /** Columns of C a supernode's reflectors carry in registers at a time. */
+    /**
+     * The most columns of C a supernode's reflectors carry in registers at a time on any
+     * target (each target carries as many as its registers hold: chunk_columns_here()).
+     */
     constexpr Index chunk_columns = 16;
-    /** Rows a reflector is applied to at a time: one vector of doubles (two on AVX2). */
+    /** The most rows a reflector is applied to at a time on any target (one vector of doubles). */
     constexpr Index lanes = 8;
     /** Supernodes whose own work exceeds this many flops split their rows over threads. */
     constexpr double threaded_supernode_flops = 2e6;
@@ -76,6 +80,9 @@ namespace warpchol::cholesky
      */
     void run_chunk(Index n_columns, double *l, Index nr, Index nc, double *w, Index ldw, const double *sign,
                    double *reflectors, double *tail, Index q, double tolerance, Index first_column, bool threaded);
+
+    /** The most columns of C the target chosen at run time carries in its registers at once. */
+    Index chunk_columns_here();
 
   } // namespace
 
@@ -321,10 +328,12 @@ namespace warpchol::cholesky
               workspace.w[a * ldw + i] = source[active[a]];
           }
 
-        // Chunks of at most chunk_columns columns, of balanced sizes, one after the other.
-        const Index chunks = n_chunks(rank);
+        // Chunks of at most the target's columns, of balanced sizes, one after the other.
+        const Index target_columns = chunk_columns_here();
+        const Index chunks         = (rank + target_columns - 1) / target_columns;
         double      flops  = 0;
-        workspace.reflectors.resize(static_cast<std::size_t>(nc * (2 * chunk_columns + 1)));
+        // Room for the reflectors with each coefficient a whole vector, and for aligning them.
+        workspace.reflectors.resize(static_cast<std::size_t>((nc * (2 * chunk_columns + 2) + 1) * lanes));
         for (Index k = 0, a0 = 0; k < chunks; ++k)
           {
             const Index size = rank / chunks + (k < rank % chunks ? 1 : 0);
@@ -514,7 +523,59 @@ namespace warpchol::cholesky::HWY_NAMESPACE
 {
   namespace
   {
-    using Lanes = double __attribute__((vector_size(8 * lanes)));
+    /**
+     * Doubles in one vector register of this target (two on the baseline, which emulates
+     * 128 bits). Vectors no wider than a register: a wider one is split into registers the
+     * register file cannot hold beside the carried columns, and spilled.
+     */
+    constexpr Index target_lanes = HWY_MAX_BYTES / sizeof(double) < 2 ? 2 : HWY_MAX_BYTES / sizeof(double);
+    static_assert(target_lanes <= lanes, "W's padding and the tail hold at most `lanes` rows");
+
+    /** Vector registers of this target: 16 on x86-64, 32 with AVX-512. */
+    constexpr int vector_registers = HWY_MAX_BYTES >= 64 ? 32 : 16;
+
+    /**
+     * Columns of W carried in registers at a time: the registers but four (a group's row
+     * of L, its sum and the dot product's second sum, and one for the compiler).
+     */
+    constexpr Index target_chunk_columns = std::min<Index>(chunk_columns, vector_registers - 4);
+
+    using Lanes = double __attribute__((vector_size(sizeof(double) * target_lanes)));
+
+    /**
+     * How a reflector's coefficients are kept. AVX-512 multiplies by a double read from
+     * memory and broadcast by the instruction itself; the other targets would broadcast
+     * each into a register of its own, 2K + 1 of them beside the carried columns, so there
+     * each coefficient is kept as a whole vector (the same value in every lane), which a
+     * fused multiply-add reads from memory.
+     */
+    constexpr bool whole_vector_coefficients = vector_registers < 32;
+    using Coefficient                        = std::conditional_t<whole_vector_coefficients, Lanes, double>;
+
+    /** The double of a coefficient. */
+    template <typename Kept = Coefficient>
+    double scalar_of(const Kept &coefficient)
+    {
+      if constexpr (std::is_same_v<Kept, double>)
+        return coefficient;
+      else
+        return coefficient[0];
+    }
+
+    /** A coefficient of value @p value. */
+    template <typename Kept = Coefficient>
+    Kept as_coefficient(const double value)
+    {
+      if constexpr (std::is_same_v<Kept, double>)
+        return value;
+      else
+        {
+          Kept splatted;
+          for (Index k = 0; k < target_lanes; ++k)
+            splatted[k] = value;
+          return splatted;
+        }
+    }
 
     Lanes load(const double *p)
     {
@@ -528,26 +589,37 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       std::memcpy(p, &v, sizeof v);
     }
 
-    /** Lane k of a group holds k: which rows of a group a reflector may change. */
-    const Lanes lane_numbers = {0, 1, 2, 3, 4, 5, 6, 7};
+    /** Lane k holds k: which rows of a group a reflector may change. */
+    Lanes lane_numbers()
+    {
+      Lanes numbers = {};
+      for (Index k = 0; k < target_lanes; ++k)
+        numbers[k] = static_cast<double>(k);
+      return numbers;
+    }
 
     /**
      * The reflectors of one chunk of K columns of C on one supernode, and how they are
      * applied: per local column j, tau_j, v_j (K values) and S v_j (K values).
      *
-     * Rows go eight at a time (a group, one vector per column of L and of W), from the
-     * supernode's first changing column q on. A group that meets the diagonal block first
-     * takes the reflectors of the columns before it, then makes its own from its rows one
-     * by one, each applied at once to the group's rows below it (the others masked); the
-     * groups below the diagonal block take every reflector, a few side by side; the rows
-     * past the last whole group go through a copy padded with zeros to a group. Every row
-     * is thus computed by the same vector code, whatever its place: the same bits for any
-     * split of the rows.
+     * Rows go a vector at a time (a group: target_lanes rows, one register per column of L
+     * and of W), from the supernode's first changing column q on. A group that meets the
+     * diagonal block first takes the reflectors of the columns before it, then makes its
+     * own from its rows one by one, each applied at once to the group's rows below it (the
+     * others masked); the groups below the diagonal block take every reflector, a few side
+     * by side; the rows past the last whole group go through a copy padded with zeros to a
+     * group. Every row is computed by the same operations in the same order, whatever its
+     * place, group or target: the same bits for any split of the rows, and on every target
+     * with fused multiply-adds.
      */
     template <int K>
     struct ChunkKernel
     {
-      static constexpr Index stride = 2 * K + 1;
+      /**
+       * Coefficients per reflector j: tau, v (K), S v (K), and its coupling with the
+       * reflector before it, v_{j-1} . S v_j (the look-ahead of apply_to_groups()).
+       */
+      static constexpr Index stride = 2 * K + 2;
 
       double       *l;
       Index         nr, nc;
@@ -555,22 +627,23 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       double       *w;
       Index         ldw;
       const double *sign;
-      double       *reflectors;
+      /** stride coefficients per local column, aligned to a vector. */
+      Coefficient  *reflectors;
       /** Room for the last, partial group of rows: nc x lanes values. */
       double       *tail;
 
       /**
-       * Row groups of eight carried side by side: each reflector is a chain of dependent
-       * operations per group (the dot product, the new entry, the sum that updates w),
-       * and independent groups fill the gaps of one another's chains. As many as the
-       * registers hold with their K columns of W: a power of two, so that any split of
-       * the rows at multiples of 32 groups them alike.
+       * Row groups carried side by side: each reflector is a chain of dependent operations
+       * per group (the new entry, the sum that updates w, the next dot product), and
+       * independent groups fill the gaps of one another's chains. As many as the registers
+       * hold, each group with its K columns of W, its next row of L and next dot product,
+       * two registers left for the sums, and at most eight.
        */
-      static constexpr int groups = K <= 4 ? 4 : K <= 11 ? 2 : 1;
+      static constexpr int groups = std::clamp((vector_registers - 2) / (K + 2), 1, 8);
 
       /** s = l + w . S v for one reflector, in two interleaved sums (the same order everywhere). */
       template <typename Value>
-      static Value dot(const Value &old, const Value *carried, const double *scaled)
+      static Value dot(const Value &old, const Value *carried, const Coefficient *scaled)
       {
         Value even = old;
         if constexpr (K == 1)
@@ -593,26 +666,49 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       /**
        * Apply the reflectors [j_begin, j_end) to G groups of rows: those of L at
        * @p rows (column stride @p ld), those of W from row @p w_row on.
+       *
+       * Each reflector's dot product is formed before the reflector ahead of it is applied
+       * (a look-ahead): with w the carried columns before reflector j,
+       *   s_{j+1} = l_{j+1} + w . S v_{j+1} - (l_j + l_j') (v_j . S v_{j+1}),
+       * which equals l_{j+1} + w' . S v_{j+1} with w' = w - (l_j + l_j') v_j. The first part
+       * depends on w, not on reflector j's result, so it overlaps the chain of reflector j:
+       * what remains between two reflectors is two operations, not the whole dot product.
        */
       template <int G>
       void apply_to_groups(double *rows, const Index ld, const Index w_row, const Index j_begin,
                            const Index j_end) const
       {
+        if (j_begin >= j_end)
+          return;
         Lanes carried[G][K];
         for (int g = 0; g < G; ++g)
           for (int t = 0; t < K; ++t)
-            carried[g][t] = load(w + t * ldw + w_row + g * lanes);
+            carried[g][t] = load(w + t * ldw + w_row + g * target_lanes);
+        Lanes next_old[G], next_dot[G];
+        for (int g = 0; g < G; ++g)
+          {
+            next_old[g] = load(rows + j_begin * ld + g * target_lanes);
+            next_dot[g] = dot(next_old[g], carried[g], reflectors + j_begin * stride + 1 + K);
+          }
         for (Index j = j_begin; j < j_end; ++j)
           {
-            const double *r = reflectors + j * stride;
-            Lanes         sum[G];
+            const Coefficient *r = reflectors + j * stride;
+            Lanes              sum[G];
             for (int g = 0; g < G; ++g)
               {
-                double     *column  = rows + j * ld + g * lanes;
-                const Lanes old     = load(column);
-                const Lanes changed = r[0] * dot(old, carried[g], r + 1 + K) - old;
-                store(column, changed);
+                const Lanes old     = next_old[g];
+                const Lanes changed = r[0] * next_dot[g] - old;
+                store(rows + j * ld + g * target_lanes, changed);
                 sum[g] = old + changed;
+              }
+            if (j + 1 < j_end)
+              {
+                const Coefficient *next = r + stride;
+                for (int g = 0; g < G; ++g)
+                  {
+                    next_old[g] = load(rows + (j + 1) * ld + g * target_lanes);
+                    next_dot[g] = dot(next_old[g], carried[g], next + 1 + K) - sum[g] * next[2 * K + 1];
+                  }
               }
             for (int g = 0; g < G; ++g)
               for (int t = 0; t < K; ++t)
@@ -620,7 +716,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
           }
         for (int g = 0; g < G; ++g)
           for (int t = 0; t < K; ++t)
-            store(w + t * ldw + w_row + g * lanes, carried[g][t]);
+            store(w + t * ldw + w_row + g * target_lanes, carried[g][t]);
       }
 
       /** Apply the reflectors [j_begin, j_end) to the whole groups of rows [row_begin, row_end) in place. */
@@ -630,9 +726,9 @@ namespace warpchol::cholesky::HWY_NAMESPACE
           return;
         Index i = row_begin;
         if constexpr (groups > 1)
-          for (; i + groups * lanes <= row_end; i += groups * lanes)
+          for (; i + groups * target_lanes <= row_end; i += groups * target_lanes)
             apply_to_groups<groups>(l + i, nr, i, j_begin, j_end);
-        for (; i + lanes <= row_end; i += lanes)
+        for (; i + target_lanes <= row_end; i += target_lanes)
           apply_to_groups<1>(l + i, nr, i, j_begin, j_end);
       }
 
@@ -641,8 +737,8 @@ namespace warpchol::cholesky::HWY_NAMESPACE
        * (L_jj, w_j) -> (r, 0); returns r. Throws NotPositiveDefinite (column
        * @p first_column + j) if r^2 falls to the tolerance.
        */
-      double make_reflector(const Index j, const double alpha, const double *row_w, const double tolerance,
-                            const Index first_column) const
+      double make_reflector(const Index j, const Index q, const double alpha, const double *row_w,
+                            const double tolerance, const Index first_column) const
       {
         double r2 = alpha * alpha, held = alpha * alpha;
         for (int t = 0; t < K; ++t)
@@ -654,42 +750,49 @@ namespace warpchol::cholesky::HWY_NAMESPACE
         if (!(r2 > tolerance * held) || !std::isfinite(r2))
           throw NotPositiveDefinite(first_column + j, r2);
         const double r = std::sqrt(r2), denominator = alpha + r;
-        double      *reflector = reflectors + j * stride;
-        reflector[0]           = 1. + alpha / r;
+        Coefficient *reflector = reflectors + j * stride;
+        reflector[0]           = as_coefficient(1. + alpha / r);
+        double       coupling  = 0;
         for (int t = 0; t < K; ++t)
           {
-            reflector[1 + t]     = row_w[t] / denominator;
-            reflector[1 + K + t] = sign[t] * reflector[1 + t];
+            const double v       = row_w[t] / denominator;
+            reflector[1 + t]     = as_coefficient(v);
+            reflector[1 + K + t] = as_coefficient(sign[t] * v);
+            if (j > q)
+              coupling += scalar_of(reflector[1 + t - stride]) * (sign[t] * v);
           }
+        reflector[2 * K + 1] = as_coefficient(coupling);
         return r;
       }
 
       /**
        * A group of rows that meets the diagonal block (rows from @p i0, those of L at
-       * @p rows with column stride @p ld): the reflectors [q, i0), then those of its own
-       * rows, each made from its row and applied to the rows below it in the group.
+       * @p rows with column stride @p ld), whose rows took the reflectors before @p from:
+       * the reflectors [from, i0), then those of its own rows, each made from its row and
+       * applied to the rows below it in the group. The chunk starts at column @p q.
        */
-      void diagonal_group(double *rows, const Index ld, const Index i0, const Index q, const double tolerance,
-                          const Index first_column) const
+      void diagonal_group(double *rows, const Index ld, const Index i0, const Index from, const Index q,
+                          const double tolerance, const Index first_column) const
       {
-        apply_to_groups<1>(rows, ld, i0, q, std::min(i0, nc));
-        Lanes carried[K];
+        apply_to_groups<1>(rows, ld, i0, from, std::min(i0, nc));
+        const Lanes numbers = lane_numbers();
+        Lanes       carried[K];
         for (int t = 0; t < K; ++t)
           carried[t] = load(w + t * ldw + i0);
-        for (Index j = i0; j < std::min(i0 + lanes, nc); ++j)
+        for (Index j = i0; j < std::min(i0 + target_lanes, nc); ++j)
           {
             const int lane = static_cast<int>(j - i0);
             double    row_w[K];
             for (int t = 0; t < K; ++t)
               row_w[t] = carried[t][lane];
-            double     *column = rows + j * ld;
-            const Lanes old    = load(column);
-            const double r     = make_reflector(j, old[lane], row_w, tolerance, first_column);
-            const double *reflector = reflectors + j * stride;
-            Lanes        changed    = reflector[0] * dot(old, carried, reflector + 1 + K) - old;
-            const Lanes  sum        = old + changed;
+            double       *column    = rows + j * ld;
+            const Lanes   old       = load(column);
+            const double  r         = make_reflector(j, q, old[lane], row_w, tolerance, first_column);
+            const Coefficient *reflector = reflectors + j * stride;
+            Lanes              changed   = reflector[0] * dot(old, carried, reflector + 1 + K) - old;
+            const Lanes   sum       = old + changed;
             // Rows above j keep their values; row j becomes (r, 0) exactly; those below move.
-            const auto below = lane_numbers > static_cast<double>(lane);
+            const auto below = numbers > static_cast<double>(lane);
             changed          = below ? changed : old;
             changed[lane]    = r;
             store(column, changed);
@@ -710,18 +813,27 @@ namespace warpchol::cholesky::HWY_NAMESPACE
        */
       void run(const Index q, const double tolerance, const Index first_column, const bool threaded) const
       {
-        const Index whole_end = q + (nr - q) / lanes * lanes;
-        Index       i0        = q;
-        for (; i0 < nc && i0 < whole_end; i0 += lanes)
-          diagonal_group(l + i0, nr, i0, q, tolerance, first_column);
-        const Index rows_below = whole_end - i0;
-        if (threaded && rows_below > 4 * lanes)
+        const Index     whole_end    = q + (nr - q) / target_lanes * target_lanes;
+        constexpr Index side_by_side = groups * target_lanes;
+        // The diagonal block's rows a panel at a time: the reflectors of the columns before
+        // the panel with groups side by side, then group by group those of the panel's
+        // columns (one group at a time: each group's rows make the next reflectors).
+        constexpr Index panel_rows = 4 * side_by_side;
+        Index           i0         = q;
+        while (i0 < nc && i0 < whole_end)
           {
-            // Each row is computed alone, the same way whatever the split (blocks of
-            // multiples of 32 rows group them as one thread does): the same bits for any
-            // number of threads.
-            constexpr Index aligned = 4 * lanes;
-            const Index     block   = std::max<Index>(2 * aligned, (rows_below / (8 * aligned) + 1) * aligned);
+            const Index panel_end = std::min(i0 + panel_rows, whole_end);
+            apply_to_rows(i0, panel_end, q, i0);
+            for (const Index panel = i0; i0 < panel_end; i0 += target_lanes)
+              diagonal_group(l + i0, nr, i0, panel, q, tolerance, first_column);
+          }
+        const Index rows_below = whole_end - i0;
+        if (threaded && rows_below > 4 * side_by_side)
+          {
+            // Each row is computed alone, the same way whatever the split: the same bits
+            // for any number of threads.
+            const Index block =
+              std::max<Index>(2 * side_by_side, (rows_below / (8 * side_by_side) + 1) * side_by_side);
             tbb::parallel_for(Index(0), (rows_below + block - 1) / block, [&](const Index b) {
               apply_to_rows(i0 + b * block, std::min(whole_end, i0 + (b + 1) * block), q, nc);
             });
@@ -734,29 +846,33 @@ namespace warpchol::cholesky::HWY_NAMESPACE
         // stay zero), its columns from q on.
         const Index n_rows = nr - whole_end;
         for (Index j = q; j < nc; ++j)
-          for (Index k = 0; k < lanes; ++k)
-            tail[j * lanes + k] = k < n_rows ? l[j * nr + whole_end + k] : 0.;
-        diagonal_group(tail, lanes, whole_end, q, tolerance, first_column);
+          for (Index k = 0; k < target_lanes; ++k)
+            tail[j * target_lanes + k] = k < n_rows ? l[j * nr + whole_end + k] : 0.;
+        diagonal_group(tail, target_lanes, whole_end, q, q, tolerance, first_column);
         for (Index j = q; j < nc; ++j)
           for (Index k = 0; k < n_rows; ++k)
-            l[j * nr + whole_end + k] = tail[j * lanes + k];
+            l[j * nr + whole_end + k] = tail[j * target_lanes + k];
       }
     };
 
-    /** ChunkKernel<K>::run for the K of @p n_columns (1 to chunk_columns). */
+    /** ChunkKernel<K>::run for the K of @p n_columns (1 to target_chunk_columns). */
     template <int K>
     void run_chunk(const Index n_columns, double *l, const Index nr, const Index nc, double *w, const Index ldw,
                    const double *sign, double *reflectors, double *tail, const Index q, const double tolerance,
                    const Index first_column, const bool threaded)
     {
-      if constexpr (K < chunk_columns)
+      if constexpr (K < target_chunk_columns)
         if (n_columns > K)
           {
             run_chunk<K + 1>(n_columns, l, nr, nc, w, ldw, sign, reflectors, tail, q, tolerance, first_column,
                              threaded);
             return;
           }
-      const ChunkKernel<K> kernel{l, nr, nc, w, ldw, sign, reflectors, tail};
+      // The reflectors' room aligned to a vector (it has a vector of doubles to spare).
+      constexpr std::uintptr_t alignment = alignof(Coefficient);
+      const auto               aligned   = reinterpret_cast<Coefficient *>(
+        (reinterpret_cast<std::uintptr_t>(reflectors) + alignment - 1) / alignment * alignment);
+      const ChunkKernel<K> kernel{l, nr, nc, w, ldw, sign, aligned, tail};
       kernel.run(q, tolerance, first_column, threaded);
     }
 
@@ -769,6 +885,12 @@ namespace warpchol::cholesky::HWY_NAMESPACE
   {
     run_chunk<1>(n_columns, l, nr, nc, w, ldw, sign, reflectors, tail, q, tolerance, first_column, threaded);
   }
+
+  /** The most columns of C this target carries at once. */
+  Index ModifyChunkColumns()
+  {
+    return target_chunk_columns;
+  }
 } // namespace warpchol::cholesky::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
 
@@ -776,6 +898,7 @@ HWY_AFTER_NAMESPACE();
 namespace warpchol::cholesky
 {
   HWY_EXPORT(ModifyChunk);
+  HWY_EXPORT(ModifyChunkColumns);
 
   namespace
   {
@@ -786,6 +909,12 @@ namespace warpchol::cholesky
       simd::use_target_from_environment();
       HWY_DYNAMIC_DISPATCH(ModifyChunk)(n_columns, l, nr, nc, w, ldw, sign, reflectors, tail, q, tolerance,
                                         first_column, threaded);
+    }
+
+    Index chunk_columns_here()
+    {
+      simd::use_target_from_environment();
+      return HWY_DYNAMIC_DISPATCH(ModifyChunkColumns)();
     }
   } // namespace
 } // namespace warpchol::cholesky
