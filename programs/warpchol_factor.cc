@@ -319,7 +319,7 @@ namespace
       }
     // A benchmark's figures are read against the machine's ceilings.
     if (options.update_rank > 0 || options.compare_cholmod)
-      std::cout << " simd=" << app::simd_target()
+      std::cout << " simd=" << app::simd_target() << " update_simd=" << app::simd_target(warpchol::simd::Family::update)
                 << " dgemm_gflops=" << format_number(cholesky::blas::measure_dgemm_gflops(), 3)
                 << " read_gbs=" << format_number(app::measure_read_bandwidth(), 3);
     std::cout << update_fields.str() << "\n";

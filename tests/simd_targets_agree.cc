@@ -186,4 +186,10 @@ int main()
   simd::use_target("default");
   tests::check("default is avx2 where available, else the best",
                simd::current_target() == (has_avx2 ? std::string("avx2") : targets.front()));
+  // The update family's default: the best; a forced target holds for it too.
+  tests::check("the update's default is the best",
+               simd::current_target(simd::Family::update) == targets.front());
+  simd::use_target("baseline");
+  tests::check("a forced target holds for the update",
+               simd::current_target(simd::Family::update) == "baseline");
 }

@@ -25,9 +25,9 @@ namespace warpchol::app
     return "unknown CPU";
   }
 
-  std::string simd_target()
+  std::string simd_target(const simd::Family family)
   {
-    return simd::current_target();
+    return simd::current_target(family);
   }
 
   double measure_read_bandwidth()
@@ -56,7 +56,8 @@ namespace warpchol::app
     std::string available;
     for (const std::string &name : simd::available_targets())
       available += (available.empty() ? "" : " ") + name;
-    return "machine: " + cpu_name() + ", SIMD target " + simd_target() + " (this CPU: " + available + "), dgemm " +
+    return "machine: " + cpu_name() + ", SIMD target " + simd_target() + ", updates " +
+           simd_target(simd::Family::update) + " (this CPU: " + available + "), dgemm " +
            format_number(cholesky::blas::measure_dgemm_gflops(), 3) + " GFLOP/s, read " +
            format_number(measure_read_bandwidth(), 3) + " GB/s (one thread)";
   }

@@ -5,6 +5,7 @@
 #include <hwy/targets.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cctype>
 #include <cstdlib>
 #include <mutex>
@@ -52,11 +53,10 @@ namespace warpchol::simd
     }
 
     /**
-     * The target the kernels run unless told otherwise: AVX2 where the CPU has it, even
-     * with AVX-512, else the best. The kernels work on 8 lanes of 3x3 blocks, which AVX2
-     * holds in two registers as AVX-512 in one; measured with both forced, AVX2 ran them as
-     * fast or faster on an AMD EPYC (Zen 4: AVX-512 executed in two halves) and 7-15 %
-     * faster on an Intel Xeon (512-bit instructions lower its clock): doc/targets.
+     * The element family's target unless told otherwise: AVX2 where the CPU has it, even
+     * with AVX-512, else the best. Its kernels work on 8 lanes of 3x3 blocks, which AVX2
+     * holds in two registers as AVX-512 in one, and run as fast or faster on AVX2 where
+     * 512-bit instructions are executed in two halves or lower the clock (doc/targets).
      */
     std::int64_t default_target(const std::int64_t all)
     {
@@ -66,6 +66,9 @@ namespace warpchol::simd
 #endif
       return all & -all;
     }
+
+    /** Whether the choice is "default": each family then runs its own default target. */
+    std::atomic<bool> family_defaults{true};
 
     /** Used up once WARPCHOL_SIMD_TARGET was read, or a target chosen explicitly (which then holds). */
     std::once_flag &environment_read()
@@ -99,6 +102,7 @@ namespace warpchol::simd
           throw std::invalid_argument("SIMD target '" + name + "' is not available on this CPU (available: " +
                                       alternatives(names) + ")");
         }
+      family_defaults = name == "default";
       // Only the chosen target is supported from now on: Highway's dispatch takes it.
       hwy::SetSupportedTargetsForTest(chosen);
       hwy::GetChosenTarget().Update(hwy::SupportedTargets());
@@ -113,11 +117,21 @@ namespace warpchol::simd
     return names;
   }
 
-  std::string current_target()
+  std::int64_t target_bit(const Family family)
   {
     use_target_from_environment();
+    if (family == Family::update && family_defaults)
+      {
+        const std::int64_t all = cpu_targets();
+        return all & -all;
+      }
     const std::int64_t bits = hwy::SupportedTargets() & HWY_TARGETS;
-    return name_of(bits & -bits);
+    return bits & -bits;
+  }
+
+  std::string current_target(const Family family)
+  {
+    return name_of(target_bit(family));
   }
 
   void use_target(const std::string &name)

@@ -542,6 +542,9 @@ namespace warpchol::cholesky::HWY_NAMESPACE
 
     using Lanes = double __attribute__((vector_size(sizeof(double) * target_lanes)));
 
+    /** How many columns ahead of the one being modified a group's rows are prefetched. */
+    constexpr Index prefetch_columns = 12;
+
     /**
      * How a reflector's coefficients are kept. AVX-512 multiplies by a double read from
      * memory and broadcast by the instruction itself; the other targets would broadcast
@@ -692,6 +695,15 @@ namespace warpchol::cholesky::HWY_NAMESPACE
           }
         for (Index j = j_begin; j < j_end; ++j)
           {
+            // The group's entries some columns ahead: the columns of a large supernode lie
+            // pages apart, where the hardware's prefetchers do not follow.
+            if (j + prefetch_columns < j_end)
+              {
+                const double *ahead = rows + (j + prefetch_columns) * ld;
+                for (Index k = 0; k < G * target_lanes; k += 8)
+                  __builtin_prefetch(ahead + k, 1);
+                __builtin_prefetch(ahead + G * target_lanes - 1, 1);
+              }
             const Coefficient *r = reflectors + j * stride;
             Lanes              sum[G];
             for (int g = 0; g < G; ++g)
@@ -902,19 +914,28 @@ namespace warpchol::cholesky
 
   namespace
   {
+    /**
+     * The entry of a function's dispatch table (HWY_EXPORT) for the update family's target:
+     * the index Highway's ChosenTarget::GetIndex() gives when that target is chosen.
+     */
+    std::size_t update_dispatch_index()
+    {
+      const std::int64_t target = simd::target_bit(simd::Family::update);
+      return hwy::Num0BitsBelowLS1Bit_Nonzero64(static_cast<std::uint64_t>(
+        (HWY_CHOSEN_TARGET_SHIFT(target) | HWY_CHOSEN_TARGET_MASK_SCALAR) & HWY_CHOSEN_TARGET_MASK_TARGETS));
+    }
+
     void run_chunk(const Index n_columns, double *l, const Index nr, const Index nc, double *w, const Index ldw,
                    const double *sign, double *reflectors, double *tail, const Index q, const double tolerance,
                    const Index first_column, const bool threaded)
     {
-      simd::use_target_from_environment();
-      HWY_DYNAMIC_DISPATCH(ModifyChunk)(n_columns, l, nr, nc, w, ldw, sign, reflectors, tail, q, tolerance,
-                                        first_column, threaded);
+      (*HWY_DISPATCH_TABLE(ModifyChunk)[update_dispatch_index()])(n_columns, l, nr, nc, w, ldw, sign, reflectors,
+                                                                 tail, q, tolerance, first_column, threaded);
     }
 
     Index chunk_columns_here()
     {
-      simd::use_target_from_environment();
-      return HWY_DYNAMIC_DISPATCH(ModifyChunkColumns)();
+      return (*HWY_DISPATCH_TABLE(ModifyChunkColumns)[update_dispatch_index()])();
     }
   } // namespace
 } // namespace warpchol::cholesky

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <warpchol/base/simd.h>
+
 #include <string>
 
 /**
@@ -14,10 +16,10 @@ namespace warpchol::app
   std::string cpu_name();
 
   /**
-   * The SIMD target the element and update kernels run on (chosen at run time, or forced by
+   * The SIMD target the kernels of @p family run on (chosen at run time, or forced by
    * WARPCHOL_SIMD_TARGET): avx512, avx2, sse4 or baseline on x86-64.
    */
-  std::string simd_target();
+  std::string simd_target(simd::Family family = simd::Family::element);
 
   /**
    * The read bandwidth of one thread in GB/s: the best of a few sums over 256 MiB, far

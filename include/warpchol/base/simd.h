@@ -1,6 +1,7 @@
 #ifndef warpchol_base_simd_h
 #define warpchol_base_simd_h
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -9,9 +10,8 @@
  *
  * The kernels (polar decompositions, the fused element pass, the assembly of A, the
  * corotated product, the update kernel, the single-precision solve) are compiled once per
- * target with Google Highway's foreach_target, and each call goes to the default target
- * (AVX2 where the CPU has it, even with AVX-512, which ran them no faster on the machines
- * measured; else the best it has), unless one is forced: by use_target(), or by the environment variable
+ * target with Google Highway's foreach_target, and each call goes to its family's default
+ * target (Family), unless one is forced: by use_target(), or by the environment variable
  * WARPCHOL_SIMD_TARGET (read at the first kernel call), as the sanitizer stage forces the
  * baseline. A target's name: "avx512", "avx2", "sse4", "baseline" on x86-64 (Highway's own
  * name, lower case, elsewhere).
@@ -21,12 +21,35 @@ namespace warpchol::simd
   /** The targets compiled in that this CPU runs, best first; the last is the baseline. */
   std::vector<std::string> available_targets();
 
-  /** The target the kernels run now. */
-  std::string current_target();
+  /**
+   * The families of kernels. Each family runs the chosen target; left to the default, each
+   * takes its own default target, the fastest on the machines measured
+   * (warpchol-solver-kernels and warpchol-kernels on every target, benchmarks/targets.sh):
+   * - element: the element kernels and the reduced-precision solves, AVX2 where the CPU has
+   *   it (as fast as AVX-512 or faster, whose clock some CPUs lower), else the best;
+   * - update: the update and downdate of the factor, the best (widest) target, whose 32
+   *   registers of 8 doubles hold the carried columns of four times as many rows as AVX2's
+   *   16 of 4.
+   */
+  enum class Family
+  {
+    element,
+    update
+  };
+
+  /** The target the kernels of @p family run now. */
+  std::string current_target(Family family = Family::element);
 
   /**
-   * Run the kernels on the target @p name ("best": the widest available; "default": AVX2
-   * where available, else the best); an explicit choice
+   * Highway's bit of the target the kernels of @p family run now (reads
+   * WARPCHOL_SIMD_TARGET first, as use_target_from_environment() does): for a dispatch of
+   * that family's kernels by its own target.
+   */
+  std::int64_t target_bit(Family family);
+
+  /**
+   * Run the kernels on the target @p name ("best": the widest available; "default": each
+   * family's default, Family); an explicit choice
    * holds over WARPCHOL_SIMD_TARGET, which is then no longer read. Throws
    * std::invalid_argument, naming the available ones, if this CPU cannot run it or it was
    * not compiled in. Not to be called while kernels run on other threads.
