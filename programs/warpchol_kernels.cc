@@ -68,6 +68,7 @@ namespace
         }
     dealii::MultithreadInfo::set_thread_limit(threads);
     simd::use_target("default");
+    const std::string default_target = simd::current_target();
     std::cout << app::describe_machine() << "\n";
 
     app::Scene scene{app::AllParameters(scene_file)};
@@ -90,7 +91,7 @@ namespace
       std::cout << " (vertices missed per cell in a 16-cell window: given " << format_number(order.given_misses, 3)
                 << ", sorted " << format_number(order.sorted_misses, 3) << ")";
     std::cout << "\n";
-    app::print_kernel_table(std::cout, columns, scene.body().n_elements());
+    app::print_kernel_table(std::cout, columns, scene.body().n_elements(), 0, default_target);
   }
 } // namespace
 

@@ -62,8 +62,12 @@ namespace warpchol::app
   }
 
   void print_kernel_table(std::ostream &out, const std::vector<std::pair<std::string, KernelTimes>> &columns,
-                          const unsigned int n_elements, const double estimate_ns_per_tet)
+                          const unsigned int n_elements, const double estimate_ns_per_tet,
+                          const std::string &default_target)
   {
+    const auto default_column =
+      std::find_if(columns.begin(), columns.end(), [&](const auto &column) { return column.first == default_target; });
+    const bool with_ratio = columns.size() > 1 && default_column != columns.end();
     const std::pair<const char *, double KernelTimes::*> rows[] = {
       {"rotation by SVD (the former kernel)           ", &KernelTimes::svd_rotation},
       {"rotation by scaled Newton, one by one         ", &KernelTimes::polar_rotation},
@@ -79,13 +83,24 @@ namespace warpchol::app
         out << "\n  " << std::string(46, ' ');
         for (const auto &column : columns)
           out << " " << std::setw(9) << column.first;
+        if (with_ratio)
+          out << "  " << default_target << " / fastest";
       }
     out << ":\n";
     for (const auto &[label, member] : rows)
       {
         out << "  " << label;
+        double fastest = std::numeric_limits<double>::infinity();
         for (const auto &column : columns)
-          out << " " << std::setw(9) << format_number(column.second.*member, 3);
+          {
+            out << " " << std::setw(9) << format_number(column.second.*member, 3);
+            fastest = std::min(fastest, column.second.*member);
+          }
+        if (with_ratio)
+          {
+            const double ratio = default_column->second.*member / fastest;
+            out << "  " << std::setw(9) << format_number(ratio, 3) << (ratio > 1.15 ? " slow" : "");
+          }
         out << "\n";
       }
     out << "  WCC error estimate (fastest of the runs)      "

@@ -33,8 +33,11 @@ namespace warpchol::app
   /**
    * The table of @p columns (a name, such as the target, and its times) for @p n_elements
    * tets; @p estimate_ns_per_tet, if > 0, adds the WCC error estimate (measured in runs,
-   * the same for every column).
+   * the same for every column). With several columns and @p default_target among them, a
+   * last column gives the default target's time over the fastest's, marked "slow" past
+   * 1.15.
    */
   void print_kernel_table(std::ostream &out, const std::vector<std::pair<std::string, KernelTimes>> &columns,
-                          unsigned int n_elements, double estimate_ns_per_tet = 0);
+                          unsigned int n_elements, double estimate_ns_per_tet = 0,
+                          const std::string &default_target = "");
 } // namespace warpchol::app
