@@ -1,5 +1,5 @@
 #!/bin/sh
-# The peers' comparison of the README (issue 9): every backend (Solver/Backend) on the same
+# The peers' comparison (doc/peers.md; issue 9): every backend (Solver/Backend) on the same
 # scene in one run of warpchol-threshold-sweep, against warpchol's configurations.
 # Per scene it writes into doc/backends/ the table (SCENE.txt, with the machine's dgemm
 # rate), the CSV (SCENE.csv), the gnuplot script (SCENE.gp) and the plot (SCENE.png: error

@@ -20,7 +20,7 @@ out=${OUT:-doc/report_tables}
 work=${WORK:-output/report_tables}
 repeat=${REPEAT:-5}
 max_seconds=${MAX_SECONDS:-20}
-# One thread everywhere (the programs also restart themselves so, see README: Benchmarks).
+# One thread everywhere (the programs also restart themselves so, see doc/benchmarks.md).
 export OMP_THREAD_LIMIT=${OMP_THREAD_LIMIT:-1} OPENBLAS_NUM_THREADS=${OPENBLAS_NUM_THREADS:-1}
 mkdir -p "$out" "$work"
 

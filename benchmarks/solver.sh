@@ -1,5 +1,5 @@
 #!/bin/sh
-# The solver benchmarks of the README (issues 2 and 3), against CHOLMOD in the same process.
+# The solver benchmarks (doc/benchmarks.md; issues 2 and 3), against CHOLMOD in the same process.
 #   sh benchmarks/solver.sh            (after sh .ci/setup; writes output/benchmarks/)
 # Environment: BUILD (default build), OUT (default output/benchmarks), REPEAT (default 5).
 set -eu

@@ -1,5 +1,5 @@
 #!/bin/sh
-# The error-against-time study of the README (issues 8 and 18): warpchol-threshold-sweep on
+# The error-against-time study (doc/strategies.md; issues 8 and 18): warpchol-threshold-sweep on
 # the compact scenes (the fine torus, SOFA's liver and raptor) and the thin bodies (a
 # cantilevered rod, a plate held at an edge, a vessel pulled by the tool; each at a
 # realistic stiffness and overloaded), on one core and on two. Per scene and core count it

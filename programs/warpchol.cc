@@ -6,7 +6,7 @@
  *   warpchol PARAMS.prm --distributed
  *   warpchol --print-parameters [FILE]
  *
- * See the scenes in parameters/ and the README. The program chooses between the serial run
+ * See the scenes in parameters/ (parameters/README.md) and doc/simulation.md. The program chooses between the serial run
  * (warpchol::app::main, which the tests call as well) and the distributed one
  * (warpchol::distributed::run_distributed), so that app/ needs nothing of distributed/,
  * which builds on it.

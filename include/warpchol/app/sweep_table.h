@@ -47,7 +47,7 @@ namespace warpchol::app
                          double exact_per_step);
 
   /**
-   * One line per figure of the study (README): the fastest run whose largest error stays
+   * One line per figure of the study (doc/strategies.md): the fastest run whose largest error stays
    * at or below 1 %, and the automatic and background strategies' best runs, each with its
    * speed-up against the exact run (the first row), error and CG iterations.
    */
