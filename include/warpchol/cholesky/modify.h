@@ -26,9 +26,10 @@
  * column of L holds all the others) keeps its entries on that path while the reflectors
  * move it up: the work is confined to the supernodes on the union of the columns' paths,
  * and two columns on different paths never meet until their paths join. Inside a
- * supernode, its reflectors are applied to eight rows at a time with the rank's columns
- * of those rows in registers: every entry of L on the paths is read and written once for
- * up to 16 columns of C, 4 flops per entry and column.
+ * supernode, its reflectors are applied to a few vectors of rows at a time with the rank's
+ * columns of those rows in registers, sized per SIMD target (simd::Family::update): every
+ * entry of L on the paths is read and written once for up to 12 (16 registers) or 16 (32
+ * registers) columns of C, 4 flops per entry and column.
  */
 namespace warpchol::cholesky
 {
