@@ -1,19 +1,22 @@
-// auto never loses to exact steps (ExactFallback, models/step_strategy.h).
+// auto never loses to the exact path (ExactFallback, models/step_strategy.h).
 //
 // First on given step costs, so that every decision is fixed: own steps that cost more than
-// an exact step fall back (a probe of two exact steps while only an estimate is known, then
-// a stretch of 16), the stretch doubles while the own steps keep losing and starts short
-// again once they win; own steps that pay never fall back.
+// an exact step fall back (a probe of two exact steps while only the estimate is known,
+// then a stretch whose retry costs 1 % of it), the stretch doubles while the own steps
+// keep losing and starts from their loss again once they won; own steps that pay never
+// fall back, a tie within the margin does not; over runs of 100 to 10000 steps that lose
+// by 30 % throughout, the steps before the first fall-back and the retries cost under 1 %.
 //
 // Then on scenes. Where nothing pays (every element's error over the update threshold, so
 // every step updates all of them, and CG to 1e-10: no step of auto's own is cheaper than an
-// exact one, each pays the error estimate and the iterations on top) auto runs exact steps
-// (the exact path's: every element updated, a direct solve) on most steps, by its rule of
-// renewal or by the fall-back, its trajectory that of the exact path to within CG's
-// tolerance. Where its own steps pay clearly (the fine torus, 14625 tets, at threshold inf:
-// no element updated, CG on the corotational matrix, about a fifth of an exact step) it does
-// not fall back. Decisions on measured seconds: the scenes are built so that the margins are
-// wide.
+// exact one, each pays the error estimate and the iterations on top) auto falls back, and
+// a step of the fall-back runs the stages of the exact path's step (the corotational
+// model's), no more: no error estimate, no initial guess of CG; the first own step after a
+// stretch (1100 steps: longer than the longest) is an exact one (it makes A WCC's again).
+// The trajectory is the exact path's to within CG's tolerance. Where its own steps pay clearly (the fine torus, 14625 tets, at
+// threshold inf: no element updated, CG on the corotational matrix, about a fifth of an
+// exact step) it does not fall back. Decisions on measured seconds: the scenes are built so
+// that the margins are wide.
 
 #include "simulation_tests.h"
 #include "tests.h"
@@ -26,75 +29,147 @@ using namespace warpchol;
 
 namespace
 {
-  struct Run
-  {
-    std::vector<fem::Vector3> positions;
-    unsigned int              exact_steps = 0, fallbacks = 0;
-    /** Steps that ran exact, whoever chose them. */
-    unsigned int exact_choices = 0;
-  };
-
-  Run run(const std::string &name, const std::string &scene_text, const unsigned int steps)
-  {
-    tests::write_file(name, scene_text);
-    app::Scene   scene{app::AllParameters(name)};
-    unsigned int exact_choices = 0;
-    for (unsigned int step = 0; step < steps; ++step)
-      {
-        fem::StepStatistics statistics;
-        scene.integrator().advance(statistics);
-        exact_choices += statistics.choice == fem::StepChoice::exact;
-      }
-    Run result;
-    result.exact_choices = exact_choices;
-    result.positions = scene.integrator().positions();
-    if (const auto *wcc = dynamic_cast<const fem::WarpCancelingModel *>(&scene.model()))
-      {
-        result.exact_steps = wcc->exact_fallback().exact_steps();
-        result.fallbacks   = wcc->exact_fallback().fallbacks();
-      }
-    return result;
-  }
-
-  /** Feed @p fallback @p n steps: exact ones cost @p exact_seconds, its own @p own_seconds; how many ran exact. */
+  /**
+   * Feed @p fallback @p n steps: exact ones cost @p exact_seconds, its own @p own_seconds;
+   * how many ran exact, and their total cost added to @p total (if given).
+   */
   unsigned int feed(fem::ExactFallback &fallback, const unsigned int n, const double own_seconds,
-                    const double exact_seconds)
+                    const double exact_seconds, double *total = nullptr)
   {
     unsigned int exact = 0;
     for (unsigned int step = 0; step < n; ++step)
       {
-        const bool runs_exact = fallback.runs_exact();
+        const bool   runs_exact = fallback.runs_exact();
+        const double seconds    = runs_exact ? exact_seconds : own_seconds;
         exact += runs_exact;
-        fallback.record_step(runs_exact ? exact_seconds : own_seconds, runs_exact);
+        if (total)
+          *total += seconds;
+        fallback.record_step(seconds);
       }
     return exact;
   }
 
   void given_costs()
   {
-    std::cout << "on given costs:" << std::endl;
+    std::cout << "on given costs (window " << fem::ExactFallback::window << ", margin "
+              << 100 * fem::ExactFallback::margin << " %, retry budget " << 100 * fem::ExactFallback::retry_budget
+              << " %):" << std::endl;
     fem::ExactFallback losing;
     losing.set_exact_estimate(0.5);
-    // Steps 1, 2 not counted; the window of steps 3-10 loses to the estimate: a probe of
-    // two exact steps (11, 12) measures 1.0, the own steps (2.0) still lose: 16 exact steps.
-    tests::check("  own steps that cost twice an exact one: exact from step 11",
-                 feed(losing, 10, 2.0, 1.0) == 0 && losing.runs_exact());
-    tests::check("  a probe of 2 exact steps, then a stretch of 16", feed(losing, 18, 2.0, 1.0) == 18 &&
-                                                                      !losing.runs_exact() && losing.fallbacks() == 1);
-    tests::check("  a window of 8 own steps that lose again: a stretch of 32",
-                 feed(losing, 8, 2.0, 1.0) == 0 && feed(losing, 32, 2.0, 1.0) == 32 && !losing.runs_exact());
-    tests::check("  own steps that win (0.5) stay: 96 steps, none exact", feed(losing, 96, 0.5, 1.0) == 0);
-    tests::check("  a loss after a win falls back for 16 steps again",
-                 feed(losing, 8, 2.0, 1.0) == 0 && feed(losing, 16, 2.0, 1.0) == 16 && !losing.runs_exact());
+    // Steps 1, 2 not counted; step 3 loses more than an exact step (the estimate) over
+    // (1 + margin) exact steps: a probe of two exact steps (4, 5) measures 1.0.
+    tests::check("  own steps that cost twice an exact one: exact from step 4",
+                 feed(losing, 3, 2.0, 1.0) == 0 && losing.runs_exact());
+    tests::check("  a probe of 2 exact steps measures the exact step",
+                 feed(losing, 2, 2.0, 1.0) == 2 && losing.exact_step_seconds() == 1.0);
+    const unsigned int first = losing.stretch_length();
+    std::cout << "  then a stretch of " << first << " exact steps" << std::endl;
+    tests::check("  its steps run exact, then own steps again",
+                 feed(losing, first, 2.0, 1.0) == first && !losing.runs_exact() && losing.fallbacks() == 1);
+    tests::check("  which lose more than an exact step after 2 steps", feed(losing, 2, 2.0, 1.0) == 0 &&
+                                                                         losing.runs_exact());
+    std::cout << "  a stretch of " << losing.stretch_length() << " (at least twice the last, at most "
+              << fem::ExactFallback::longest_stretch << ")" << std::endl;
+
+    fem::ExactFallback mild;
+    mild.set_exact_estimate(0.5);
+    feed(mild, 5, 1.25, 1.0);
+    std::cout << "  own steps that lose by 25 %: a stretch of " << mild.stretch_length() << std::endl;
+    tests::check("  own steps that win (0.5) after it stay: 96 steps, none exact",
+                 feed(mild, mild.stretch_length(), 1.25, 1.0) == mild.stretch_length() &&
+                   feed(mild, 96, 0.5, 1.0) == 0);
+    feed(mild, 8, 1.25, 1.0);
+    std::cout << "  a loss after a win: a stretch of " << mild.stretch_length() << " again (not doubled)"
+              << std::endl;
+    fem::ExactFallback small;
+    small.set_exact_estimate(0.5);
+    feed(small, 5, 1.05, 1.0);
+    std::cout << "  own steps that lose by 5 % (a window of 8 to tell): a stretch of " << small.stretch_length()
+              << std::endl;
+
     fem::ExactFallback paying;
     paying.set_exact_estimate(0.5);
     tests::check("  own steps cheaper than the estimate: 200 steps, none exact",
                  feed(paying, 200, 0.4, 1.0) == 0 && paying.fallbacks() == 0);
     fem::ExactFallback tie;
     tie.set_exact_estimate(0.5);
-    feed(tie, 30, 1.03, 1.0);
-    tests::check("  a tie within the margin (own 1.03x exact) does not keep falling back",
-                 feed(tie, 100, 1.03, 1.0) == 0);
+    tests::check("  a tie within the margin (own 1.015x exact): the probe only",
+                 feed(tie, 130, 1.015, 1.0) == fem::ExactFallback::probe && tie.fallbacks() == 0);
+
+    // The price of never losing: own steps that lose by 30 % throughout, against the exact
+    // path on every step.
+    for (const unsigned int steps : {100u, 1000u, 10000u})
+      {
+        fem::ExactFallback long_run;
+        long_run.set_exact_estimate(0.5);
+        double             total = 0;
+        const unsigned int exact = feed(long_run, steps, 1.3, 1.0, &total);
+        std::cout << "  own steps at 1.3x exact, " << steps << " steps: " << exact << " exact, "
+                  << long_run.fallbacks() << " stretch(es)" << std::endl;
+        tests::check_below("    the run's cost over the exact path's - 1", total / steps - 1, 0.01);
+      }
+  }
+
+  struct Run
+  {
+    std::vector<fem::Vector3> positions;
+    unsigned int              exact_steps = 0, fallbacks = 0;
+    /** Steps that ran exact, whoever chose them (auto's own or its fall-back). */
+    unsigned int exact_choices = 0;
+    /**
+     * The fall-back's steps whose stages were not the reference's, those that estimated
+     * errors; the own steps right after a stretch, and those of them that were not exact.
+     */
+    unsigned int other_stages = 0, estimated = 0, retries = 0, retries_not_exact = 0;
+  };
+
+  /** The stages of one step of @p statistics, sorted: what the step ran, not in which order. */
+  std::vector<std::string> stage_names(const fem::StepStatistics &statistics)
+  {
+    std::vector<std::string> names;
+    for (const auto &stage : statistics.stages.stages())
+      names.push_back(stage.name);
+    std::sort(names.begin(), names.end());
+    return names;
+  }
+
+  Run run(const std::string &name, const std::string &scene_text, const unsigned int steps,
+          const std::vector<std::string> &reference_stages = {})
+  {
+    tests::write_file(name, scene_text);
+    app::Scene scene{app::AllParameters(name)};
+    const auto *wcc = dynamic_cast<const fem::WarpCancelingModel *>(&scene.model());
+    Run         result;
+    bool        last_fell_back = false;
+    for (unsigned int step = 0; step < steps; ++step)
+      {
+        fem::StepStatistics statistics;
+        scene.integrator().advance(statistics);
+        result.exact_choices +=
+          statistics.choice == fem::StepChoice::exact || statistics.choice == fem::StepChoice::fallback;
+        // The fall-back records a step when the next one is prepared: until then it still
+        // says what this one was.
+        const bool fell_back = wcc && wcc->exact_fallback().runs_exact();
+        if (fell_back)
+          {
+            result.other_stages += statistics.choice != fem::StepChoice::fallback;
+            result.estimated += statistics.stages.ran(fem::stage::error_estimate);
+            result.other_stages += stage_names(statistics) != reference_stages;
+          }
+        if (last_fell_back && !fell_back)
+          {
+            ++result.retries;
+            result.retries_not_exact += statistics.choice != fem::StepChoice::exact;
+          }
+        last_fell_back = fell_back;
+      }
+    result.positions = scene.integrator().positions();
+    if (wcc)
+      {
+        result.exact_steps = wcc->exact_fallback().exact_steps();
+        result.fallbacks   = wcc->exact_fallback().fallbacks();
+      }
+    return result;
   }
 } // namespace
 
@@ -103,19 +178,37 @@ int main()
   given_costs();
 
   std::cout << "on scenes:" << std::endl;
-  const unsigned int steps = 60;
-  const Run          exact  = run("exact.prm",
+  // Longer than the longest stretch: the own steps get at least one window after one.
+  const unsigned int steps = fem::ExactFallback::longest_stretch + 76;
+  // The exact path's step: its stages.
+  std::vector<std::string> corotational_stages;
+  {
+    tests::write_file("corotational.prm", tests::small_torus_scene("  set Type = corotational\n"));
+    app::Scene          scene{app::AllParameters("corotational.prm")};
+    fem::StepStatistics statistics;
+    scene.integrator().advance(statistics);
+    corotational_stages = stage_names(statistics);
+  }
+  std::cout << "  the exact path's step:";
+  for (const auto &name : corotational_stages)
+    std::cout << " " << name << ";";
+  std::cout << std::endl;
+
+  const Run exact  = run("exact.prm",
                         tests::small_torus_scene("  set Type = warp_canceling\n"
                                                  "  set Update threshold = 0\n"),
                         steps);
-  const Run          losing = run("losing.prm",
+  const Run losing = run("losing.prm",
                          tests::small_torus_scene("  set Type = warp_canceling\n"
                                                   "  set Strategy = auto\n"
                                                   "  set Update threshold = 1e-12\n"
                                                   "  set CG tolerance = 1e-10\n"),
-                         steps);
-  // 56-58 of 60 on a quiet machine, 41 with four runs on its two cores.
+                         steps, corotational_stages);
   tests::check("  where nothing pays, auto runs exact steps on most steps", losing.exact_choices >= steps / 2);
+  tests::check("  and falls back", losing.fallbacks >= 1 && losing.exact_steps >= steps / 4);
+  tests::check("  a step of the fall-back runs the exact path's stages, no more", losing.other_stages == 0);
+  tests::check("  none estimates errors", losing.estimated == 0);
+  tests::check("  the first own step after a stretch is exact", losing.retries >= 1 && losing.retries_not_exact == 0);
   const Run at_rest = run("rest.prm", tests::small_torus_scene("  set Type = warp_canceling\n"), 0);
   tests::check_below("  its trajectory against the exact path's (relative to the motion)",
                      tests::relative_difference(losing.positions, exact.positions, at_rest.positions), 1e-3);

@@ -53,9 +53,10 @@ namespace warpchol::app
     /** The first section of a checkpoint: its kind and the version of its layout. */
     /**
      * 2: the body's plastic strains, the changes' energy (issue 29). 3: WCC's target-error
-     * controller and its step history each written as one object.
+     * controller and its step history each written as one object. 4: in WCC's step
+     * history, whether auto's last step was the exact path's and A is in its frames.
      */
-    constexpr const char *checkpoint_format = "warpchol checkpoint 3";
+    constexpr const char *checkpoint_format = "warpchol checkpoint 4";
 
     /** "Model/Type" of the entry "Model/Type = corotational". */
     std::string entry_name(const std::string &entry)

@@ -118,7 +118,8 @@ namespace warpchol::fem
 
   bool ElasticityModel::solves_iteratively() const
   {
-    return peer_solver ? peer_solver->is_iterative() : strategy.iterates();
+    // A step whose factor is that of the target matrix solves directly (WCC's exact steps).
+    return peer_solver ? peer_solver->is_iterative() : strategy.iterates() && !factor_solves_target();
   }
 
   bool ElasticityModel::uses_rotations() const

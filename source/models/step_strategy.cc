@@ -3,6 +3,7 @@
 #include <warpchol/models/step_strategy.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace warpchol::fem
 {
@@ -269,6 +270,21 @@ namespace warpchol::fem
     estimate = seconds;
   }
 
+  double ExactFallback::exact_step_seconds() const
+  {
+    return exact_seconds;
+  }
+
+  double ExactFallback::own_step_seconds() const
+  {
+    return own_seconds;
+  }
+
+  unsigned int ExactFallback::stretch_length() const
+  {
+    return stretch;
+  }
+
   unsigned int ExactFallback::exact_steps() const
   {
     return exact_count;
@@ -279,32 +295,54 @@ namespace warpchol::fem
     return fallback_count;
   }
 
-  void ExactFallback::record_step(const double seconds, const bool exact_step)
+  bool ExactFallback::own_steps_lose(const double seconds, const double reference) const
   {
-    if (exact_step)
-      exact_seconds = exact_seconds < 0 ? seconds : 0.7 * exact_seconds + 0.3 * seconds;
-    if (exact)
+    return reference > 0 && seconds > (1 + margin) * reference;
+  }
+
+  void ExactFallback::start_stretch()
+  {
+    // Own steps that lose by the share `loss` of an exact step end their next window
+    // after retry_steps of them (the window, or the CUSUM passing one exact step: 1 /
+    // (loss - margin) steps), which cost retry_steps * loss exact steps more than the
+    // exact path: the stretch that makes that retry_budget of its time, or longer.
+    const double loss        = own_seconds / exact_seconds - 1;
+    const double retry_steps = loss > margin ? std::min<double>(window, std::ceil(1 / (loss - margin))) : window;
+    double       length      = std::max<double>(shortest_stretch, std::ceil(retry_steps * loss / retry_budget));
+    if (after_stretch)
+      length = std::max<double>(length, 2. * stretch);
+    stretch       = static_cast<unsigned int>(std::min<double>(length, longest_stretch));
+    phase_length  = stretch;
+    after_stretch = false;
+    ++fallback_count;
+  }
+
+  void ExactFallback::record_step(const double seconds)
+  {
+    const bool step_was_exact = exact;
+    if (step_was_exact)
       ++exact_count;
     if (++steps < first_counted_step)
       return;
+    phase_seconds += seconds;
     ++phase_steps;
-    if (exact)
+    if (step_was_exact)
       {
         if (phase_steps < phase_length)
           return;
-        phase_steps = 0;
+        // The run of exact steps is over: its mean is what the exact path costs now.
+        exact_seconds = phase_seconds / phase_steps;
+        phase_seconds = 0;
+        phase_steps   = 0;
         if (probing)
           {
-            // The probe measured an exact step: fall back for a stretch if the own steps
-            // still cost more, else they go on as if nothing happened.
+            // The probe measured the reference: a stretch if the own steps lose to it, else
+            // they go on as if nothing happened.
             probing = false;
-            if (own_seconds > (1 + margin) * exact_seconds)
-              {
-                ++fallback_count;
-                phase_length = stretch;
-                return;
-              }
-            exact = false;
+            if (own_steps_lose(own_seconds, exact_seconds))
+              start_stretch();
+            else
+              exact = false;
             return;
           }
         // A stretch is over: the strategy's own steps get a window again.
@@ -312,35 +350,34 @@ namespace warpchol::fem
         after_stretch = true;
         return;
       }
-    phase_seconds += seconds;
-    if (phase_steps < window)
+    // What the own steps lost to the exact path since they last did not (a CUSUM): a
+    // step far dearer than an exact one ends the window at once.
+    const bool   measured  = exact_seconds > 0;
+    const double reference = measured ? exact_seconds : estimate;
+    if (reference > 0)
+      excess = std::max(0., excess + seconds - (1 + margin) * reference);
+    const bool lost_an_exact_step = reference > 0 && excess > reference;
+    if (phase_steps < window && !lost_an_exact_step)
       return;
     own_seconds   = phase_seconds / phase_steps;
     phase_seconds = 0;
     phase_steps   = 0;
-    const bool   measured  = exact_seconds > 0;
-    const double reference = measured ? exact_seconds : estimate;
-    const bool   own_loses = reference > 0 && own_seconds > (1 + margin) * reference;
-    if (!own_loses)
+    if (!lost_an_exact_step && !own_steps_lose(own_seconds, reference))
       {
-        // The own steps won (again): the next fall-back, if any, starts short.
-        if (after_stretch)
-          stretch = shortest_stretch;
+        // The own steps won (again): a later fall-back starts from its own loss.
         after_stretch = false;
+        stretch       = 0;
         return;
       }
-    exact = true;
+    excess = 0;
+    exact  = true;
     if (!measured)
       {
         probing      = true;
         phase_length = probe;
         return;
       }
-    if (after_stretch)
-      stretch = std::min(2 * stretch, longest_stretch);
-    after_stretch = false;
-    ++fallback_count;
-    phase_length = stretch;
+    start_stretch();
   }
 
   void ExactFallback::save(BinaryWriter &writer) const
@@ -354,6 +391,7 @@ namespace warpchol::fem
     writer.write(stretch);
     writer.write(after_stretch);
     writer.write(own_seconds);
+    writer.write(excess);
     writer.write(exact_seconds);
     writer.write(estimate);
     writer.write(exact_count);
@@ -371,6 +409,7 @@ namespace warpchol::fem
     reader.read(stretch);
     reader.read(after_stretch);
     reader.read(own_seconds);
+    reader.read(excess);
     reader.read(exact_seconds);
     reader.read(estimate);
     reader.read(exact_count);

@@ -4,6 +4,7 @@
 
 #include <deal.II/base/parallel.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -287,7 +288,9 @@ namespace warpchol::fem
 
   ElementFrames WarpCancelingModel::contribution_frames() const
   {
-    return ElementFrames::warped(stored_frames);
+    // After the fall-back's steps A is the exact path's: in the elements' frames.
+    return history.matrix_in_element_frames ? ElementFrames::rotated(elastic_state.element_rotations) :
+                                              ElementFrames::warped(stored_frames);
   }
 
   void WarpCancelingModel::apply_change(const SystemChange &change, StepStatistics &statistics)
@@ -299,7 +302,8 @@ namespace warpchol::fem
         StageTimer timer(statistics.stages, stage::background_refresh);
         const unsigned int started = background->started_step();
         checked([&]() { background->take(system, stored_frames, cholesky_solver); });
-        history.factor_step = started;
+        history.factor_step              = started;
+        history.matrix_in_element_frames = false;
       }
     ElasticityModel::apply_change(change, statistics);
     change_pending = true;
@@ -362,10 +366,13 @@ namespace warpchol::fem
                                         StepStatistics             &statistics)
   {
     const Stopwatch whole_step;
+    const bool      automatic = strategy.kind == StepStrategy::Kind::automatic;
     // What the last step measured calibrates the cost model, unless it ran beside a
-    // refresh, on fewer threads than the steps in which the model's refreshes run.
+    // refresh, on fewer threads than the steps in which the model's refreshes run, or was
+    // the exact path's (the fall-back's): the model foresees auto's own steps.
     const bool last_beside_refresh = step_thread_count < given_threads;
-    if (history.step_count > 0 && !last_beside_refresh)
+    const bool last_measures_own   = history.step_count > 0 && !history.last_step_fell_back;
+    if (last_measures_own && !last_beside_refresh)
       {
         const double last_seconds = history.last_prepare_seconds + last_solve_seconds;
         if (history.last_step_exact)
@@ -378,16 +385,21 @@ namespace warpchol::fem
       }
     if (last_cg_iterations > 0 && !last_beside_refresh)
       cost_model.record_iterations(last_refresh, last_cg_iterations, last_cg_seconds);
-    // auto with a refresh beside the steps: where its refreshes go is measured on whole steps.
-    if (history.step_count > 0 && background && strategy.kind == StepStrategy::Kind::automatic)
+    // auto with a refresh beside the steps: where its refreshes go is measured on whole
+    // steps of its own.
+    if (last_measures_own && background && automatic)
       placement.record_step(last_step_prepare_seconds + last_solve_seconds);
-    // auto against exact steps, on whole steps too; until an exact step is measured, a
-    // full factorization at the rate measured so far stands for one (a lower bound).
-    if (history.step_count > 0 && strategy.kind == StepStrategy::Kind::automatic &&
-        strategy.iterate_on == StepStrategy::Target::corotational)
+    // auto against the exact path, on whole steps too. Until an exact step of the
+    // fall-back is measured, the smaller of a full factorization at the rate measured so
+    // far (a part of it) and auto's own exact steps (which do more) stands for one.
+    const bool may_fall_back = automatic && strategy.iterate_on == StepStrategy::Target::corotational;
+    if (history.step_count > 0 && may_fall_back)
       {
-        fallback.set_exact_estimate(cost_model.factorization_seconds(cholesky_solver.statistics().flops));
-        fallback.record_step(last_step_prepare_seconds + last_solve_seconds, history.last_step_exact);
+        const double factorization = cost_model.factorization_seconds(cholesky_solver.statistics().flops);
+        const double own_exact     = cost_model.predicted_exact_seconds();
+        fallback.set_exact_estimate(factorization > 0 && own_exact > 0 ? std::min(factorization, own_exact) :
+                                                                          std::max(factorization, own_exact));
+        fallback.record_step(last_step_prepare_seconds + last_solve_seconds);
       }
     // The step runs on the threads the integrator gave it: so do the solver and the assembly.
     const unsigned int limited = step_threads();
@@ -410,10 +422,20 @@ namespace warpchol::fem
     ++history.step_count;
     exact_this_step = false;
 
-    evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
-    record_no_refactorization(statistics);
-    const Stopwatch stopwatch;
-    prepare_factor(velocities, statistics);
+    Stopwatch stopwatch;
+    history.last_step_fell_back = may_fall_back && fallback.runs_exact();
+    if (history.last_step_fell_back)
+      corotational_step(positions, statistics);
+    else
+      {
+        evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
+        record_no_refactorization(statistics);
+        stopwatch.restart();
+        prepare_factor(velocities, statistics);
+      }
+    // A y = R^T rhs with the nodal rotations R: in WCC's frames; the exact path's matrix
+    // is in the world frame.
+    solve_frame = history.matrix_in_element_frames ? nullptr : &elastic_state.nodal_rotations;
     history.last_step_changed = change_pending;
     change_pending    = false;
     history.last_prepare_seconds = stopwatch.seconds();
@@ -424,6 +446,28 @@ namespace warpchol::fem
     if (background)
       statistics.factor_lag = static_cast<int>(history.last_staleness);
     last_step_prepare_seconds = whole_step.seconds();
+  }
+
+  void WarpCancelingModel::corotational_step(const std::vector<Vector3> &positions, StepStatistics &statistics)
+  {
+    // A refresh beside the steps that finished is taken only to be replaced: the next
+    // one waits for auto's own steps.
+    if (background)
+      take_background_refresh(statistics);
+    // As CorotationalModel::prepare_step().
+    evaluate_elastic_state(positions, ElasticBody::Rotations::elements, statistics);
+    {
+      StageTimer timer(statistics.stages, stage::assembly);
+      system.assemble(ElementFrames::rotated(elastic_state.element_rotations));
+    }
+    statistics.elements_updated = body.n_elements();
+    record_updates(true);
+    factorize(statistics);
+    history.matrix_in_element_frames = true;
+    history.factor_step              = history.step_count;
+    exact_this_step                  = true;
+    statistics.choice                = StepChoice::fallback;
+    statistics.predicted_seconds     = fallback.exact_step_seconds();
   }
 
   void WarpCancelingModel::exact_step(StepStatistics &statistics)
@@ -437,8 +481,9 @@ namespace warpchol::fem
     statistics.elements_updated = body.n_elements();
     record_updates(true);
     factorize(statistics);
-    history.factor_step     = history.step_count;
-    exact_this_step = true;
+    history.factor_step              = history.step_count;
+    history.matrix_in_element_frames = false;
+    exact_this_step                  = true;
   }
 
   void WarpCancelingModel::prepare_factor(const std::vector<Vector3> &velocities, StepStatistics &statistics)
@@ -454,7 +499,7 @@ namespace warpchol::fem
               record_updates(false);
             return;
           }
-        if (took && !(automatic && fallback.runs_exact()))
+        if (took)
           {
             // A factor exact for the rotations of a few steps ago: iterate on it.
             statistics.choice            = StepChoice::background;
@@ -469,10 +514,10 @@ namespace warpchol::fem
         exact_step(statistics);
         return;
       }
-    // auto's own steps cost more than exact ones of late: exact steps (the exact path's
-    // step: a direct solve), where CG iterates on the corotational matrix (on the WCC
-    // matrix they would change the system being solved, as above).
-    if (automatic && strategy.iterate_on == StepStrategy::Target::corotational && fallback.runs_exact())
+    // The first own step after the fall-back's: A is the exact path's, in the elements'
+    // frames; an exact step makes it WCC's again (the start of a cycle of the rule of
+    // renewal).
+    if (history.matrix_in_element_frames)
       {
         statistics.choice            = StepChoice::exact;
         statistics.predicted_seconds = cost_model.predicted_exact_seconds();
@@ -542,8 +587,9 @@ namespace warpchol::fem
       {
         const unsigned int started = background->started_step();
         checked([&]() { background->take(system, stored_frames, cholesky_solver); });
-        history.factor_step        = started;
-        last_refresh       = cholesky::Refresh::all;
+        history.factor_step              = started;
+        history.matrix_in_element_frames = false;
+        last_refresh                     = cholesky::Refresh::all;
         statistics.refresh = "background";
         record_updates(true);
         statistics.elements_updated = body.n_elements();

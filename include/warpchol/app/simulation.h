@@ -66,7 +66,7 @@ namespace warpchol::app
     double       max_velocity_error = 0;
     /** Steps per refresh of the factor: "full", "all", "below_top", "none". */
     std::map<std::string, unsigned int> refreshes;
-    /** Steps per choice of the automatic strategy ("exact", "all", ...; fem::StepStatistics::choice). */
+    /** Steps per choice of the automatic strategy ("exact", "fallback", "all", ...; fem::StepStatistics::choice). */
     std::map<std::string, unsigned int> choices;
     /** Factorizations per way they took their changes ("update", "partial", "full"; fem::StepStatistics::factor_method). */
     std::map<std::string, unsigned int> factor_methods;

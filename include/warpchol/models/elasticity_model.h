@@ -80,6 +80,11 @@ namespace warpchol::fem
     not_chosen,
     /** Every element updated, A factored in full, a direct solve. */
     exact,
+    /**
+     * auto's fall-back (ExactFallback): the exact path's step (the corotational model's,
+     * in the elements' frames), where its own steps had cost more.
+     */
+    fallback,
     /** A step that iterates after refreshing its factor: all of it, below the top, nothing. */
     refresh_all,
     refresh_below_top,
@@ -89,14 +94,15 @@ namespace warpchol::fem
   };
 
   /** The names of the choices (base/named_values.h), as the log and the summary show them. */
-  inline constexpr NameTable<StepChoice, 6> step_choice_names{{{StepChoice::not_chosen, ""},
+  inline constexpr NameTable<StepChoice, 7> step_choice_names{{{StepChoice::not_chosen, ""},
                                                                {StepChoice::exact, "exact"},
+                                                               {StepChoice::fallback, "fallback"},
                                                                {StepChoice::refresh_all, "all"},
                                                                {StepChoice::refresh_below_top, "below_top"},
                                                                {StepChoice::refresh_none, "none"},
                                                                {StepChoice::background, "background"}}};
 
-  /** "", "exact", "all", "below_top", "none", "background". */
+  /** "", "exact", "fallback", "all", "below_top", "none", "background". */
   std::string to_string(StepChoice choice);
 
   /** The choice of a step that iterates after @p refresh. */
@@ -308,8 +314,9 @@ namespace warpchol::fem
                StepStatistics &statistics);
 
     /**
-     * Whether solve() iterates (preconditioned CG, which starts from the velocities it is
-     * given) rather than solving directly with the factor.
+     * Whether the next solve() iterates (preconditioned CG, which starts from the velocities
+     * it is given) rather than solving directly with the factor: not in a step whose factor
+     * is that of the strategy's target matrix (factor_solves_target()).
      */
     bool solves_iteratively() const;
 

@@ -252,67 +252,99 @@ namespace warpchol::fem
     unsigned int counts[2]       = {0, 0};
   };
   /**
-   * What keeps the automatic strategy from losing to the exact path: it compares, over
-   * windows of steps, what its own steps cost (whatever they chose: refreshes, CG, its own
-   * exact steps) with what an exact step costs (every element updated, A assembled and
-   * factored in full, a direct solve: the exact path's step), both measured in the same run.
-   * When a window of its own steps cost more than (1 + margin) times an exact step, the
-   * steps run exact for a stretch; then its own steps get a window again. The stretch
-   * doubles each time they lose again (up to a longest one) and starts short when they win
-   * (the run has changed): hysteresis, so that a tie does not flip every window. Before any
-   * exact step was measured a full factorization at the measured flop rate stands for one
-   * (a lower bound: a step that wins clearly is never compared with more; the set-up's
-   * own factorization is not, its first touch of the factor's memory makes it slow); a
-   * fall-back on that estimate is a probe of two exact steps, after which the measured
-   * costs decide.
+   * What keeps the automatic strategy from losing to the exact path. It compares what its
+   * own steps cost (whatever they chose: refreshes, CG, its own exact steps in WCC's
+   * frames) with what the exact path's step costs (the corotational model's: element
+   * rotations, A assembled in the elements' frames and factored in full, a direct solve),
+   * both measured in the same run. The steps are the exact path's for a stretch, and
+   * nothing more (no nodal rotation, no error estimate, no WCC frame, no cost model:
+   * WarpCancelingModel::corotational_step()), as soon as
+   * - a window of own steps cost more than (1 + margin) times an exact step on average, or
+   * - what they cost over (1 + margin) times an exact step, summed over the steps since
+   *   that sum last fell to zero (a CUSUM), exceeds one exact step: a loss that passes
+   *   one step's cost ends the window at once, however early in it.
+   * Then the own steps get a window again.
+   *
+   * How long a stretch. Own steps that lose by a share l of an exact step end their next
+   * window after k = min(window, 1 / (l - margin)) steps (the CUSUM passes one exact
+   * step after 1 / (l - margin)), which cost k l exact steps more than the exact path;
+   * the stretch is the shortest that makes that retry_budget of its time, S = k l /
+   * retry_budget, at least shortest_stretch; while the own steps keep losing, at least
+   * twice the last one (a run that does not change pays ever less for its retries); at
+   * most longest_stretch. A window that wins ends the fall-back until the own steps lose
+   * again.
+   *
+   * Before the exact path's step was measured, an estimate stands for it (the model's: the
+   * smaller of a full factorization at the measured flop rate and auto's own exact steps,
+   * which do more). Own steps that lose to it run a probe of a few exact steps, which
+   * measures the reference; the stretch follows if they still lose, the own steps go on
+   * if they do not.
    */
   class ExactFallback
   {
   public:
-    /** Whether the next step should be exact. */
+    /** Whether the next step should be the exact path's. */
     bool runs_exact() const;
 
     /**
-     * A full factorization would take @p seconds (at the rate measured so far): the estimate
-     * of an exact step until one is measured, a lower bound of it.
+     * What an exact step of the fall-back would cost, as far as the model can tell before
+     * one ran (@p seconds; negative: nothing to tell): the reference until one is measured.
      */
     void set_exact_estimate(double seconds);
 
     /**
-     * A step cost @p seconds (its whole work: element pass, refresh, solve); @p exact: it
-     * was an exact step, run by the fall-back or chosen by the strategy itself.
+     * The step that runs_exact() was asked about cost @p seconds (its whole work: element
+     * pass, refresh, solve): an exact one of the fall-back, or one of the strategy's own.
      */
-    void record_step(double seconds, bool exact);
+    void record_step(double seconds);
 
-    /** Steps run exact by the fall-back, and how many times it fell back. */
+    /** The mean seconds of the fall-back's last run of exact steps (negative: none yet). */
+    double exact_step_seconds() const;
+    /** The mean seconds of the last window of own steps (negative: none yet). */
+    double own_step_seconds() const;
+    /** The length of the current or last stretch of exact steps (0: none yet). */
+    unsigned int stretch_length() const;
+
+    /** Steps run exact by the fall-back (probes included), and how many stretches it ran. */
     unsigned int exact_steps() const;
     unsigned int fallbacks() const;
 
     void save(BinaryWriter &writer) const;
     void load(BinaryReader &reader);
 
-  private:
-    /** Steps of a window of the strategy's own; the first steps of a run (set-up, calibration) are not counted. */
+    /** Steps of a window of own steps; the first steps of a run (set-up, calibration) are not counted. */
     static constexpr unsigned int window = 8, first_counted_step = 3;
-    /** The exact steps after a fall-back on an estimate, and the stretches, at first and at the most. */
+    /** The exact steps of a probe, and the stretches at the least and the most. */
     static constexpr unsigned int probe = 2, shortest_stretch = 16, longest_stretch = 1024;
-    /** Own steps must cost more than this much over an exact one to fall back. */
-    static constexpr double margin = 0.05;
+    /** Own steps must cost more than this share over an exact one to fall back. */
+    static constexpr double margin = 0.02;
+    /** The share of a stretch's time that the own steps after it may cost more than exact ones. */
+    static constexpr double retry_budget = 0.01;
+
+  private:
+    /** Whether own steps that cost @p seconds on average lose to the reference. */
+    bool own_steps_lose(double seconds, double reference) const;
+    /** Run exact steps for a stretch, its length from the own steps' loss. */
+    void start_stretch();
 
     bool         exact          = false;
     unsigned int steps          = 0;
+    /** Steps and seconds of the current window or run of exact steps. */
     unsigned int phase_steps    = 0;
     double       phase_seconds  = 0;
     /** The length of the current run of exact steps, and whether it is a probe. */
     unsigned int phase_length   = 0;
     bool         probing        = false;
-    unsigned int stretch        = shortest_stretch;
-    /** Whether the last window of own steps came after a stretch of exact ones. */
+    unsigned int stretch        = 0;
+    /** Whether the current window of own steps follows a stretch (a loss then doubles it). */
     bool         after_stretch  = false;
-    /** The mean of the last window of own steps. */
+    /** The mean of the last window of own steps (ended by its length or the CUSUM). */
     double       own_seconds    = -1;
-    /** The moving average of measured exact steps (negative: none yet), and the set-up's estimate. */
+    /** The own steps' CUSUM of seconds over (1 + margin) exact steps. */
+    double       excess         = 0;
+    /** The mean of the last run of exact steps of the fall-back (negative: none yet). */
     double       exact_seconds  = -1;
+    /** The model's estimate of an exact step, until one is measured. */
     double       estimate       = -1;
     unsigned int exact_count    = 0;
     unsigned int fallback_count = 0;

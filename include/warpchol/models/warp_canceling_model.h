@@ -236,6 +236,16 @@ namespace warpchol::fem
     void exact_step(StepStatistics &statistics);
 
     /**
+     * The exact path's step, where auto's own steps cost more (ExactFallback): the element
+     * rotations at @p positions, A assembled in the elements' frames (the corotational
+     * model's matrix, not WCC's: no nodal rotation, no frame per vertex) and factored in
+     * full, solved directly in the world frame. Nothing else: no error estimate, no
+     * refresh choice, nothing for the cost model. The next step of auto's own makes A
+     * WCC's again with an exact step.
+     */
+    void corotational_step(const std::vector<Vector3> &positions, StepStatistics &statistics);
+
+    /**
      * Take the background refresh in flight if it is due (Strategy = background: after
      * Background lag steps, or as soon as it is done with lag 0; auto: as soon as it is
      * done) and start the next one if none is in flight. Returns whether it took one.
@@ -274,6 +284,13 @@ namespace warpchol::fem
       unsigned int cycle_length = 0;
       /** Whether the last step took in a change of the system (a cut, a grasp). */
       bool         last_step_changed = false;
+      /** Whether the last step was the exact path's (corotational_step()): not auto's own to measure. */
+      bool         last_step_fell_back = false;
+      /**
+       * Whether A is the exact path's matrix, in the elements' frames (after
+       * corotational_step()), rather than WCC's in the nodal frames.
+       */
+      bool         matrix_in_element_frames = false;
       /** delayed_top: steps since the top was last refreshed. */
       unsigned int steps_since_top_refresh = 0;
 
@@ -281,7 +298,7 @@ namespace warpchol::fem
       void serialize(Archive &archive)
       {
         archive &step_count &factor_step &last_prepare_seconds &last_step_exact &last_staleness &cycle_length
-          &last_step_changed &steps_since_top_refresh;
+          &last_step_changed &last_step_fell_back &matrix_in_element_frames &steps_since_top_refresh;
       }
     };
     StepHistory history;
