@@ -3,7 +3,8 @@
 // apply_preconditioner() against the double solve, CG preconditioned by it (iterations to
 // 1e-10), the bits on 1 and 2 threads, A scaled by 2^-80 and 2^80 (the column scales take
 // it: the result scales by 2^80 bit for bit) and by 1e30, the copy following a
-// refactorization of changed columns and an update (errors within 2x of a fresh factor's),
+// refactorization of changed columns and an update (errors within 2x of a fresh factor's;
+// the copy rounded on first read as when asked beforehand),
 // every SIMD target against the baseline's, and the bytes each precision keeps.
 
 #include <warpchol/base/simd.h>
@@ -163,7 +164,15 @@ int main()
                          preconditioner_error(factored(changed, PreconditionerPrecision::half), b),
                        2);
     const sparse::CSCMatrix c = sparse::penalty_columns(changed, sparse::random_columns(matrix.n_cols, 9, 4), 10.);
+    // The copy is rounded when first read, or when asked beforehand: the same bits.
+    cholesky::SparseCholesky rounded_first = solver;
+    rounded_first.update(c);
+    rounded_first.prepare_preconditioner();
     solver.update(c);
+    std::vector<double> on_read(b.size()), asked(b.size());
+    solver.apply_preconditioner(b.data(), on_read.data());
+    rounded_first.apply_preconditioner(b.data(), asked.data());
+    tests::check("  updated: rounded on first read or when asked, the same bits", on_read == asked);
     sparse::CSCMatrix updated = changed;
     sparse::add_outer_products(updated, c, 1.);
     tests::check_below("  updated: the error over a fresh factor's",

@@ -11,6 +11,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <limits>
 #include <mutex>
 
 namespace warpchol::cholesky
@@ -666,6 +667,45 @@ namespace warpchol::cholesky
         round_columns(block, nr, nc, q, half_values.data() + symbolic.value_start[s], column_scale.data() + f,
                       inverse_diagonal.data() + f);
     }
+    /**
+     * Per supernode, its first local column whose copy is older than the values (none:
+     * clean_copy). The copy is rounded when a preconditioner's solve first reads it, or
+     * when round_copy() is asked: a factor that is next solved directly (as after most
+     * updates and partial refactorizations) never pays for it.
+     */
+    static constexpr Index     clean_copy = std::numeric_limits<Index>::max();
+    std::vector<Index>         stale_copy_from;
+    std::atomic<bool>          copy_stale{false};
+    std::mutex                 copy_mutex;
+
+    /** The copy of supernode s is older than the values from its local column q on. */
+    void mark_stale(const SupernodalSymbolic &symbolic, const Index s, const Index q)
+    {
+      if (copy == PreconditionerPrecision::full)
+        return;
+      if (static_cast<Index>(stale_copy_from.size()) != symbolic.n_supernodes())
+        stale_copy_from.assign(symbolic.n_supernodes(), clean_copy);
+      stale_copy_from[s] = std::min(stale_copy_from[s], q);
+      copy_stale.store(true, std::memory_order_release);
+    }
+
+    /** Round what is stale into the copy; safe beside other threads' calls. */
+    void round_stale(const SupernodalSymbolic &symbolic)
+    {
+      if (!copy_stale.load(std::memory_order_acquire))
+        return;
+      const std::lock_guard<std::mutex> lock(copy_mutex);
+      if (!copy_stale.load(std::memory_order_relaxed))
+        return;
+      for (Index s = 0; s < static_cast<Index>(stale_copy_from.size()); ++s)
+        if (stale_copy_from[s] != clean_copy)
+          {
+            round(symbolic, s, stale_copy_from[s]);
+            stale_copy_from[s] = clean_copy;
+          }
+      copy_stale.store(false, std::memory_order_release);
+    }
+
     /** The split of the tree for threaded solves, made on first use for that many threads. */
     std::unique_ptr<SolvePartition>            partition;
     unsigned int                               partition_threads = 0;
@@ -711,6 +751,8 @@ namespace warpchol::cholesky
     implementation->half_values      = other.implementation->half_values;
     implementation->column_scale     = other.implementation->column_scale;
     implementation->inverse_diagonal = other.implementation->inverse_diagonal;
+    implementation->stale_copy_from  = other.implementation->stale_copy_from;
+    implementation->copy_stale.store(other.implementation->copy_stale.load());
     return *this;
   }
 
@@ -728,6 +770,8 @@ namespace warpchol::cholesky
     data.half_values.assign(n_half, Half{});
     data.column_scale.assign(n_scales, 1.f);
     data.inverse_diagonal.assign(n_scales, 0.f);
+    data.stale_copy_from.assign(symbolic.n_supernodes(), Implementation::clean_copy);
+    data.copy_stale = false;
   }
 
   void SupernodalFactor::clear(const PreconditionerPrecision copy)
@@ -739,7 +783,9 @@ namespace warpchol::cholesky
     std::vector<Half>().swap(data.half_values);
     std::vector<float>().swap(data.column_scale);
     std::vector<float>().swap(data.inverse_diagonal);
-    data.copy = copy;
+    std::vector<Index>().swap(data.stale_copy_from);
+    data.copy_stale = false;
+    data.copy       = copy;
   }
 
   std::size_t SupernodalFactor::memory_bytes() const
@@ -790,17 +836,14 @@ namespace warpchol::cholesky
       workspace.flops = 0;
     NumericRun run(symbolic, lower, implementation->values.data(), implementation->workspaces, n_threads);
     run.run(supernodes, start_offsets);
-    // Round what was recomputed into the preconditioner's copy (of each supernode, its
-    // columns from the offset on).
-    if (implementation->copy != PreconditionerPrecision::full)
-      {
-        if (supernodes.empty())
-          for (Index s = 0; s < symbolic.n_supernodes(); ++s)
-            implementation->round(symbolic, s, 0);
-        else
-          for (std::size_t k = 0; k < supernodes.size(); ++k)
-            implementation->round(symbolic, supernodes[k], start_offsets.empty() ? 0 : start_offsets[k]);
-      }
+    // What was recomputed is to be rounded into the preconditioner's copy (of each
+    // supernode, its columns from the offset on), when it is next read.
+    if (supernodes.empty())
+      for (Index s = 0; s < symbolic.n_supernodes(); ++s)
+        implementation->mark_stale(symbolic, s, 0);
+    else
+      for (std::size_t k = 0; k < supernodes.size(); ++k)
+        implementation->mark_stale(symbolic, supernodes[k], start_offsets.empty() ? 0 : start_offsets[k]);
     double flops = 0;
     for (const Workspace &workspace : implementation->workspaces)
       flops += workspace.flops;
@@ -818,9 +861,14 @@ namespace warpchol::cholesky
       {
         const ModificationPlan plan = plan_modification(symbolic, c);
         for (std::size_t k = 0; k < plan.supernodes.size(); ++k)
-          implementation->round(symbolic, plan.supernodes[k], plan.start_columns[k]);
+          implementation->mark_stale(symbolic, plan.supernodes[k], plan.start_columns[k]);
       }
     return result;
+  }
+
+  void SupernodalFactor::round_copy(const SupernodalSymbolic &symbolic)
+  {
+    implementation->round_stale(symbolic);
   }
 
   void SupernodalFactor::solve(const SupernodalSymbolic &symbolic, double *x, const Index n_rhs,
@@ -839,6 +887,7 @@ namespace warpchol::cholesky
         solve(symbolic, x, 1, n_threads);
         return;
       }
+    implementation->round_stale(symbolic);
     std::vector<float> y(symbolic.n + scaled_solve_padding, 0.f);
     std::copy(x, x + symbolic.n, y.begin());
     const SolvePartition *partition = implementation->partition_for(symbolic, n_threads);

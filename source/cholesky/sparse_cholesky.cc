@@ -687,6 +687,12 @@ namespace warpchol::cholesky
     solve_in(b, x, 1, solver_settings.method == FactorizationMethod::supernodal);
   }
 
+  void SparseCholesky::prepare_preconditioner()
+  {
+    if (factor_valid && solver_settings.method == FactorizationMethod::supernodal)
+      supernodal_factor.round_copy(supernodal_structure);
+  }
+
   void SparseCholesky::solve_in(const double *b, double *x, const Index n_rhs, const bool preconditioner) const
   {
     require(State::factorized, preconditioner ? "apply_preconditioner()" : "solve()");

@@ -53,6 +53,7 @@ namespace warpchol::fem
             frames[e][a] = nodal_rotations[body.element_vertices(e)[a]].transpose() * element_rotations[e];
         system.assemble(ElementFrames::warped(frames));
         solver.factorize(system.lower());
+        solver.prepare_preconditioner();
         work_seconds = stopwatch.seconds();
       }
     catch (...)

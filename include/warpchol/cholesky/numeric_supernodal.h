@@ -68,7 +68,8 @@ namespace warpchol::cholesky
     /**
      * Allocate the values for the structure @p symbolic (which every later call is given
      * too); with @p copy other than full, also a copy of the factor in that precision that
-     * factorize() and modify() keep in step (for solve_preconditioner()).
+     * follows factorize() and modify() (for solve_preconditioner(), which rounds what they
+     * changed into it when it first reads it).
      */
     void initialize(const SupernodalSymbolic &symbolic,
                     PreconditionerPrecision   copy = PreconditionerPrecision::full);
@@ -103,6 +104,13 @@ namespace warpchol::cholesky
                               const std::vector<double> &signs, const ModificationSettings &settings);
 
     /**
+     * Round what factorize() and modify() changed into the preconditioner's copy now
+     * (solve_preconditioner() does it on first use): where a thread of its own made the
+     * factor, the rounding stays there.
+     */
+    void round_copy(const SupernodalSymbolic &symbolic);
+
+    /**
      * Overwrite @p x (n x n_rhs, column-major) with the solution of L L^T z = x.
      * Independent subtrees of the tree are solved side by side on @p n_threads threads,
      * each summing what it subtracts from the top's rows in its own buffer, added in
@@ -116,7 +124,8 @@ namespace warpchol::cholesky
      * in single-precision arithmetic: a half or a quarter of the memory traffic of the
      * double solve, which is memory-bound. Each column of the copy is scaled by a power of
      * two (its largest entry at most 1), the triangular solves are this project's own
-     * kernels (scaled_solve.h), threaded as solve() is.
+     * kernels (scaled_solve.h), threaded as solve() is. The copy's columns that changed
+     * since it was last read are rounded first, under a lock (round_copy()).
      */
     void solve_preconditioner(const SupernodalSymbolic &symbolic, double *x, unsigned int n_threads = 1) const;
 

@@ -347,6 +347,13 @@ namespace warpchol::cholesky
      */
     void apply_preconditioner(const double *b, double *x) const;
 
+    /**
+     * Bring the preconditioner's copy of the factor up to date now, which
+     * apply_preconditioner() otherwise does on first use: a thread that factors for another
+     * to iterate with does it beside the steps.
+     */
+    void prepare_preconditioner();
+
     /** L, the factor of P^T A P (permuted numbering; a triangular matrix, full storage). */
     sparse::CSCMatrix factor() const;
 
