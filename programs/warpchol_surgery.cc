@@ -203,7 +203,7 @@ namespace
   std::vector<ChangeRow> change_costs(const app::AllParameters &scene_parameters, const unsigned int repeat)
   {
     app::AllParameters parameters      = scene_parameters;
-    parameters.model.type              = "warp_canceling";
+    parameters.model.type              = fem::ModelType::warp_canceling;
     parameters.model.update_threshold  = std::numeric_limits<double>::infinity();
     parameters.model.target_error      = 0;
     parameters.model.strategy.kind     = fem::StepStrategy::Kind::partial;
@@ -321,7 +321,7 @@ namespace
 
     // Whole runs.
     std::vector<RunRow> runs;
-    runs.push_back(run_scene("as the scene says (" + parameters.model.type + ", " +
+    runs.push_back(run_scene("as the scene says (" + fem::to_string(parameters.model.type) + ", " +
                                fem::to_string(parameters.model.strategy.kind) + ")",
                              parameters));
     app::AllParameters unchanged = parameters;
