@@ -2,7 +2,7 @@
 """Run every shell command that README.md and the pages under doc/ show, so that an
 example cannot rot unnoticed (issue 38: a README command failed for months).
 
-    python3 tests/doc_commands.py SOURCE_DIR BUILD_DIR [--steps N] [--timeout S]
+    python3 tests/doc_commands.py SOURCE_DIR BUILD_DIR [--python P] [--steps N] [--timeout S]
 
 A command is a line of a code block (indented by four spaces, or fenced as ``` or ```sh)
 whose first word is one of COMMAND_WORDS, with its continuation lines ("\\"); "a && b" is
@@ -12,7 +12,7 @@ earlier one wrote, as a reader's would), with a time limit of --timeout seconds:
 - every scene file the command names (parameters/NAME.prm) is replaced by a file of the
   same name that includes it and cuts Time stepping/Number of steps to --steps, so that a
   scene runs as the page says in seconds;
-- mpirun may run as root (the CI does);
+- mpirun may run as root (the CI does), and python3 is --python (the module's);
 - the commands listed in NOT_RUN are not run, each for the reason it gives, which this
   test prints: those that take more than about a minute, or install, or are the test suite.
 
@@ -131,6 +131,7 @@ def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("source")
     parser.add_argument("build")
+    parser.add_argument("--python", default=sys.executable, help="the python3 the commands run")
     parser.add_argument("--steps", type=int, default=3)
     parser.add_argument("--timeout", type=float, default=90)
     options = parser.parse_args()
@@ -148,8 +149,11 @@ def main():
     for name in os.listdir(source):
         if name not in ("build", "output") and not name.startswith(".git"):
             os.symlink(os.path.join(source, name), os.path.join(scratch, name))
+    tools = os.path.join(scratch, ".bin")
+    os.mkdir(tools)
+    os.symlink(options.python, os.path.join(tools, "python3"))
     environment = dict(os.environ, OMPI_ALLOW_RUN_AS_ROOT="1", OMPI_ALLOW_RUN_AS_ROOT_CONFIRM="1",
-                       OMPI_MCA_rmaps_base_oversubscribe="1")
+                       OMPI_MCA_rmaps_base_oversubscribe="1", PATH=tools + os.pathsep + os.environ["PATH"])
 
     done = set()
     for page, command in shown:
