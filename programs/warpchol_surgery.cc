@@ -24,19 +24,19 @@
  */
 
 #include <warpchol/app/command_line.h>
-#include <warpchol/app/machine.h>
+#include <warpchol/app/output.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
-#include <warpchol/app/output.h>
+#include <warpchol/backends/cholmod_reference.h>
+#include <warpchol/backends/linear_solver.h>
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
-#include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/blas.h>
-#include <warpchol/cholesky/cholmod_reference.h>
 #include <warpchol/cholesky/low_rank_change.h>
 #include <warpchol/cholesky/ordering.h>
+#include <warpchol/reports/machine.h>
 
 #include <algorithm>
 #include <filesystem>

@@ -23,20 +23,20 @@
  */
 
 #include <warpchol/app/command_line.h>
-#include <warpchol/app/machine.h>
 #include <warpchol/app/output.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
-#include <warpchol/app/sweep_kernel_timing.h>
-#include <warpchol/app/sweep_plot.h>
-#include <warpchol/app/sweep_table.h>
 #include <warpchol/app/trajectory_error.h>
+#include <warpchol/backends/linear_solver.h>
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
-#include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/blas.h>
+#include <warpchol/reports/machine.h>
+#include <warpchol/reports/sweep_kernel_timing.h>
+#include <warpchol/reports/sweep_plot.h>
+#include <warpchol/reports/sweep_table.h>
 
 #include <deal.II/base/utilities.h>
 

@@ -1,8 +1,8 @@
 #pragma once
 
 #include <warpchol/app/scene.h>
-#include <warpchol/app/sweep_table.h>
 #include <warpchol/fem/small_dense.h>
+#include <warpchol/reports/sweep_table.h>
 
 #include <ostream>
 #include <vector>

@@ -1,7 +1,7 @@
-#include <warpchol/app/error_time_plot.h>
-#include <warpchol/app/sweep_plot.h>
+#include <warpchol/reports/sweep_plot.h>
 #include <warpchol/base/format.h>
 #include <warpchol/models/model_type.h>
+#include <warpchol/reports/error_time_plot.h>
 
 #include <algorithm>
 

@@ -1,4 +1,4 @@
-#include <warpchol/app/sweep_table.h>
+#include <warpchol/reports/sweep_table.h>
 #include <warpchol/base/format.h>
 
 #include <algorithm>

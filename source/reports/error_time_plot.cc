@@ -1,4 +1,4 @@
-#include <warpchol/app/error_time_plot.h>
+#include <warpchol/reports/error_time_plot.h>
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/pareto_front.h>

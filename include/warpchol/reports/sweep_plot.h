@@ -1,7 +1,7 @@
 #pragma once
 
 #include <warpchol/app/parameters.h>
-#include <warpchol/app/sweep_table.h>
+#include <warpchol/reports/sweep_table.h>
 
 #include <ostream>
 #include <string>
