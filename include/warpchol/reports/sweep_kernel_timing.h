@@ -10,7 +10,7 @@
 /**
  * @file
  * The element kernels' cost in warpchol-threshold-sweep: ns per tet on this machine's SIMD
- * target (app/kernel_timing.h), beside the error estimate's as the sweep's runs measured it.
+ * target (reports/kernel_timing.h), beside the error estimate's as the sweep's runs measured it.
  */
 namespace warpchol::app
 {

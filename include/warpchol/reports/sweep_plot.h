@@ -10,7 +10,7 @@
 /**
  * @file
  * The plot of warpchol-threshold-sweep: error against seconds per step, one curve per
- * model or strategy (app/error_time_plot.h draws it).
+ * model or strategy (reports/error_time_plot.h draws it).
  */
 namespace warpchol::app
 {
