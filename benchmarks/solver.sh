@@ -35,5 +35,5 @@ done
 
 echo "== issue 3: partial refactorization against the changed fraction"
 for ordering in metis amd; do
-  "$build/warpchol-sweep" "$out/torus_25000.mtx" --ordering "$ordering" --repeat "$repeat"
+  "$build/warpchol-sweep" "$out/torus_25000.mtx" --ordering "$ordering" --method left --repeat "$repeat"
 done

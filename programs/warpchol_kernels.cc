@@ -11,14 +11,14 @@
  */
 
 #include <warpchol/app/command_line.h>
-#include <warpchol/app/kernel_timing.h>
-#include <warpchol/app/machine.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/simd.h>
 #include <warpchol/cholesky/blas.h>
+#include <warpchol/reports/kernel_timing.h>
+#include <warpchol/reports/machine.h>
 
 #include <deal.II/base/multithread_info.h>
 

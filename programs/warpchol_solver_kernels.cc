@@ -20,14 +20,14 @@
  */
 
 #include <warpchol/app/command_line.h>
-#include <warpchol/app/machine.h>
+#include <warpchol/backends/cholmod_reference.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/simd.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/blas.h>
-#include <warpchol/cholesky/cholmod_reference.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
+#include <warpchol/reports/machine.h>
 #include <warpchol/sparse/matrix_market.h>
 #include <warpchol/sparse/spd_perturbation.h>
 

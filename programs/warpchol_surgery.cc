@@ -24,19 +24,19 @@
  */
 
 #include <warpchol/app/command_line.h>
-#include <warpchol/app/machine.h>
+#include <warpchol/app/output.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
-#include <warpchol/app/output.h>
+#include <warpchol/backends/cholmod_reference.h>
+#include <warpchol/backends/linear_solver.h>
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
-#include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/blas.h>
-#include <warpchol/cholesky/cholmod_reference.h>
 #include <warpchol/cholesky/low_rank_change.h>
 #include <warpchol/cholesky/ordering.h>
+#include <warpchol/reports/machine.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -203,7 +203,7 @@ namespace
   std::vector<ChangeRow> change_costs(const app::AllParameters &scene_parameters, const unsigned int repeat)
   {
     app::AllParameters parameters      = scene_parameters;
-    parameters.model.type              = "warp_canceling";
+    parameters.model.type              = fem::ModelType::warp_canceling;
     parameters.model.update_threshold  = std::numeric_limits<double>::infinity();
     parameters.model.target_error      = 0;
     parameters.model.strategy.kind     = fem::StepStrategy::Kind::partial;
@@ -321,7 +321,7 @@ namespace
 
     // Whole runs.
     std::vector<RunRow> runs;
-    runs.push_back(run_scene("as the scene says (" + parameters.model.type + ", " +
+    runs.push_back(run_scene("as the scene says (" + fem::to_string(parameters.model.type) + ", " +
                                fem::to_string(parameters.model.strategy.kind) + ")",
                              parameters));
     app::AllParameters unchanged = parameters;

@@ -13,10 +13,10 @@
  */
 
 #include <warpchol/app/command_line.h>
+#include <warpchol/backends/cholmod_reference.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/cholesky/blas.h>
-#include <warpchol/cholesky/cholmod_reference.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/sparse/matrix_market.h>
 #include <warpchol/sparse/spd_perturbation.h>

@@ -23,20 +23,20 @@
  */
 
 #include <warpchol/app/command_line.h>
-#include <warpchol/app/machine.h>
 #include <warpchol/app/output.h>
 #include <warpchol/app/parameters.h>
 #include <warpchol/app/scene.h>
-#include <warpchol/app/sweep_kernel_timing.h>
-#include <warpchol/app/sweep_plot.h>
-#include <warpchol/app/sweep_table.h>
 #include <warpchol/app/trajectory_error.h>
+#include <warpchol/backends/linear_solver.h>
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
-#include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/blas.h>
+#include <warpchol/reports/machine.h>
+#include <warpchol/reports/sweep_kernel_timing.h>
+#include <warpchol/reports/sweep_plot.h>
+#include <warpchol/reports/sweep_table.h>
 
 #include <deal.II/base/utilities.h>
 
@@ -185,10 +185,10 @@ namespace
     if (parameters.solver.backend.backend != backends::Backend::warpchol)
       return backends::to_string(parameters.solver.backend.backend);
     const auto kind = parameters.model.strategy.kind;
-    if (parameters.model.type == "warp_canceling" && parameters.model.target_error > 0)
+    if (parameters.model.type == fem::ModelType::warp_canceling && parameters.model.target_error > 0)
       return "wcc_target";
-    if (parameters.model.type != "warp_canceling" || kind == fem::StepStrategy::Kind::partial)
-      return parameters.model.type;
+    if (parameters.model.type != fem::ModelType::warp_canceling || kind == fem::StepStrategy::Kind::partial)
+      return fem::to_string(parameters.model.type);
     return "wcc_" + fem::to_string(kind);
   }
 
@@ -201,7 +201,7 @@ namespace
     row.model     = row_name(parameters);
     row.threshold = parameters.model.target_error > 0 ? parameters.model.target_error :
                                                          parameters.model.update_threshold;
-    row.has_threshold = parameters.model.type == "warp_canceling" &&
+    row.has_threshold = parameters.model.type == fem::ModelType::warp_canceling &&
                         parameters.model.strategy.kind != fem::StepStrategy::Kind::background;
     if (backends::iterates(parameters.solver.backend.backend))
       {
@@ -267,7 +267,7 @@ namespace
       app::create_directory(csv_directory);
 
     // The exact run, recorded step by step, after a few steps of it that warm the machine
-    // up (the first run of a process was measured up to 30 % slower than its twins).
+    // up: the first run of a process pays for its caches, pages and clock ramp-up.
     const app::AllParameters corotational = parameters.exact_corotational();
     {
       app::AllParameters warm_up           = corotational;
@@ -283,7 +283,7 @@ namespace
     for (const double threshold : options.thresholds)
       {
         app::AllParameters wcc     = parameters;
-        wcc.model.type             = "warp_canceling";
+        wcc.model.type             = fem::ModelType::warp_canceling;
         wcc.model.update_threshold = threshold;
         wcc.model.target_error     = 0; // a fixed threshold, whatever the scene says
         wcc.model.strategy.kind    = fem::StepStrategy::Kind::partial;
@@ -293,7 +293,7 @@ namespace
       for (const double threshold : options.strategy_thresholds)
         {
           app::AllParameters wcc     = parameters;
-          wcc.model.type             = "warp_canceling";
+          wcc.model.type             = fem::ModelType::warp_canceling;
           wcc.model.update_threshold = threshold;
           wcc.model.target_error     = 0;
           wcc.model.strategy.kind    = kind;
@@ -319,7 +319,7 @@ namespace
     for (const double target : options.target_errors)
       {
         app::AllParameters wcc     = parameters;
-        wcc.model.type             = "warp_canceling";
+        wcc.model.type             = fem::ModelType::warp_canceling;
         wcc.model.update_threshold = 0.3;
         wcc.model.target_error     = target;
         wcc.model.strategy.kind    = fem::StepStrategy::Kind::partial;

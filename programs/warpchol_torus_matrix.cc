@@ -11,6 +11,7 @@
  */
 
 #include <warpchol/app/command_line.h>
+#include <warpchol/app/output.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/fem/elastic_body.h>
@@ -21,6 +22,7 @@
 #include <warpchol/sparse/matrix_market.h>
 
 #include <cmath>
+#include <filesystem>
 #include <iostream>
 #include <string>
 
@@ -98,6 +100,10 @@ namespace
       matrix = fem::rest_element_matrix(body, e, coefficients);
     });
     const sparse::CSCMatrix lower = sparse::lower_triangle(system.csc());
+    // Its folder too, as warpchol makes its output's (the pages write to output/benchmarks/).
+    const std::string folder = std::filesystem::path(options.output_file).parent_path().string();
+    if (!folder.empty())
+      app::create_directory(folder);
     sparse::write_matrix_market(lower, options.output_file);
     std::cout << "vertices " << body.n_vertices() << ", tets " << body.n_elements() << ", n "
               << system.size() << ", nnz(lower) " << lower.n_nonzeros() << " -> "

@@ -6,7 +6,7 @@
 // with 1 and 2 threads, equals a full factorization to 1e-13 and recomputes exactly the
 // elimination-tree closure of the changed columns.
 
-#include <warpchol/cholesky/cholmod_reference.h>
+#include <warpchol/backends/cholmod_reference.h>
 #include <warpchol/cholesky/partial.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>

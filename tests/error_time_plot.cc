@@ -5,7 +5,7 @@
 
 #include "tests.h"
 
-#include <warpchol/app/error_time_plot.h>
+#include <warpchol/reports/error_time_plot.h>
 
 #include <cstdlib>
 #include <filesystem>

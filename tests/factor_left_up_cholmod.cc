@@ -2,7 +2,7 @@
 // 1e-12 relative, and the solve residual ||Ax-b||/||b|| is below 1e-12, on random SPD
 // matrices and on bcsstk16, with the natural, AMD and METIS orderings.
 
-#include <warpchol/cholesky/cholmod_reference.h>
+#include <warpchol/backends/cholmod_reference.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/sparse/conversions.h>
 #include <warpchol/sparse/matrix_market.h>

@@ -117,7 +117,7 @@ int main()
                                                             printed.str().find("# ") != std::string::npos);
   tests::expect_error("the defaults read back", [] {
     const app::AllParameters parameters("defaults.prm");
-    if (parameters.model.type == "warp_canceling" && parameters.solver.settings.method ==
+    if (parameters.model.type == fem::ModelType::warp_canceling && parameters.solver.settings.method ==
                                                        cholesky::FactorizationMethod::supernodal)
       throw Error("(read back, no error)");
   });

@@ -1,9 +1,9 @@
 #!/usr/bin/env python3
-"""Write the recorded-looking instrument paths of parameters/flap_incision.prm.
+"""Write the instrument paths of parameters/flap_incision.prm, shaped as a haptic device records them.
 
     python3 parameters/paths/make_flap_paths.py     # rewrites flap_blade.csv, flap_jaws.csv
 
-A haptic device sampled at 500 Hz: the scalpel draws a U around a tongue of tissue (two
+Samples at 500 Hz, as a haptic device gives them: the scalpel draws a U around a tongue of tissue (two
 straight strokes joined by a half circle, the hinge left open towards the fixed edge),
 then the grasper's jaws come down on the tongue's tip, lift it and hold. The hand's
 tremor is a sum of a few sines (8-12 Hz, a tenth of a millimetre), so the files are the

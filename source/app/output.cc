@@ -17,6 +17,7 @@
 #include <cstring>
 #include <fcntl.h>
 #include <filesystem>
+#include <functional>
 #include <unistd.h>
 #include <iomanip>
 #include <sstream>
@@ -363,67 +364,141 @@ namespace warpchol::app
     , with_error(with_error)
   {}
 
+  namespace
+  {
+    /** A column of the log: its name and how a row writes its value. */
+    struct LogColumn
+    {
+      const char                                                  *name;
+      std::function<void(std::ostream &, const StepLogRow &row)> write;
+    };
+
+    double percent(const double part, const double whole)
+    {
+      return whole > 0 ? 100 * part / whole : 0.0;
+    }
+
+    /** A column of @p value to 6 digits (10 for the energies). */
+    LogColumn column(const char *name, double (*value)(const StepLogRow &), const int digits = 6)
+    {
+      return {name, [value, digits](std::ostream &out, const StepLogRow &row) {
+                out << std::setprecision(digits) << value(row);
+              }};
+    }
+
+    /** A column of a count, written as an integer. */
+    LogColumn count(const char *name, long long (*value)(const StepLogRow &))
+    {
+      return {name, [value](std::ostream &out, const StepLogRow &row) { out << value(row); }};
+    }
+
+    /** A column of @p value, empty where it is negative (not measured, not the model's). */
+    LogColumn measured(const char *name, double (*value)(const StepLogRow &))
+    {
+      return {name, [value](std::ostream &out, const StepLogRow &row) {
+                if (value(row) >= 0)
+                  out << std::setprecision(6) << value(row);
+              }};
+    }
+
+    /**
+     * The log's columns, each listed once: the header names them, a row writes them in this
+     * order. The trajectory error's two columns come last, with a reference run only.
+     */
+    const std::vector<LogColumn> &log_columns()
+    {
+      using Row = StepLogRow;
+      static const std::vector<LogColumn> columns{
+        count("step", [](const Row &r) -> long long { return r.step; }),
+        column("time", [](const Row &r) { return r.time; }),
+        count("elements_updated", [](const Row &r) -> long long { return r.statistics.elements_updated; }),
+        column("elements_updated_pct", [](const Row &r) { return percent(r.statistics.elements_updated, r.n_elements); }),
+        count("refactorized", [](const Row &r) -> long long { return r.statistics.refactorized ? 1 : 0; }),
+        column("columns_recomputed_pct",
+               [](const Row &r) { return percent(r.statistics.columns_recomputed, r.statistics.n_columns); }),
+        column("flops_recomputed_pct",
+               [](const Row &r) { return percent(r.statistics.flops_recomputed, r.statistics.flops_full); }),
+        {"refresh", [](std::ostream &out, const Row &r) { out << r.statistics.refresh; }},
+        count("cg_iterations", [](const Row &r) -> long long { return r.statistics.cg_iterations; }),
+        column("t_rotations", [](const Row &r) { return r.statistics.t_rotations(); }),
+        column("t_error_estimate", [](const Row &r) { return r.statistics.t_error_estimate(); }),
+        column("t_assembly", [](const Row &r) { return r.statistics.t_assembly(); }),
+        column("t_factor", [](const Row &r) { return r.statistics.t_factor(); }),
+        column("t_solve", [](const Row &r) { return r.statistics.t_solve(); }),
+        column("t_iterations", [](const Row &r) { return r.statistics.t_iterations(); }),
+        column("t_step", [](const Row &r) { return r.step_seconds; }),
+        column("kinetic_energy", [](const Row &r) { return r.kinetic_energy; }, 10),
+        column("elastic_energy", [](const Row &r) { return r.elastic_energy; }, 10),
+        column("potential_energy", [](const Row &r) { return r.potential_energy; }, 10),
+        column("tool_energy", [](const Row &r) { return r.tool_energy; }, 10),
+        column("total_energy", [](const Row &r) { return r.total_energy; }, 10),
+        column("external_work", [](const Row &r) { return r.external_work; }, 10),
+        column("tool_work_on_body", [](const Row &r) { return r.tool_work_on_body; }, 10),
+        column("change_energy", [](const Row &r) { return r.change_energy; }, 10),
+        column("energy_ratio", [](const Row &r) { return r.energy_ratio; }),
+        measured("update_threshold", [](const Row &r) { return r.statistics.update_threshold; }),
+        measured("velocity_error", [](const Row &r) { return r.statistics.velocity_error; }),
+        // The automatic strategy's choice, what it predicted and what the step then spent
+        // keeping its factor and solving; the age of a background refresh's factor.
+        {"choice", [](std::ostream &out, const Row &r) { out << fem::to_string(r.statistics.choice); }},
+        measured("t_predicted", [](const Row &r) { return r.statistics.predicted_seconds; }),
+        column("t_strategy", [](const Row &r) { return r.statistics.strategy_seconds(); }),
+        {"factor_lag",
+         [](std::ostream &out, const Row &r) {
+           if (r.statistics.factor_lag >= 0)
+             out << r.statistics.factor_lag;
+         }},
+        // A cut, grasp or material change: what it did and what its columns cost.
+        count("elements_cut", [](const Row &r) -> long long { return r.statistics.elements_cut; }),
+        count("vertices_grasped", [](const Row &r) -> long long { return r.statistics.vertices_grasped; }),
+        count("vertices_released", [](const Row &r) -> long long { return r.statistics.vertices_released; }),
+        count("elements_changed", [](const Row &r) -> long long { return r.statistics.elements_changed; }),
+        column("change_columns_pct",
+               [](const Row &r) { return percent(r.statistics.change_columns, r.statistics.n_columns); }),
+        column("change_flops_pct", [](const Row &r) { return percent(r.statistics.change_flops, r.statistics.flops_full); }),
+        column("t_change", [](const Row &r) { return r.statistics.stages.seconds(fem::stage::change); }),
+        // How the step's factorization took its changes, and what the solver weighed.
+        {"factor_method",
+         [](std::ostream &out, const Row &r) {
+           if (r.statistics.refactorized)
+             out << cholesky::to_string(r.statistics.factor_method);
+         }},
+        {"update_rank",
+         [](std::ostream &out, const Row &r) {
+           if (r.statistics.predicted_update_seconds >= 0)
+             out << r.statistics.update_rank;
+         }},
+        measured("t_predicted_update", [](const Row &r) { return r.statistics.predicted_update_seconds; }),
+        measured("t_predicted_partial", [](const Row &r) { return r.statistics.predicted_partial_seconds; }),
+        measured("t_predicted_full", [](const Row &r) { return r.statistics.predicted_full_seconds; }),
+        column("error_vs_corotational", [](const Row &r) { return r.error_vs_corotational; }),
+        column("rms_error_vs_corotational", [](const Row &r) { return r.rms_error_vs_corotational; })};
+      return columns;
+    }
+
+    /** The trajectory error's columns, written with a reference run only: the table's last ones. */
+    constexpr std::size_t n_error_columns = 2;
+  } // namespace
+
   std::string StepLog::header() const
   {
-    return std::string(
-             "step,time,elements_updated,elements_updated_pct,refactorized,columns_recomputed_pct,"
-             "flops_recomputed_pct,refresh,cg_iterations,t_rotations,t_error_estimate,t_assembly,"
-             "t_factor,t_solve,t_iterations,t_step,kinetic_energy,elastic_energy,potential_energy,"
-             "tool_energy,total_energy,external_work,tool_work_on_body,change_energy,energy_ratio,update_threshold,"
-             "velocity_error,choice,t_predicted,t_strategy,factor_lag,elements_cut,vertices_grasped,"
-             "vertices_released,elements_changed,change_columns_pct,change_flops_pct,t_change,factor_method,"
-             "update_rank,t_predicted_update,t_predicted_partial,t_predicted_full") +
-           (with_error ? ",error_vs_corotational,rms_error_vs_corotational" : "");
+    const auto &columns = log_columns();
+    std::string names;
+    for (std::size_t k = 0; k < columns.size() - (with_error ? 0 : n_error_columns); ++k)
+      names += (k == 0 ? "" : ",") + std::string(columns[k].name);
+    return names;
   }
 
   void StepLog::add(const StepLogRow &row)
   {
-    const auto &s       = row.statistics;
-    const auto  percent = [](const double part, const double whole) {
-      return whole > 0 ? 100 * part / whole : 0.0;
-    };
+    const auto        &columns = log_columns();
     std::ostringstream line;
-    line << std::setprecision(6) << row.step << "," << row.time << "," << s.elements_updated << ","
-         << percent(s.elements_updated, row.n_elements) << "," << (s.refactorized ? 1 : 0) << ","
-         << percent(s.columns_recomputed, s.n_columns) << ","
-         << percent(s.flops_recomputed, s.flops_full) << "," << s.refresh << "," << s.cg_iterations
-         << "," << s.t_rotations() << "," << s.t_error_estimate() << "," << s.t_assembly() << ","
-         << s.t_factor() << "," << s.t_solve() << "," << s.t_iterations() << "," << row.step_seconds << "," << std::setprecision(10) << row.kinetic_energy << ","
-         << row.elastic_energy << "," << row.potential_energy << "," << row.tool_energy << ","
-         << row.total_energy << "," << row.external_work << "," << row.tool_work_on_body << ","
-         << row.change_energy << ","
-         << std::setprecision(6) << row.energy_ratio << ",";
-    // Empty where the model has no threshold or did not measure its error.
-    if (s.update_threshold >= 0)
-      line << s.update_threshold;
-    line << ",";
-    if (s.velocity_error >= 0)
-      line << s.velocity_error;
-    // The automatic strategy's choice, what it predicted and what the step then spent
-    // keeping its factor and solving; the age of a background refresh's factor.
-    line << "," << fem::to_string(s.choice) << ",";
-    if (s.predicted_seconds >= 0)
-      line << s.predicted_seconds;
-    line << "," << s.strategy_seconds() << ",";
-    if (s.factor_lag >= 0)
-      line << s.factor_lag;
-    // A cut, grasp or material change: what it did and what its columns cost.
-    line << "," << s.elements_cut << "," << s.vertices_grasped << "," << s.vertices_released << ","
-         << s.elements_changed << "," << percent(s.change_columns, s.n_columns) << ","
-         << percent(s.change_flops, s.flops_full) << "," << s.stages.seconds(fem::stage::change);
-    // How the step's factorization took its changes, and what the solver weighed.
-    line << "," << (s.refactorized ? cholesky::to_string(s.factor_method) : std::string()) << ",";
-    if (s.predicted_update_seconds >= 0)
-      line << s.update_rank;
-    for (const double seconds : {s.predicted_update_seconds, s.predicted_partial_seconds, s.predicted_full_seconds})
+    for (std::size_t k = 0; k < columns.size() - (with_error ? 0 : n_error_columns); ++k)
       {
-        line << ",";
-        if (seconds >= 0)
-          line << seconds;
+        if (k > 0)
+          line << ",";
+        columns[k].write(line, row);
       }
-    if (with_error)
-      line << "," << std::setprecision(6) << row.error_vs_corotational << ","
-           << row.rms_error_vs_corotational;
     rows.push_back(line.str());
     // Rewriting the whole file costs more as the rows pile up (a third of a 100-step run
     // when done every step): every half second is enough for a reader to follow.

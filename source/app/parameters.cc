@@ -76,7 +76,7 @@ namespace warpchol::app
         const auto  &type      = bodies.model_types.empty() ? model.type : bodies.model_types[i];
         const bool   own       = !bodies.update_thresholds.empty();
         const double threshold = own ? bodies.update_thresholds[i] : model.update_threshold;
-        if (type != "warp_canceling")
+        if (type != fem::ModelType::warp_canceling)
           continue;
         const auto conflict =
           fem::wcc_setting_conflict(threshold, model.target_error, model.strategy, solver.settings.method);
@@ -94,6 +94,114 @@ namespace warpchol::app
       }
     check_backend(prm);
     read_paths();
+    warn_about_ignored_entries(prm);
+  }
+
+  void AllParameters::warn_about_ignored_entries(ParameterHandler &prm)
+  {
+    warnings.clear();
+    // Each entry of @p entries that the file sets: ignored, because of @p choice.
+    const auto ignored = [&](const std::string &subsection, const std::vector<std::string> &entries,
+                             const std::string &choice) {
+      for (const std::string &entry : entries)
+        if (file.sets(subsection, entry))
+          {
+            prm.enter_subsection(subsection);
+            warnings.push_back(file.where(subsection, entry) + " = " + excerpt(trim(prm.get(entry)), 60) +
+                               ": ignored with " + choice);
+            prm.leave_subsection();
+          }
+    };
+    const auto region = [&](const RegionParameters &region, const std::string &subsection,
+                            const std::vector<std::string> &what_it_moves) {
+      const std::string choice = "Region = " + region.kind;
+      if (region.kind != "box")
+        ignored(subsection, {"Box lower corner", "Box upper corner"}, choice);
+      if (region.kind != "sphere")
+        ignored(subsection, {"Sphere center", "Sphere radius"}, choice);
+      if (region.kind != "ids")
+        ignored(subsection, {"Vertex ids"}, choice);
+      if (region.kind == "none")
+        ignored(subsection, what_it_moves, choice);
+    };
+
+    const std::string source = "Source = " + mesh.source;
+    if (mesh.source != "file")
+      ignored("Mesh", {"File", "Scale", "Refinements"}, source);
+    if (mesh.source != "torus")
+      ignored("Mesh", {"Torus major radius", "Torus minor radius", "Torus toroidal cells", "Torus refinements"},
+              source);
+    if (mesh.source != "box")
+      ignored("Mesh", {"Box lower corner", "Box upper corner", "Box subdivisions", "Box grading",
+                       "Box sliver flattening"}, source);
+    if (mesh.source != "cylinder")
+      ignored("Mesh", {"Cylinder radius", "Cylinder length", "Cylinder axial cells", "Cylinder refinements"},
+              source);
+    if (mesh.source != "tube")
+      ignored("Mesh", {"Tube inner radius", "Tube outer radius", "Tube length", "Tube circumferential cells",
+                       "Tube axial cells", "Tube refinements"}, source);
+    if (material.total_mass > 0)
+      ignored("Material", {"Density"}, "Total mass = " + format_number(material.total_mass));
+
+    // Model: WCC's entries, unless some body is WCC; then each strategy's own.
+    const std::vector<fem::ModelType> types = model_types();
+    const bool any_wcc = std::find(types.begin(), types.end(), fem::ModelType::warp_canceling) != types.end();
+    std::string model_list;
+    for (const fem::ModelType type : bodies.model_types)
+      model_list += (model_list.empty() ? "" : ", ") + fem::to_string(type);
+    if (!any_wcc)
+      ignored("Model", {"Update threshold", "Target error", "Strategy", "Iterate on", "CG tolerance",
+                        "Max CG iterations", "Refresh interval", "Refresh iterations", "Background lag"},
+              bodies.model_types.empty() ? "Type = " + fem::to_string(model.type) :
+                                           "Bodies/Models = " + excerpt(model_list, 60));
+    else
+      {
+        const auto        kind     = model.strategy.kind;
+        const std::string strategy = "Strategy = " + fem::to_string(kind);
+        if (!model.strategy.iterates())
+          ignored("Model", {"Iterate on", "CG tolerance", "Max CG iterations"}, strategy);
+        if (kind != fem::StepStrategy::Kind::delayed_top)
+          ignored("Model", {"Refresh interval", "Refresh iterations"}, strategy);
+        if (kind != fem::StepStrategy::Kind::background)
+          ignored("Model", {"Background lag"}, strategy);
+        if (kind != fem::StepStrategy::Kind::delayed_top && kind != fem::StepStrategy::Kind::automatic)
+          ignored("Solver", {"Top flops fraction"}, "Model/" + strategy);
+        if (!model.strategy.iterates())
+          ignored("Solver", {"Preconditioner precision"}, "Model/" + strategy);
+      }
+    const auto backend = solver.backend.backend;
+    if (backend != backends::Backend::trilinos_amg_cg && backend != backends::Backend::warp_preconditioned_cg)
+      ignored("Solver", {"Tolerance", "Max iterations"}, "Backend = " + backends::to_string(backend));
+
+    region(fixed_vertices.region, "Fixed vertices", {});
+    region(region_force.region, "Region force", {"Total force"});
+    region(tool.region, "Tool", {"Spring stiffness", "Velocity", "Duration", "Path file"});
+    for (const auto &cut : cuts)
+      if (cut.duration == 0)
+        ignored(cut.subsection, {"Blade start", "Blade end", "Velocity", "Start time", "Path file"},
+                "Duration = 0 (no cut)");
+      else if (!cut.path.file_name.empty())
+        ignored(cut.subsection, {"Blade start", "Blade end"}, "Path file = " + cut.path.file_name);
+    for (const auto &grasp : grasps)
+      if (!grasp.active())
+        ignored(grasp.subsection, {"Sphere center", "Velocity", "Duration", "Grasp time", "Release time",
+                                   "Spring stiffness", "Path file"}, "Sphere radius = 0 (no grasp)");
+      else if (!grasp.path.file_name.empty())
+        ignored(grasp.subsection, {"Sphere center"}, "Path file = " + grasp.path.file_name);
+    for (const auto &change : material_changes)
+      region(change.region, change.subsection, {"Time", "Stiffness factor", "Stress"});
+    if (bodies.count == 1)
+      ignored("Bodies", {"Spacing"}, "Number of bodies = 1");
+    if (output.vtu_interval == 0)
+      ignored("Output", {"VTU precision"}, "VTU interval = 0");
+    if (distributed.linear_solver == "mumps")
+      ignored("Distributed", {"Tolerance", "Max iterations"}, "Linear solver = mumps");
+  }
+
+  void AllParameters::print_warnings(std::ostream &err) const
+  {
+    for (const std::string &warning : warnings)
+      err << "warpchol: warning: " << warning << "\n";
   }
 
   void AllParameters::check_backend(ParameterHandler &prm) const
@@ -106,17 +214,15 @@ namespace warpchol::app
       prm.enter_subsection("Solver");
       file.fail(prm, "Solver", "Backend", message);
     };
-    const std::vector<std::string> types = bodies.model_types.empty() ? std::vector<std::string>{model.type} :
-                                                                        bodies.model_types;
-    for (const std::string &type : types)
+    for (const fem::ModelType type : model_types())
       {
-        if (backend == backends::Backend::warp_preconditioned_cg && type != "corotational")
+        if (backend == backends::Backend::warp_preconditioned_cg && type != fem::ModelType::corotational)
           fail("solves the exact corotational system (CG preconditioned by the rotated rest "
-               "factor): needs Model/Type = corotational, not " + type);
-        if (type == "warp_canceling" && model.strategy.kind != fem::StepStrategy::Kind::partial)
+               "factor): needs Model/Type = corotational, not " + fem::to_string(type));
+        if (type == fem::ModelType::warp_canceling && model.strategy.kind != fem::StepStrategy::Kind::partial)
           fail(name + " factors in full and solves by itself: needs Model/Strategy = partial, not " +
                fem::to_string(model.strategy.kind));
-        if (type == "warp_canceling" && model.target_error > 0)
+        if (type == fem::ModelType::warp_canceling && model.target_error > 0)
           fail(name + " has no factor of warpchol's to measure a step's error with: needs "
                       "Model/Target error = 0");
       }
@@ -156,7 +262,7 @@ namespace warpchol::app
   AllParameters AllParameters::exact_corotational() const
   {
     AllParameters exact          = *this;
-    exact.model.type             = "corotational";
+    exact.model.type             = fem::ModelType::corotational;
     exact.solver.backend.backend = backends::Backend::warpchol;
     return exact;
   }
@@ -267,6 +373,11 @@ namespace warpchol::app
       one.model.update_threshold = bodies.update_thresholds.at(index);
     one.bodies = parameters::Bodies();
     return one;
+  }
+
+  std::vector<fem::ModelType> AllParameters::model_types() const
+  {
+    return bodies.model_types.empty() ? std::vector<fem::ModelType>{model.type} : bodies.model_types;
   }
 
   std::string AllParameters::mesh_file_path() const

@@ -48,204 +48,247 @@ namespace warpchol::app
           << std::setw(12) << format_number(t.step_seconds / steps, 3) << std::setw(8)
           << share(t.step_seconds) << " %\n";
     }
+
+    std::string figure(const double value, const int digits = 3)
+    {
+      return format_number(value, digits);
+    }
+
+    double iterations_per_step(const RunTotals &t)
+    {
+      return static_cast<double>(t.cg_iterations) / std::max(1u, t.steps);
+    }
+
+    /** "model: ...; solver: ...": the model, its threshold or target, who factors and solves. */
+    void print_model(std::ostream &out, const SimulatedBody &simulated, const bool timings)
+    {
+      const Scene                &scene  = *simulated.scene;
+      const fem::ElasticityModel &model  = scene.model();
+      const auto                  report = model.strategy_report();
+      out << "  model: " << model.name();
+      if (report.has_strategy && report.target_error > 0)
+        out << ", target error " << figure(report.target_error) << " (update threshold from "
+            << figure(report.update_threshold) << ")";
+      else if (report.has_strategy)
+        out << ", update threshold " << figure(report.update_threshold);
+      const auto &solver  = model.solver();
+      const auto &backend = scene.parameters().solver.backend;
+      if (const auto *peer = model.linear_solver())
+        {
+          out << "; solver: " << peer->name();
+          if (peer->is_iterative())
+            out << ", to " << figure(backend.tolerance, 2) << ", iterations per step mean "
+                << figure(iterations_per_step(simulated.totals));
+        }
+      else
+        {
+          out << "; solver: " << cholesky::to_string(solver.settings().ordering.method) << " ordering, "
+              << cholesky::to_string(solver.settings().method);
+          if (timings)
+            out << ", fill " << figure(solver.statistics().fill());
+          if (backend.backend == backends::Backend::warp_preconditioned_cg)
+            out << ", its rest factor rotated as CG's preconditioner (warp_preconditioned_cg)";
+        }
+      if (timings)
+        out << ", factor memory " << figure(model.factor_memory_bytes() / 1048576.) << " MiB";
+      out << "\n";
+    }
+
+    /** Elements updated, the rotations' paths, the refactorizations and an adapted threshold. */
+    void print_updates(std::ostream &out, const SimulatedBody &simulated, const bool timings)
+    {
+      const RunTotals &t          = simulated.totals;
+      const double     n_elements = simulated.scene->body().n_elements();
+      const auto       report     = simulated.scene->model().strategy_report();
+      out << "  elements updated per step: mean " << figure(100 * t.elements_updated / n_elements / t.steps)
+          << " %, max " << figure(100 * t.max_elements_updated / n_elements) << " %; steps with "
+          << "updates: " << t.steps_with_updates << ", without update at the end: "
+          << t.trailing_steps_without_update << "\n";
+      // Where the batched polar decompositions left the SIMD lanes, and why.
+      const fem::RotationPaths &paths = t.rotation_paths;
+      if (paths.total() > 0)
+        out << "  rotations: " << paths.total() << " over the run; " << figure(100.0 * paths.lanes / paths.total())
+            << " % in the SIMD lanes, " << paths.newton << " by the scalar Newton iteration (strain too large for the "
+            << "lanes' 12 steps), " << paths.svd << " by the SVD (inverted or flat)\n";
+      out << "  refactorizations: " << t.refactorizations;
+      if (timings && t.refactorizations > 0)
+        out << ", columns recomputed mean " << figure(t.columns_recomputed_pct / t.refactorizations)
+            << " %, flops recomputed mean " << figure(t.flops_recomputed_pct / t.refactorizations) << " %";
+      // How the factorizations took their changes: by updating the factor or recomputing
+      // (chosen by measured times: shown with them).
+      if (timings && t.refactorizations > 0)
+        {
+          out << "; taken by";
+          for (const auto &[method, count] : t.factor_methods)
+            out << " " << method << " " << count;
+        }
+      out << "\n";
+      if (report.target_error > 0 && t.steps > 0)
+        out << "  adapted update threshold: mean " << figure(t.threshold_sum / t.steps) << ", from "
+            << figure(t.min_threshold) << " to " << figure(t.max_threshold)
+            << "; velocity error against exact corotation per step: mean "
+            << figure(t.velocity_error_sum / t.steps, 2) << ", max " << figure(t.max_velocity_error, 2) << "\n";
+      if (!report.target_note.empty())
+        out << "  " << report.target_note << "\n";
+    }
+
+    /** "strategy: ...": how WCC's steps kept their factor and solved, and what auto chose. */
+    void print_strategy(std::ostream &out, const SimulatedBody &simulated, const bool timings)
+    {
+      const fem::ElasticityModel &model    = simulated.scene->model();
+      const RunTotals            &t        = simulated.totals;
+      const auto                  report   = model.strategy_report();
+      const auto                 &strategy = report.strategy;
+      out << "  strategy: " << fem::to_string(strategy.kind);
+      if (strategy.iterates())
+        out << ", CG on the " << fem::to_string(strategy.iterate_on) << " matrix to "
+            << figure(strategy.cg_tolerance, 2) << ", iterations per step mean " << figure(iterations_per_step(t));
+      // What an iteration moves and how fast: the iterating step is memory-bound.
+      if (timings && model.cg_bytes_per_second() > 0)
+        {
+          const auto bytes = model.cg_iteration_bytes();
+          out << " (an iteration moves " << figure(bytes.total() * 1e-6) << " MB: factor read twice "
+              << figure(bytes.preconditioner * 1e-6) << ", product " << figure(bytes.product * 1e-6) << ", vectors "
+              << figure(bytes.vectors * 1e-6) << "; at " << figure(model.cg_bytes_per_second() * 1e-9) << " GB/s)";
+        }
+      out << "; factor refreshes:";
+      if (t.refreshes.empty())
+        out << " 0";
+      for (const auto &[refresh, count] : t.refreshes)
+        out << " " << refresh << " " << count;
+      if (!t.choices.empty())
+        {
+          out << "; choices:";
+          for (const auto &[choice, count] : t.choices)
+            out << " " << choice << " " << count;
+        }
+      if (t.factor_lag_steps > 0)
+        out << "; factor age mean " << figure(t.factor_lag_sum / t.factor_lag_steps) << " steps";
+      const unsigned int beside = report.steps_refreshing_beside;
+      if (strategy.kind == fem::StepStrategy::Kind::automatic && beside > 0)
+        out << "; refreshes beside the steps (one thread less for them) in " << beside << " of "
+            << beside + report.steps_refreshing_in << " steps";
+      if (strategy.kind == fem::StepStrategy::Kind::automatic && report.exact_fallback_steps > 0)
+        out << "; exact in " << report.exact_fallback_steps << " steps where its own had cost more ("
+            << report.fallbacks << " times)";
+      out << "\n";
+    }
+
+    /** What the instruments did, and where the updated elements lie from the tool. */
+    void print_surgery(std::ostream &out, const SimulatedBody &simulated)
+    {
+      const Scene     &scene      = *simulated.scene;
+      const RunTotals &t          = simulated.totals;
+      const double     n_elements = scene.body().n_elements();
+      if (scene.integrator().surgery().active())
+        {
+          out << "  surgery: " << t.elements_cut << " elements cut";
+          const auto &cuts = scene.parameters().cuts;
+          if (t.elements_cut == 0 &&
+              std::any_of(cuts.begin(), cuts.end(), [](const parameters::Cut &cut) { return cut.active(); }))
+            out << (cuts.size() > 1 ? " (the blades crossed no element)" : " (the blade crossed no element)");
+          out << ", " << t.vertices_grasped << " vertices grasped, " << t.vertices_released << " released, "
+              << t.elements_changed << " elements of changed material";
+          if (t.change_steps > 0)
+            out << "; " << t.change_steps << " steps with a change, each touching "
+                << figure(t.change_columns_pct / t.change_steps) << " % of the columns and "
+                << figure(t.change_flops_pct / t.change_steps) << " % of a full factorization's flops (mean)";
+          out << "\n";
+        }
+      if (!scene.loads().tool.vertices.empty() && t.elements_updated > 0)
+        {
+          double all_distance = 0;
+          for (const auto &centre : simulated.element_centres)
+            all_distance += (centre - simulated.tool_centre).norm();
+          out << "  updated elements lie " << figure(t.updated_distance_to_tool / t.elements_updated, 2)
+              << " m from the tool on average (all elements: " << figure(all_distance / n_elements, 2) << " m)\n";
+        }
+    }
+
+    /** The error against a reference run, the energies at the end and those of the changes. */
+    void print_error_and_energy(std::ostream &out, const SimulatedBody &simulated)
+    {
+      const fem::ImplicitEuler &integrator = simulated.scene->integrator();
+      if (simulated.reference)
+        {
+          const auto &error = simulated.totals.error_vs_corotational;
+          out << "  trajectory error against corotational: max " << figure(error.max_error(), 2) << ", mean "
+              << figure(error.mean_error(), 2) << ", at the end " << figure(error.last_error(), 2) << "; RMS max "
+              << figure(error.max_rms_error(), 2) << ", mean " << figure(error.mean_rms_error(), 2) << "\n";
+        }
+      // An energy below 1e-12 of the total is rounding (a translated body's elastic energy):
+      // printed as such, not as digits that change with the order of the operations.
+      const double kinetic_energy = integrator.kinetic_energy();
+      const double elastic_energy = integrator.elastic_energy();
+      const auto   energy         = [&](const double value) {
+        return value <= 1e-12 * (kinetic_energy + elastic_energy) ? std::string("0 (rounding)") :
+                                                                    figure(value) + " J";
+      };
+      out << "  energy at the end: kinetic " << energy(kinetic_energy) << ", elastic " << energy(elastic_energy)
+          << "\n";
+      if (!integrator.surgery().active())
+        return;
+      // What the changes put in or took out, which the energy balance counts.
+      const fem::ChangeEnergy &change = integrator.surgery().change_energy();
+      out << "  energy of the changes: " << figure(change.total()) << " J (material change "
+          << figure(change.material_changes) << " J, cuts " << figure(change.cuts) << " J, grasps and releases "
+          << figure(change.grasps) << " J)\n";
+      const std::vector<std::string> missed = integrator.surgery().events_not_reached();
+      if (!missed.empty() && simulated.stopped.empty())
+        {
+          out << "  warning: ";
+          for (std::size_t k = 0; k < missed.size(); ++k)
+            out << (k == 0 ? "" : k + 1 == missed.size() ? " and " : ", ") << missed[k];
+          out << (missed.size() == 1 ? " falls" : " fall") << " after the run's end (" << figure(integrator.time(), 4)
+              << " s): " << (missed.size() == 1 ? "it" : "they") << " never happened\n";
+        }
+    }
+
+    /** The set-up and run times, and the run against exact corotation timed after it. */
+    void print_times(std::ostream &out, const SimulatedBody &simulated, const AllParameters &parameters)
+    {
+      const RunTotals &t       = simulated.totals;
+      const bool       timings = parameters.output.print_timings;
+      if (timings)
+        out << "  set-up " << figure(simulated.setup_seconds) << " s (model "
+            << figure(simulated.scene->model().setup_seconds()) << " s), time steps " << figure(t.step_seconds)
+            << " s; end to end (output included) " << figure(t.run_seconds) << " s, "
+            << figure(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s; SIMD target " << simd::current_target()
+            << "\n";
+      if (simulated.exact_step_seconds < 0 || t.steps == 0)
+        return;
+      // The run's steps without the error estimate, which only the comparison asks for.
+      const double own = (t.step_seconds - t.stages.seconds(fem::stage::velocity_error)) / t.steps;
+      if (timings)
+        out << "  exact corotation: " << figure(1e3 * simulated.exact_step_seconds) << " ms a step on this machine ("
+            << parameters.output.exact_steps_timed
+            << " exact steps timed after the run: every element rotated and assembled, a full factorization, "
+               "a direct solve); this run "
+            << figure(1e3 * own) << " ms a step: " << figure(simulated.exact_step_seconds / own) << "x faster\n";
+      if (t.velocity_error_sum > 0 || t.max_velocity_error > 0)
+        out << "  error against exact corotation, estimated every step (no reference run: |A^-1 (b - B v)| / |v|, "
+               "B the exact corotational matrix, A the step's factor): velocity error mean "
+            << figure(t.velocity_error_sum / t.steps, 2) << ", max " << figure(t.max_velocity_error, 2) << "\n";
+    }
   } // namespace
 
   void print_body_summary(std::ostream &out, const SimulatedBody &simulated, const AllParameters &parameters)
   {
-    const auto &scene      = *simulated.scene;
-    const auto &body       = scene.body();
-    const auto &model      = scene.model();
-    const auto &integrator = scene.integrator();
-    const auto &t          = simulated.totals;
-    const bool  timings    = parameters.output.print_timings;
-    const auto  n          = [](const double value, const int digits = 3) {
-      return format_number(value, digits);
-    };
-    const double n_elements          = body.n_elements();
-    const double iterations_per_step = static_cast<double>(t.cg_iterations) / std::max(1u, t.steps);
-
-    out << "  model: " << model.name();
-    const auto report = model.strategy_report();
-    if (report.has_strategy && report.target_error > 0)
-      out << ", target error " << n(report.target_error) << " (update threshold from "
-          << n(report.update_threshold) << ")";
-    else if (report.has_strategy)
-      out << ", update threshold " << n(report.update_threshold);
-    const auto &solver = model.solver();
-    const auto &backend = scene.parameters().solver.backend;
-    if (const auto *peer = model.linear_solver())
-      {
-        out << "; solver: " << peer->name();
-        if (peer->is_iterative())
-          out << ", to " << n(backend.tolerance, 2) << ", iterations per step mean "
-              << n(iterations_per_step);
-      }
-    else
-      {
-        out << "; solver: " << cholesky::to_string(solver.settings().ordering.method) << " ordering, "
-            << cholesky::to_string(solver.settings().method);
-        if (timings)
-          out << ", fill " << n(solver.statistics().fill());
-        if (backend.backend == backends::Backend::warp_preconditioned_cg)
-          out << ", its rest factor rotated as CG's preconditioner (warp_preconditioned_cg)";
-      }
-    if (timings)
-      out << ", factor memory " << n(model.factor_memory_bytes() / 1048576.) << " MiB";
-    out << "\n";
-    out << "  steps: " << t.steps << ", simulated time " << n(integrator.time(), 4) << " s\n";
+    const bool                  timings = parameters.output.print_timings;
+    const fem::ElasticityModel &model   = simulated.scene->model();
+    print_model(out, simulated, timings);
+    out << "  steps: " << simulated.totals.steps << ", simulated time "
+        << figure(simulated.scene->integrator().time(), 4) << " s\n";
     if (model.uses_rotations())
       {
-        out << "  elements updated per step: mean " << n(100 * t.elements_updated / n_elements / t.steps)
-            << " %, max " << n(100 * t.max_elements_updated / n_elements) << " %; steps with "
-            << "updates: " << t.steps_with_updates << ", without update at the end: "
-            << t.trailing_steps_without_update << "\n";
-        // Where the batched polar decompositions left the SIMD lanes, and why.
-        const fem::RotationPaths &paths = t.rotation_paths;
-        if (paths.total() > 0)
-          out << "  rotations: " << paths.total() << " over the run; " << n(100.0 * paths.lanes / paths.total())
-              << " % in the SIMD lanes, " << paths.newton << " by the scalar Newton iteration (strain too large for the "
-              << "lanes' 12 steps), " << paths.svd << " by the SVD (inverted or flat)\n";
-        out << "  refactorizations: " << t.refactorizations;
-        if (timings && t.refactorizations > 0)
-          out << ", columns recomputed mean " << n(t.columns_recomputed_pct / t.refactorizations)
-              << " %, flops recomputed mean " << n(t.flops_recomputed_pct / t.refactorizations)
-              << " %";
-        // How the factorizations took their changes: by updating the factor or recomputing
-        // (chosen by measured times: shown with them).
-        if (timings && t.refactorizations > 0)
-          {
-            out << "; taken by";
-            for (const auto &[method, count] : t.factor_methods)
-              out << " " << method << " " << count;
-          }
-        out << "\n";
-        if (report.target_error > 0 && t.steps > 0)
-          out << "  adapted update threshold: mean " << n(t.threshold_sum / t.steps) << ", from "
-              << n(t.min_threshold) << " to " << n(t.max_threshold)
-              << "; velocity error against exact corotation per step: mean "
-              << n(t.velocity_error_sum / t.steps, 2) << ", max " << n(t.max_velocity_error, 2) << "\n";
-        if (!report.target_note.empty())
-          out << "  " << report.target_note << "\n";
-        if (report.has_strategy)
-          {
-            const auto &strategy = report.strategy;
-            out << "  strategy: " << fem::to_string(strategy.kind);
-            if (strategy.iterates())
-              out << ", CG on the " << fem::to_string(strategy.iterate_on) << " matrix to "
-                  << n(strategy.cg_tolerance, 2) << ", iterations per step mean "
-                  << n(iterations_per_step);
-            // What an iteration moves and how fast: the iterating step is memory-bound.
-            if (timings && model.cg_bytes_per_second() > 0)
-              {
-                const auto bytes = model.cg_iteration_bytes();
-                out << " (an iteration moves " << n(bytes.total() * 1e-6) << " MB: factor read twice "
-                    << n(bytes.preconditioner * 1e-6) << ", product " << n(bytes.product * 1e-6) << ", vectors "
-                    << n(bytes.vectors * 1e-6) << "; at " << n(model.cg_bytes_per_second() * 1e-9) << " GB/s)";
-              }
-            out << "; factor refreshes:";
-            if (t.refreshes.empty())
-              out << " 0";
-            for (const auto &[refresh, count] : t.refreshes)
-              out << " " << refresh << " " << count;
-            if (!t.choices.empty())
-              {
-                out << "; choices:";
-                for (const auto &[choice, count] : t.choices)
-                  out << " " << choice << " " << count;
-              }
-            if (t.factor_lag_steps > 0)
-              out << "; factor age mean " << n(t.factor_lag_sum / t.factor_lag_steps) << " steps";
-            const unsigned int beside = report.steps_refreshing_beside;
-            if (strategy.kind == fem::StepStrategy::Kind::automatic && beside > 0)
-              out << "; refreshes beside the steps (one thread less for them) in " << beside << " of "
-                  << beside + report.steps_refreshing_in << " steps";
-            if (strategy.kind == fem::StepStrategy::Kind::automatic && report.exact_fallback_steps > 0)
-              out << "; exact in " << report.exact_fallback_steps << " steps where its own had cost more ("
-                  << report.fallbacks << " times)";
-            out << "\n";
-          }
-        if (integrator.surgery().active())
-          {
-            out << "  surgery: " << t.elements_cut << " elements cut";
-            const auto &cuts = scene.parameters().cuts;
-            if (t.elements_cut == 0 &&
-                std::any_of(cuts.begin(), cuts.end(), [](const parameters::Cut &cut) { return cut.active(); }))
-              out << (cuts.size() > 1 ? " (the blades crossed no element)" : " (the blade crossed no element)");
-            out << ", " << t.vertices_grasped << " vertices grasped, " << t.vertices_released << " released, "
-                << t.elements_changed << " elements of changed material";
-            if (t.change_steps > 0)
-              out << "; " << t.change_steps << " steps with a change, each touching " << n(t.change_columns_pct / t.change_steps)
-                  << " % of the columns and " << n(t.change_flops_pct / t.change_steps)
-                  << " % of a full factorization's flops (mean)";
-            out << "\n";
-          }
-        if (!scene.loads().tool.vertices.empty() && t.elements_updated > 0)
-          {
-            double all_distance = 0;
-            for (const auto &centre : simulated.element_centres)
-              all_distance += (centre - simulated.tool_centre).norm();
-            out << "  updated elements lie " << n(t.updated_distance_to_tool / t.elements_updated, 2)
-                << " m from the tool on average (all elements: " << n(all_distance / n_elements, 2)
-                << " m)\n";
-          }
+        print_updates(out, simulated, timings);
+        if (model.strategy_report().has_strategy)
+          print_strategy(out, simulated, timings);
+        print_surgery(out, simulated);
       }
-    if (simulated.reference)
-      {
-        const auto &error = t.error_vs_corotational;
-        out << "  trajectory error against corotational: max " << n(error.max_error(), 2)
-            << ", mean " << n(error.mean_error(), 2) << ", at the end " << n(error.last_error(), 2)
-            << "; RMS max " << n(error.max_rms_error(), 2) << ", mean " << n(error.mean_rms_error(), 2)
-            << "\n";
-      }
-    // An energy below 1e-12 of the total is rounding (a translated body's elastic energy):
-    // printed as such, not as digits that change with the order of the operations.
-    const double kinetic_energy = integrator.kinetic_energy();
-    const double elastic_energy = integrator.elastic_energy();
-    const auto   energy = [&](const double value) {
-      return value <= 1e-12 * (kinetic_energy + elastic_energy) ? std::string("0 (rounding)") :
-                                                                  n(value) + " J";
-    };
-    out << "  energy at the end: kinetic " << energy(kinetic_energy) << ", elastic "
-        << energy(elastic_energy) << "\n";
-    if (integrator.surgery().active())
-      {
-        // What the changes put in or took out, which the energy balance counts.
-        const fem::ChangeEnergy &change = integrator.surgery().change_energy();
-        out << "  energy of the changes: " << n(change.total()) << " J (material change " << n(change.material_changes)
-            << " J, cuts " << n(change.cuts) << " J, grasps and releases " << n(change.grasps) << " J)\n";
-        const std::vector<std::string> missed = integrator.surgery().events_not_reached();
-        if (!missed.empty() && simulated.stopped.empty())
-          {
-            out << "  warning: ";
-            for (std::size_t k = 0; k < missed.size(); ++k)
-              out << (k == 0 ? "" : k + 1 == missed.size() ? " and " : ", ") << missed[k];
-            out << (missed.size() == 1 ? " falls" : " fall") << " after the run's end (" << n(integrator.time(), 4)
-                << " s): " << (missed.size() == 1 ? "it" : "they") << " never happened\n";
-          }
-      }
+    print_error_and_energy(out, simulated);
     print_stages(out, simulated, parameters);
-    if (timings)
-      {
-        out << "  set-up " << n(simulated.setup_seconds) << " s (model " << n(model.setup_seconds())
-            << " s), time steps " << n(t.step_seconds) << " s; end to end (output included) "
-            << n(t.run_seconds) << " s, " << n(t.steps / std::max(t.run_seconds, 1e-9)) << " steps/s; SIMD target "
-            << simd::current_target() << "\n";
-      }
-    if (simulated.exact_step_seconds >= 0 && t.steps > 0)
-      {
-        // The run's steps without the error estimate, which only the comparison asks for.
-        const double own = (t.step_seconds - t.stages.seconds(fem::stage::velocity_error)) / t.steps;
-        if (timings)
-          out << "  exact corotation: " << n(1e3 * simulated.exact_step_seconds) << " ms a step on this machine ("
-              << parameters.output.exact_steps_timed
-              << " exact steps timed after the run: every element rotated and assembled, a full factorization, "
-                 "a direct solve); this run "
-              << n(1e3 * own) << " ms a step: " << n(simulated.exact_step_seconds / own) << "x faster\n";
-        if (t.velocity_error_sum > 0 || t.max_velocity_error > 0)
-          out << "  error against exact corotation, estimated every step (no reference run: |A^-1 (b - B v)| / |v|, "
-                 "B the exact corotational matrix, A the step's factor): velocity error mean "
-              << n(t.velocity_error_sum / t.steps, 2) << ", max " << n(t.max_velocity_error, 2) << "\n";
-      }
+    print_times(out, simulated, parameters);
     if (!simulated.stopped.empty())
       out << "  stopped: " << simulated.stopped << "\n";
     if (simulated.log)

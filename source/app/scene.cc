@@ -27,17 +27,20 @@ namespace warpchol::app
                           const cholesky::SparseCholesky::Settings &solver_settings,
                           std::unique_ptr<backends::LinearSolver>   peer = nullptr)
     {
-      if (model.type == "linear")
-        return std::make_unique<fem::LinearModel>(body, coefficients, solver_settings, std::move(peer));
-      if (model.type == "corotational")
-        return std::make_unique<fem::CorotationalModel>(body, coefficients, solver_settings, std::move(peer));
-      if (model.type == "stiffness_warping")
-        return std::make_unique<fem::StiffnessWarpingModel>(body, coefficients, solver_settings, std::move(peer));
-      if (model.type == "warp_canceling")
-        return std::make_unique<fem::WarpCancelingModel>(body, coefficients, solver_settings,
-                                                         model.update_threshold, model.strategy,
-                                                         model.target_error, std::move(peer));
-      throw InputError("unknown model type " + quote(model.type));
+      switch (model.type)
+        {
+          case fem::ModelType::linear:
+            return std::make_unique<fem::LinearModel>(body, coefficients, solver_settings, std::move(peer));
+          case fem::ModelType::corotational:
+            return std::make_unique<fem::CorotationalModel>(body, coefficients, solver_settings, std::move(peer));
+          case fem::ModelType::stiffness_warping:
+            return std::make_unique<fem::StiffnessWarpingModel>(body, coefficients, solver_settings,
+                                                                std::move(peer));
+          case fem::ModelType::warp_canceling:
+            break;
+        }
+      return std::make_unique<fem::WarpCancelingModel>(body, coefficients, solver_settings, model.update_threshold,
+                                                       model.strategy, model.target_error, std::move(peer));
     }
   } // namespace
 
@@ -51,7 +54,7 @@ namespace warpchol::app
         // SOFA's warp preconditioner: the rest factor, never updated, in the nodal frames
         // (WCC at threshold inf), preconditions CG on the exact corotational matrix.
         parameters::Model warped      = model;
-        warped.type                   = "warp_canceling";
+        warped.type                   = fem::ModelType::warp_canceling;
         warped.update_threshold       = std::numeric_limits<double>::infinity();
         warped.target_error           = 0;
         warped.strategy.kind          = fem::StepStrategy::Kind::preconditioned;

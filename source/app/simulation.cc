@@ -44,8 +44,8 @@ namespace warpchol::app
     /** "body 2 (warp_canceling, threshold 0.3)": how messages and the summary name a body. */
     std::string body_label(const AllParameters &body_parameters, const unsigned int index)
     {
-      std::string label = "body " + std::to_string(index + 1) + " (" + body_parameters.model.type;
-      if (body_parameters.model.type == "warp_canceling")
+      std::string label = "body " + std::to_string(index + 1) + " (" + fem::to_string(body_parameters.model.type);
+      if (body_parameters.model.type == fem::ModelType::warp_canceling)
         label += ", threshold " + format_number(body_parameters.model.update_threshold);
       return label + ")";
     }
@@ -624,7 +624,7 @@ namespace warpchol::app
       simulated.totals.run_seconds = run_seconds;
     // After the run, not during it: the exact steps do not slow the run they are compared with.
     for (unsigned int i = 0; i < bodies.size(); ++i)
-      if (parameters.output.exact_steps_timed > 0 && bodies[i].scene->parameters().model.type != "corotational")
+      if (parameters.output.exact_steps_timed > 0 && bodies[i].scene->parameters().model.type != fem::ModelType::corotational)
         bodies[i].exact_step_seconds = time_exact_steps(parameters.body(i), parameters.output.exact_steps_timed);
     print_summary(out);
   }
@@ -723,9 +723,11 @@ namespace warpchol::app
     return directory;
   }
 
-  void run_parameter_file(const std::string &parameter_file, std::ostream &out, const bool resume)
+  void run_parameter_file(const std::string &parameter_file, std::ostream &out, std::ostream &err,
+                          const bool resume)
   {
     const AllParameters parameters(parameter_file);
+    parameters.print_warnings(err);
     Simulation          simulation(parameters);
     if (resume)
       simulation.resume();
@@ -814,7 +816,7 @@ namespace warpchol::app
       // What was printed stays before the error line.
       try
         {
-          run_parameter_file(arguments[0], out, resume);
+          run_parameter_file(arguments[0], out, err, resume);
         }
       catch (...)
         {

@@ -210,10 +210,9 @@ namespace warpchol::backends
 
   void TrilinosAmgCgSolver::Implementation::copy_values(const sparse::CSCMatrix &csc)
   {
-    // Write through Epetra's row views: one gather, no search (0.3 ms at 10k unknowns,
-    // where deal.II's reinit(const SparseMatrix &), which looks every entry up, takes
-    // 10 ms). Epetra caches nothing derived from the values (its norms are computed on
-    // each call).
+    // Write through Epetra's row views: one gather in the rows' order, no search (deal.II's
+    // reinit(const SparseMatrix &) looks every entry up). Epetra caches nothing derived
+    // from the values (its norms are computed on each call).
     const Epetra_CrsMatrix &epetra   = matrix.trilinos_matrix();
     std::size_t             position = 0;
     for (int row = 0; row < epetra.NumMyRows(); ++row)

@@ -229,7 +229,7 @@ namespace warpchol::cholesky
     matrix_holds_factored = true;
     stats.method          = RefactorizationMethod::full;
     last_recomputed_columns.clear();
-    update_backlog_statistics();
+    record_backlog();
     ++stats.n_factorizations;
     stats.factorize_seconds = stopwatch.seconds();
   }
@@ -392,7 +392,7 @@ namespace warpchol::cholesky
           last_recomputed_columns[j] = j;
         stats.factorize_seconds = stopwatch.seconds();
       }
-    update_backlog_statistics();
+    record_backlog();
     stats.refactorize_seconds = stopwatch.seconds();
     ++stats.n_refactorizations;
   }
@@ -651,10 +651,10 @@ namespace warpchol::cholesky
     reader.read(stats.n_refactorizations);
     reader.read(matrix_holds_factored);
     refactorization_costs.load(reader);
-    update_backlog_statistics();
+    record_backlog();
   }
 
-  void SparseCholesky::update_backlog_statistics()
+  void SparseCholesky::record_backlog()
   {
     stats.pending_columns = static_cast<Index>(pending_columns.size());
     stats.stale_supernodes = 0;

@@ -41,31 +41,10 @@ namespace warpchol::distributed
     const std::array<Matrix3, 4> identity_frames{
       {Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity(), Matrix3::Identity()}};
 
-    bool is_wcc_between_limits(const app::parameters::Model &model)
+    /** Whether WCC re-assembles the elements its error estimate picks (models/model_type.h). */
+    bool reassembles_by_error_estimate(const app::parameters::Model &model)
     {
-      return model.type == "warp_canceling" && model.update_threshold > 0 && !std::isinf(model.update_threshold);
-    }
-
-    /** Which rotations the model's element pass needs. */
-    fem::ElasticBody::Rotations rotations_of(const app::parameters::Model &model)
-    {
-      if (model.type == "linear")
-        return fem::ElasticBody::Rotations::none;
-      if (model.type == "corotational")
-        return fem::ElasticBody::Rotations::elements;
-      return fem::ElasticBody::Rotations::elements_and_vertices;
-    }
-
-    /** Whether the model solves in the nodal frames: (S A S^T) v = rhs. */
-    bool solves_in_nodal_frames(const app::parameters::Model &model)
-    {
-      return model.type == "stiffness_warping" || model.type == "warp_canceling";
-    }
-
-    /** Whether A is assembled again in full every step (exact corotation, also WCC at 0). */
-    bool reassembles_every_step(const app::parameters::Model &model)
-    {
-      return model.type == "corotational" || (model.type == "warp_canceling" && model.update_threshold == 0);
+      return fem::reassembles_by_error_estimate(model.type, model.update_threshold);
     }
   } // namespace
 
@@ -77,7 +56,7 @@ namespace warpchol::distributed
     return false;
   }
 
-  void DistributedSimulation::check_supported(const app::AllParameters &parameters)
+  void DistributedSimulation::check_supported(app::AllParameters &parameters)
   {
     const auto &file   = parameters.file;
     const auto  refuse = [&](const std::string &subsection, const std::string &entry,
@@ -96,7 +75,18 @@ namespace warpchol::distributed
     if (parameters.model.target_error > 0)
       refuse("Model", "Target error", format_number(parameters.model.target_error),
              "a distributed run keeps the update threshold fixed (its solver is not warpchol's factor)");
-    if (parameters.model.type == "warp_canceling" && parameters.model.strategy.kind != fem::StepStrategy::Kind::partial)
+    // auto chooses among warpchol's own factor's refreshes: what the distributed engine
+    // has of them is the exact WCC system, solved by Distributed/Linear solver.
+    if (parameters.model.type == fem::ModelType::warp_canceling &&
+        parameters.model.strategy.kind == fem::StepStrategy::Kind::automatic)
+      {
+        parameters.warnings.push_back(file.where("Model", "Strategy") +
+                                      " = auto: a distributed run takes partial (the WCC system "
+                                      "solved by Distributed/Linear solver)");
+        parameters.model.strategy.kind = fem::StepStrategy::Kind::partial;
+      }
+    if (parameters.model.type == fem::ModelType::warp_canceling &&
+        parameters.model.strategy.kind != fem::StepStrategy::Kind::partial)
       refuse("Model", "Strategy", to_string(parameters.model.strategy.kind),
              "a distributed run solves the WCC system with Distributed/Linear solver (Strategy = partial)");
     if (parameters.time_stepping.rest_kinetic_energy > 0)
@@ -126,7 +116,7 @@ namespace warpchol::distributed
     solver->compress();
 
     const fem::ElasticBody &body = distributed_body->local_body();
-    if (is_wcc_between_limits(all.model))
+    if (reassembles_by_error_estimate(all.model))
       {
         stored_frames.assign(body.n_elements(), identity_frames);
         last_estimate.reinit(distributed_body->triangulation().n_active_cells());
@@ -309,127 +299,147 @@ namespace warpchol::distributed
 
   void DistributedSimulation::advance(DistributedStep &step)
   {
-    Stopwatch               stopwatch;
-    DistributedBody        &distributed = *distributed_body;
-    const fem::ElasticBody &body        = distributed.local_body();
-    StageTimes             &stages      = step.stages;
-    const double            dt          = all.time_stepping.time_step;
-    const double            new_time    = time + dt;
-    const bool              in_frames   = solves_in_nodal_frames(all.model);
-
+    Stopwatch              stopwatch;
+    const fem::ElasticBody &body = distributed_body->local_body();
     {
-      const auto rotations = rotations_of(all.model);
-      StageTimer timer(stages, rotations == fem::ElasticBody::Rotations::none ? fem::stage::elastic_forces :
-                                                                                 fem::stage::rotations);
+      const auto rotations = fem::rotations_of(all.model.type);
+      StageTimer timer(step.stages, rotations == fem::ElasticBody::Rotations::none ? fem::stage::elastic_forces :
+                                                                                      fem::stage::rotations);
       body.evaluate(x, rotations, state);
     }
+    step.elements_updated = dealii::Utilities::MPI::sum(reassemble(step.stages), distributed_body->communicator());
+    assemble_right_hand_side(step.stages);
+    set_initial_guess(step.stages);
+    solve(step);
+    update_state(step.stages);
+    step.seconds = stopwatch.seconds();
+  }
 
+  unsigned long DistributedSimulation::reassemble(StageTimes &stages)
+  {
     // The matrix: in full (corotation), the elements over the threshold (WCC), or as it is.
-    unsigned long updated = 0;
-    if (reassembles_every_step(all.model))
+    const DistributedBody  &distributed = *distributed_body;
+    const fem::ElasticBody &body        = distributed.local_body();
+    if (fem::reassembles_every_step(all.model.type, all.model.update_threshold))
       {
         StageTimer timer(stages, fem::stage::assembly);
         reset_matrix();
-        const bool with_frames = all.model.type == "warp_canceling";
+        const bool in_frames = fem::solves_in_nodal_frames(all.model.type);
         for (const unsigned int e : distributed.owned_elements())
           {
             std::array<Matrix3, 4> nodal = identity_frames;
-            if (with_frames)
+            if (in_frames)
               for (unsigned int a = 0; a < 4; ++a)
                 nodal[a] = state.nodal_rotations[body.element_vertices(e)[a]];
             add_element(e, nodal, state.element_rotations[e], 1);
           }
         solver->compress();
-        updated = distributed.owned_elements().size();
+        return distributed.owned_elements().size();
       }
-    else if (is_wcc_between_limits(all.model))
+    if (!reassembles_by_error_estimate(all.model))
+      return 0;
+    const std::vector<unsigned int> update = elements_to_update(stages);
+    StageTimer                      timer(stages, fem::stage::assembly);
+    for (const unsigned int e : update)
       {
-        const std::vector<unsigned int> update = elements_to_update(stages);
-        StageTimer                      timer(stages, fem::stage::assembly);
-        for (const unsigned int e : update)
-          {
-            // Take the stored contribution out (its frames T_a stand for S_a^T Q with Q = I),
-            // put the current one in.
-            std::array<Matrix3, 4> old_nodal;
-            for (unsigned int a = 0; a < 4; ++a)
-              old_nodal[a] = stored_frames[e][a].transpose();
-            add_element(e, old_nodal, Matrix3::Identity(), -1);
-            add_element(e,
-                        fem::updated_contribution(body, coefficients, e, state.nodal_rotations,
-                                                  state.element_rotations[e], stored_frames[e]),
-                        1);
-            last_updated[distributed.active_cell_index(e)] = 1;
-          }
-        // Collective: every rank, with or without updates of its own.
-        solver->compress();
-        updated = update.size();
+        // Take the stored contribution out (its frames T_a stand for S_a^T Q with Q = I),
+        // put the current one in.
+        std::array<Matrix3, 4> old_nodal;
+        for (unsigned int a = 0; a < 4; ++a)
+          old_nodal[a] = stored_frames[e][a].transpose();
+        add_element(e, old_nodal, Matrix3::Identity(), -1);
+        add_element(e,
+                    fem::updated_contribution(body, coefficients, e, state.nodal_rotations, state.element_rotations[e],
+                                              stored_frames[e]),
+                    1);
+        last_updated[distributed.active_cell_index(e)] = 1;
       }
-    step.elements_updated = dealii::Utilities::MPI::sum(updated, distributed.communicator());
+    // Collective: every rank, with or without updates of its own.
+    solver->compress();
+    return update.size();
+  }
 
+  void DistributedSimulation::assemble_right_hand_side(StageTimes &stages)
+  {
     // rhs = M v + dt (f_ext + f_el(x) + k (target(t + dt) - x)), on the owned vertices.
-    std::vector<Vector3> momentum;
-    {
-      StageTimer timer(stages, fem::stage::right_hand_side);
-      if (body.mass_matrix_type() == fem::MassMatrix::consistent)
-        {
-          momentum.assign(body.n_vertices(), Vector3::Zero());
-          body.add_mass_times(v, momentum);
-        }
-      const Vector3 offset = tool_motion(all).target_offset(new_time);
-      for (const unsigned int i : distributed.owned_vertices())
-        {
-          const int row = distributed.first_owned_row(i);
-          if (body.is_fixed(i))
-            {
-              for (unsigned int c = 0; c < 3; ++c)
-                rhs[row + c] = 0;
-              continue;
-            }
-          Vector3 force = constant_forces[i] + state.forces[i];
-          if (is_tool_vertex[i])
-            force += all.tool.spring_stiffness * (body.rest_positions()[i] + offset - x[i]);
-          Vector3 value = (momentum.empty() ? Vector3(body.vertex_mass(i) * v[i]) : momentum[i]) + dt * force;
-          if (in_frames)
-            value = state.nodal_rotations[i].transpose() * value;
-          for (unsigned int c = 0; c < 3; ++c)
-            rhs[row + c] = value[c];
-        }
-    }
-    {
-      // CG's initial guess: the velocities extrapolated from the last two steps.
-      StageTimer timer(stages, fem::stage::initial_guess);
-      solution.assign(rhs.size(), 0.0);
-      for (const unsigned int i : distributed.owned_vertices())
-        {
-          if (body.is_fixed(i))
+    const DistributedBody  &distributed = *distributed_body;
+    const fem::ElasticBody &body        = distributed.local_body();
+    const double            dt          = all.time_stepping.time_step;
+    const bool              in_frames   = fem::solves_in_nodal_frames(all.model.type);
+    StageTimer              timer(stages, fem::stage::right_hand_side);
+    std::vector<Vector3>    momentum;
+    if (body.mass_matrix_type() == fem::MassMatrix::consistent)
+      {
+        momentum.assign(body.n_vertices(), Vector3::Zero());
+        body.add_mass_times(v, momentum);
+      }
+    const Vector3 offset = tool_motion(all).target_offset(time + dt);
+    for (const unsigned int i : distributed.owned_vertices())
+      {
+        const int row = distributed.first_owned_row(i);
+        if (body.is_fixed(i))
+          {
+            for (unsigned int c = 0; c < 3; ++c)
+              rhs[row + c] = 0;
             continue;
-          Vector3 guess = previous_v.empty() ? v[i] : Vector3(2 * v[i] - previous_v[i]);
-          if (in_frames)
-            guess = state.nodal_rotations[i].transpose() * guess;
-          const int row = distributed.first_owned_row(i);
-          for (unsigned int c = 0; c < 3; ++c)
-            solution[row + c] = guess[c];
-        }
-    }
-    {
-      Stopwatch solve_watch;
-      try
-        {
-          solver->solve(rhs, solution);
-        }
-      catch (const MatrixError &error)
-        {
-          throw MatrixError("step " + std::to_string(steps_done + 1) + ": " + error.what());
-        }
-      const double total = solve_watch.seconds();
-      // The AMG hierarchy or MUMPS' factorization, when the solve made one.
-      if (solver->last_setup_seconds() > 0)
-        stages.add(fem::stage::factorization, solver->last_setup_seconds());
-      stages.add(fem::stage::solve, total - solver->last_setup_seconds());
-      step.cg_iterations = solver->last_iterations();
-    }
+          }
+        Vector3 force = constant_forces[i] + state.forces[i];
+        if (is_tool_vertex[i])
+          force += all.tool.spring_stiffness * (body.rest_positions()[i] + offset - x[i]);
+        Vector3 value = (momentum.empty() ? Vector3(body.vertex_mass(i) * v[i]) : momentum[i]) + dt * force;
+        if (in_frames)
+          value = state.nodal_rotations[i].transpose() * value;
+        for (unsigned int c = 0; c < 3; ++c)
+          rhs[row + c] = value[c];
+      }
+  }
 
-    StageTimer timer(stages, fem::stage::position_update);
+  void DistributedSimulation::set_initial_guess(StageTimes &stages)
+  {
+    // CG's initial guess: the velocities extrapolated from the last two steps.
+    const fem::ElasticBody &body      = distributed_body->local_body();
+    const bool              in_frames = fem::solves_in_nodal_frames(all.model.type);
+    StageTimer              timer(stages, fem::stage::initial_guess);
+    solution.assign(rhs.size(), 0.0);
+    for (const unsigned int i : distributed_body->owned_vertices())
+      {
+        if (body.is_fixed(i))
+          continue;
+        Vector3 guess = previous_v.empty() ? v[i] : Vector3(2 * v[i] - previous_v[i]);
+        if (in_frames)
+          guess = state.nodal_rotations[i].transpose() * guess;
+        const int row = distributed_body->first_owned_row(i);
+        for (unsigned int c = 0; c < 3; ++c)
+          solution[row + c] = guess[c];
+      }
+  }
+
+  void DistributedSimulation::solve(DistributedStep &step)
+  {
+    Stopwatch solve_watch;
+    try
+      {
+        solver->solve(rhs, solution);
+      }
+    catch (const MatrixError &error)
+      {
+        throw MatrixError("step " + std::to_string(steps_done + 1) + ": " + error.what());
+      }
+    const double total = solve_watch.seconds();
+    // The AMG hierarchy or MUMPS' factorization, when the solve made one.
+    if (solver->last_setup_seconds() > 0)
+      step.stages.add(fem::stage::factorization, solver->last_setup_seconds());
+    step.stages.add(fem::stage::solve, total - solver->last_setup_seconds());
+    step.cg_iterations = solver->last_iterations();
+  }
+
+  void DistributedSimulation::update_state(StageTimes &stages)
+  {
+    const DistributedBody  &distributed = *distributed_body;
+    const fem::ElasticBody &body        = distributed.local_body();
+    const double            dt          = all.time_stepping.time_step;
+    const bool              in_frames   = fem::solves_in_nodal_frames(all.model.type);
+    StageTimer              timer(stages, fem::stage::position_update);
     // v = S y on the owned vertices, then everywhere through the ghosts.
     std::vector<Vector3> new_v(body.n_vertices(), Vector3::Zero());
     bool                 finite = true;
@@ -453,10 +463,8 @@ namespace warpchol::distributed
     v          = std::move(new_v);
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
       x[i] += dt * v[i];
-    time = new_time;
+    time += dt;
     ++steps_done;
-    timer.stop();
-    step.seconds = stopwatch.seconds();
   }
 
   void DistributedSimulation::to_dof_vector(const std::vector<Vector3> &values,
@@ -493,7 +501,7 @@ namespace warpchol::distributed
     // The serial kernel on the local body (ghosts included), summed over the owned elements.
     const fem::ElasticBody &body = distributed_body->local_body();
     std::vector<Matrix3>    rotations;
-    if (all.model.type != "linear")
+    if (fem::rotations_of(all.model.type) != fem::ElasticBody::Rotations::none)
       body.compute_element_rotations(x, rotations);
     const std::vector<double> energies = body.element_energies(x, rotations.empty() ? nullptr : &rotations);
     double                    sum      = 0;
@@ -668,8 +676,8 @@ namespace warpchol::distributed
         << static_cast<unsigned long>(owned_cells[0]) << " to " << static_cast<unsigned long>(owned_cells[2])
         << " owned, " << static_cast<unsigned long>(local_cells[0]) << " to "
         << static_cast<unsigned long>(local_cells[2]) << " with ghosts\n";
-    out << "  model " << all.model.type;
-    if (all.model.type == "warp_canceling")
+    out << "  model " << fem::to_string(all.model.type);
+    if (all.model.type == fem::ModelType::warp_canceling)
       out << " (update threshold " << format_number(all.model.update_threshold) << ")";
     out << ", linear solver "
         << (solver->name() == "mumps" ? "MUMPS (PETSc, direct)" :
@@ -679,7 +687,7 @@ namespace warpchol::distributed
     if (solver->name() == "amg_cg")
       out << ", mean CG iterations " << std::fixed << std::setprecision(1)
           << static_cast<double>(cg_iterations) / std::max(1u, steps_done) << std::defaultfloat;
-    if (is_wcc_between_limits(all.model))
+    if (reassembles_by_error_estimate(all.model))
       out << ", elements updated per step " << std::fixed << std::setprecision(2)
           << 100.0 * elements_updated / std::max(1u, steps_done) / distributed.n_global_elements() << " %"
           << std::defaultfloat;
@@ -739,6 +747,8 @@ namespace warpchol::distributed
     int status = app::report_errors(root ? err : std::cerr, [&] {
       parameters = std::make_unique<app::AllParameters>(parameter_file);
       DistributedSimulation::check_supported(*parameters);
+      if (root)
+        parameters->print_warnings(err);
       mesh = std::make_unique<app::SceneMesh>(*parameters);
     }, root);
     if (status != 0)

@@ -904,9 +904,9 @@ namespace warpchol::fem
                                given_rotations ? given_rotations->data() : nullptr,
                                product,
                                element_span.data()};
-    // A range of elements in a row per thread, of 512 elements at least: the fewer the
-    // borders, the fewer the vertices two ranges share (with four ranges per thread, 55-64 %
-    // of the elements of SOFA's raptor and the Gmsh torus touch one; with one, 8-9 %).
+    // One range of consecutive elements per thread, of 512 elements at least: the fewer the
+    // borders, the fewer the vertices two ranges share, and the fewer the sums that the
+    // ranges' own arrays must add up afterwards.
     const unsigned int n_threads = dealii::MultithreadInfo::n_threads();
     const unsigned int n_ranges  = std::max(1u, std::min(n_threads, n_elements() / 512));
     std::vector<unsigned int> range_start(n_ranges + 1);

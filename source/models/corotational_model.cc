@@ -1,4 +1,5 @@
 #include <warpchol/models/corotational_model.h>
+#include <warpchol/models/model_type.h>
 
 namespace warpchol::fem
 {
@@ -15,13 +16,13 @@ namespace warpchol::fem
 
   std::string CorotationalModel::name() const
   {
-    return "corotational";
+    return to_string(ModelType::corotational);
   }
 
   void CorotationalModel::prepare_step(const std::vector<Vector3> &positions,
                                        const std::vector<Vector3> &, StepStatistics &statistics)
   {
-    evaluate_elastic_state(positions, ElasticBody::Rotations::elements, statistics);
+    evaluate_elastic_state(positions, rotations_of(ModelType::corotational), statistics);
     const auto &element_rotations = elastic_state.element_rotations;
 
     {

@@ -1,4 +1,5 @@
 #include <warpchol/models/linear_model.h>
+#include <warpchol/models/model_type.h>
 
 namespace warpchol::fem
 {
@@ -12,7 +13,7 @@ namespace warpchol::fem
 
   std::string LinearModel::name() const
   {
-    return "linear";
+    return to_string(ModelType::linear);
   }
 
   bool LinearModel::uses_rotations() const
@@ -23,7 +24,7 @@ namespace warpchol::fem
   void LinearModel::prepare_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &,
                                  StepStatistics &statistics)
   {
-    evaluate_elastic_state(positions, ElasticBody::Rotations::none, statistics);
+    evaluate_elastic_state(positions, rotations_of(ModelType::linear), statistics);
     record_updates(false);
     record_no_refactorization(statistics);
   }

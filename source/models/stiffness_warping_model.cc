@@ -1,4 +1,5 @@
 #include <warpchol/models/stiffness_warping_model.h>
+#include <warpchol/models/model_type.h>
 
 namespace warpchol::fem
 {
@@ -13,13 +14,13 @@ namespace warpchol::fem
 
   std::string StiffnessWarpingModel::name() const
   {
-    return "stiffness_warping";
+    return to_string(ModelType::stiffness_warping);
   }
 
   void StiffnessWarpingModel::prepare_step(const std::vector<Vector3> &positions,
                                            const std::vector<Vector3> &, StepStatistics &statistics)
   {
-    evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
+    evaluate_elastic_state(positions, rotations_of(ModelType::stiffness_warping), statistics);
     record_no_refactorization(statistics);
     record_updates(false);
   }

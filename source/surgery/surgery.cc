@@ -54,40 +54,49 @@ namespace warpchol::fem
     SystemChange change;
     if (cut_step.empty())
       cut_step.assign(body.n_elements(), -1);
-    reached_time    = time + time_step;
-    const auto tool = [&](const unsigned int v) { return tool_diagonal.empty() ? 0. : tool_diagonal[v]; };
-    const auto elastic_energy = [&](const unsigned int e) {
-      return body.element_energy(e, body.displacement_gradient(e, positions, rotated));
-    };
-
+    reached_time = time + time_step;
     if (!blades.empty())
-      {
-        std::vector<bool> is_cut(body.n_elements());
-        for (unsigned int e = 0; e < body.n_elements(); ++e)
-          is_cut[e] = body.element_is_cut(e);
-        for (const Blade &blade : blades)
-          {
-            const std::vector<unsigned int> crossed =
-              elements_crossed(body, positions, blade, time, time + time_step, is_cut);
-            if (crossed.empty())
-              continue;
-            // The removed elements take their elastic energy and their mass's share of
-            // the kinetic energy with them.
-            double removed = body.kinetic_energy(velocities);
-            for (const unsigned int e : crossed)
-              {
-                removed += elastic_energy(e);
-                body.cut_element(e);
-                is_cut[e]   = true;
-                cut_step[e] = static_cast<int>(step);
-                change.elements.push_back(e);
-              }
-            energy_of_changes.cuts -= removed - body.kinetic_energy(velocities);
-          }
-        statistics.elements_cut = change.elements.size();
-        change.topology         = !change.elements.empty();
-      }
+      cut_elements(body, positions, velocities, rotated, step, time, time_step, change, statistics);
+    change_materials(body, positions, rotated, time, time_step, change, statistics);
+    grasp_and_release(body, positions, time, time_step, tool_diagonal, change, statistics);
+    return change;
+  }
 
+  void Surgery::cut_elements(ElasticBody &body, const std::vector<Vector3> &positions,
+                             const std::vector<Vector3> &velocities, const bool rotated, const unsigned int step,
+                             const double time, const double time_step, SystemChange &change,
+                             StepStatistics &statistics)
+  {
+    std::vector<bool> is_cut(body.n_elements());
+    for (unsigned int e = 0; e < body.n_elements(); ++e)
+      is_cut[e] = body.element_is_cut(e);
+    for (const Blade &blade : blades)
+      {
+        const std::vector<unsigned int> crossed =
+          elements_crossed(body, positions, blade, time, time + time_step, is_cut);
+        if (crossed.empty())
+          continue;
+        // The removed elements take their elastic energy and their mass's share of
+        // the kinetic energy with them.
+        double removed = body.kinetic_energy(velocities);
+        for (const unsigned int e : crossed)
+          {
+            removed += body.element_energy(e, body.displacement_gradient(e, positions, rotated));
+            body.cut_element(e);
+            is_cut[e]   = true;
+            cut_step[e] = static_cast<int>(step);
+            change.elements.push_back(e);
+          }
+        energy_of_changes.cuts -= removed - body.kinetic_energy(velocities);
+      }
+    statistics.elements_cut = change.elements.size();
+    change.topology         = !change.elements.empty();
+  }
+
+  void Surgery::change_materials(ElasticBody &body, const std::vector<Vector3> &positions, const bool rotated,
+                                 const double time, const double time_step, SystemChange &change,
+                                 StepStatistics &statistics)
+  {
     for (std::size_t k = 0; k < material_changes.size(); ++k)
       {
         const MaterialChange &material_change = material_changes[k];
@@ -110,7 +119,13 @@ namespace warpchol::fem
         energy_of_changes.material_changes += added;
         material_changed[k] = true;
       }
+  }
 
+  void Surgery::grasp_and_release(ElasticBody &body, const std::vector<Vector3> &positions, const double time,
+                                  const double time_step, const std::vector<double> &tool_diagonal,
+                                  SystemChange &change, StepStatistics &statistics)
+  {
+    const auto tool = [&](const unsigned int v) { return tool_diagonal.empty() ? 0. : tool_diagonal[v]; };
     // A grasp ties the vertices where they are (no energy), a release lets the springs'
     // go: counted alike, as the springs' energy after minus before.
     const double springs_before = spring_energy(positions, time);
@@ -177,7 +192,6 @@ namespace warpchol::fem
             }
       }
     energy_of_changes.grasps += spring_energy(positions, time) - springs_before;
-    return change;
   }
 
   const ChangeEnergy &Surgery::change_energy() const

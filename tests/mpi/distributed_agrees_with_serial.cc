@@ -3,7 +3,8 @@
 // direct factor on one process, to the solver's tolerance: the energies of every step
 // (kinetic, elastic, potential, tool's springs), for the linear, corotational, stiffness
 // warping and WCC models, with Trilinos CG + ML AMG at tolerance 1e-12 and with MUMPS.
-// Also: a run on one rank with --distributed, and the entries a distributed run refuses.
+// Also: a run on one rank with --distributed, Strategy = auto taken as partial with a
+// warning, and the entries a distributed run refuses.
 //
 // mpirun comes from CMake (WARPCHOL_MPIEXEC): tests/CMakeLists.txt adds this test only
 // where it was found, and says so otherwise.
@@ -156,6 +157,27 @@ int main()
                                                 read_log("results/corotational_amg_cg_serial/log.csv"), n_steps);
     std::cout << "corotational, amg_cg, 1 rank (--distributed): exit " << status << ", energies agree to 1e-8: "
             << (difference < 1e-8 ? "yes" : "NO") << std::endl;
+  }
+
+  // Strategy = auto (the default scene's), which a distributed run does not have: it runs
+  // as partial, the WCC system solved by the distributed solver, and says so in one line.
+  {
+    tests::write_file("auto.prm", scene("  set Type = warp_canceling\n  set Update threshold = 0.3\n"
+                                        "  set Strategy = auto\n",
+                                        "auto", "amg_cg"));
+    const int     status = spawn(2, {"auto.prm"}, "auto.out");
+    std::ifstream in("auto.out");
+    std::string   line, warning;
+    unsigned int  n_warnings = 0;
+    while (std::getline(in, line))
+      if (line.rfind("warpchol: warning", 0) == 0 && n_warnings++ == 0)
+        warning = line;
+    unsigned int n_steps    = 0;
+    const double difference = energy_difference(read_log("results/auto/log.csv"),
+                                                read_log("results/warp_canceling_amg_cg/log.csv"), n_steps);
+    std::cout << "warp_canceling, Strategy = auto, 2 ranks: exit " << status << ", warnings " << n_warnings << ": "
+              << warning.substr(std::min(warning.size(), warning.find("auto.prm"))) << "; " << n_steps
+              << " steps as partial's to 1e-8: " << (difference < 1e-8 ? "yes" : "NO") << std::endl;
   }
 
   // What a distributed run does not do: one line, naming the entry, exit status 2.

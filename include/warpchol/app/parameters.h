@@ -80,6 +80,9 @@ namespace warpchol::app
      */
     AllParameters exact_corotational() const;
 
+    /** The model of each body: Bodies/Models, or Model/Type for the one body or all. */
+    std::vector<fem::ModelType> model_types() const;
+
     /** The mesh file with a relative name taken relative to the parameter file that sets it. */
     std::string mesh_file_path() const;
 
@@ -91,11 +94,25 @@ namespace warpchol::app
      */
     std::vector<std::string> entries;
 
+    /**
+     * One line per entry the file sets that the options chosen leave unused, naming the
+     * entry and the choice that ignores it:
+     *   torus.prm:14: Fixed vertices/Sphere radius = 0.1: ignored with Region = box
+     * The run goes on (the programs print them first, as warnings); a distributed run adds
+     * the settings it replaces (DistributedSimulation::check_supported()).
+     */
+    std::vector<std::string> warnings;
+
+    /** Print warnings to @p err, one "warpchol: warning: ..." line each. */
+    void print_warnings(std::ostream &err) const;
+
   private:
     void parse_parameters(dealii::ParameterHandler &prm);
     /** Read the instruments' path files and check that each covers its use. */
     void read_paths();
     /** Throw InputError at Solver/Backend if the backend cannot run the model as set. */
     void check_backend(dealii::ParameterHandler &prm) const;
+    /** Fill warnings: the entries set in the file that the choices made ignore, for every subsection. */
+    void warn_about_ignored_entries(dealii::ParameterHandler &prm);
   };
 } // namespace warpchol::app

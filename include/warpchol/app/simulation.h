@@ -207,10 +207,12 @@ namespace warpchol::app
   };
 
   /**
-   * Read @p parameter_file, run it (from its checkpoint if @p resume) and print the
-   * summary on @p out. Throws warpchol::Error.
+   * Read @p parameter_file, print its warnings (AllParameters::warnings) on @p err, run it
+   * (from its checkpoint if @p resume) and print the summary on @p out. Throws
+   * warpchol::Error.
    */
-  void run_parameter_file(const std::string &parameter_file, std::ostream &out, bool resume = false);
+  void run_parameter_file(const std::string &parameter_file, std::ostream &out, std::ostream &err,
+                          bool resume = false);
 
   /**
    * Run @p action and turn what it throws into warpchol's exit status: 2 for InputError, 3

@@ -1,7 +1,7 @@
 #pragma once
 
+#include <warpchol/backends/cholmod_reference.h>
 #include <warpchol/backends/linear_solver.h>
-#include <warpchol/cholesky/cholmod_reference.h>
 
 #include <deal.II/lac/sparse_direct.h>
 

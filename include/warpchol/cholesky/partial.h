@@ -7,7 +7,9 @@
 
 /**
  * @file
- * Which columns a partial refactorization must recompute (CHOLMOD's "modify" concern).
+ * Which columns a partial refactorization must recompute: the paths from the changed columns
+ * to the roots (CHOLMOD has no such module; its Modify module, our modify.h, updates the
+ * factor instead).
  *
  * Column j of L depends on the entries of C = P^T A P in the columns of its subtree of
  * the elimination tree (j and its descendants), and on nothing else. So when the columns

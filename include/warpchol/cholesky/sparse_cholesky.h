@@ -101,7 +101,11 @@ namespace warpchol::cholesky
     struct Settings
     {
       OrderingSettings    ordering;
-      FactorizationMethod method = FactorizationMethod::left_looking;
+      /**
+       * Supernodal, as the simulation, SparseDirectCholesky and Python use: the one that
+       * updates, downdates and leaves the top of the tree stale (below_top) too.
+       */
+      FactorizationMethod method = FactorizationMethod::supernodal;
       /** Supernode amalgamation (supernodal method). */
       SupernodeRelaxation relaxation;
       /** Threads of the supernodal factorization (1: serial, no TBB). */
@@ -455,8 +459,8 @@ namespace warpchol::cholesky
     /** Factor the columns of @p plan; maps a failed pivot to the user's column. */
     double run_numeric(const RefreshPlan &plan);
 
-    /** Set the statistics of what is pending and stale. */
-    void update_backlog_statistics();
+    /** Record in the statistics what is pending and stale (the backlog a refresh has to take). */
+    void record_backlog();
 
     /** Throw unless update() and its kind may run now (@p caller names it). */
     void check_modification(const std::string &caller) const;

@@ -50,7 +50,8 @@ namespace warpchol::distributed
    * Loads as in serial runs: gravity, a region force, the pulling tool, fixed vertices, a
    * rigid initial velocity. What a distributed run does not do is refused at its entry:
    * several bodies, checkpoints, the comparison with corotation, a WCC target error or a
-   * step strategy other than partial (the factor is not warpchol's), waiting for rest.
+   * step strategy other than partial or auto (the factor is not warpchol's; auto, the
+   * default scene's, runs as partial with a warning), waiting for rest.
    *
    * Results: DIRECTORY/SCENE/ holds a VTU piece per rank and step written
    * (SCENE-NNNNN.RANK.vtu), the PVTU record of each step and SCENE.pvd, and log.csv (rank 0;
@@ -66,10 +67,12 @@ namespace warpchol::distributed
     DistributedSimulation(const app::AllParameters &parameters, app::SceneMesh &mesh, MPI_Comm communicator);
 
     /**
-     * Throw InputError at the entries a distributed run does not support; create the
-     * output directory. The same on every rank: before anything collective.
+     * Throw InputError at the entries a distributed run does not support; take what it has
+     * for Model/Strategy = auto (partial: the step's system is the WCC one, solved by
+     * Distributed/Linear solver), said in @p parameters' warnings; create the output
+     * directory. The same on every rank: before anything collective.
      */
-    static void check_supported(const app::AllParameters &parameters);
+    static void check_supported(app::AllParameters &parameters);
 
     /** Run the steps; rank 0 prints the summary to @p out and the progress line. */
     void run(std::ostream &out);
@@ -102,7 +105,18 @@ namespace warpchol::distributed
     /** WCC: the owned elements whose error exceeds the threshold. */
     std::vector<unsigned int> elements_to_update(StageTimes &stages);
 
+    /** One implicit Euler step: the element pass, then each of the steps below in turn. */
     void advance(DistributedStep &step);
+    /** Re-assemble A as the model does (in full, WCC's elements over the threshold, or not); the elements re-assembled on this rank. */
+    unsigned long reassemble(StageTimes &stages);
+    /** rhs = M v + dt (f_ext + f_el(x) + tool springs) on the owned rows, in the solve frame. */
+    void assemble_right_hand_side(StageTimes &stages);
+    /** solution = the velocities extrapolated from the last two steps (CG's initial guess). */
+    void set_initial_guess(StageTimes &stages);
+    /** Solve A solution = rhs by Distributed/Linear solver. */
+    void solve(DistributedStep &step);
+    /** v from the solution (through the ghosts), x += dt v, the time and the step count. */
+    void update_state(StageTimes &stages);
     /** Fill the ghosted @p field (dof vector) from per-vertex @p values of the owned vertices. */
     void to_dof_vector(const std::vector<fem::Vector3> &values, dealii::TrilinosWrappers::MPI::Vector &field) const;
     void write_vtu(unsigned int step);

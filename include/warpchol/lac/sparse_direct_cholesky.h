@@ -408,7 +408,7 @@ namespace warpchol
 
     /**
      * Where the entries of a deal.II matrix go in matrix_csc: found at the first matrix,
-     * so that the values of the next ones are copied without a search (2.5x faster).
+     * so that the values of the next ones are copied without a search.
      */
     sparse::DealiiCscMap dealii_map;
 

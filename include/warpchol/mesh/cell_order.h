@@ -64,9 +64,10 @@ namespace warpchol::fem
    * boundary vertex, a narrow front through slender and compact bodies alike); the cells
    * sorted by their vertices' ranks in it (the smallest first), and the unknowns numbered
    * in it. With @p choice automatic the cells are sorted if that lowers
-   * vertex_misses_per_cell(): SOFA's meshes list their cells in no useful order (4 misses
-   * per cell; sorted, the assembly of A runs 12-20 % faster, doc/targets/xeon), while a
-   * generated mesh's tetrahedra come 24 per hexahedron and are best left so.
+   * vertex_misses_per_cell(): a mesh whose cells come in no useful
+   * order (SOFA's) is sorted, so that consecutive cells share vertices and the element
+   * kernels find them in cache (doc/kernels.md gives the effect), while a generated
+   * mesh's tetrahedra come 24 per hexahedron and are best left so.
    *
    * Sorting rebuilds @p triangulation from its active cells as one coarse level. The
    * vertices keep their numbers (the file's, for a mesh read: its vertex ids, and the

@@ -141,7 +141,16 @@ namespace warpchol::fem
      */
     double strategy_seconds() const;
 
-    /** How much of the factor was brought up to date ("all", "below_top", "none"; "" if nothing changed). */
+    /**
+     * How the factor was brought up to date in the step, "" if it was not touched:
+     * - "full": A factored anew in full (ElasticityModel::factorize(): exact corotation's
+     *   steps, WCC's where it factors in full; every factorization by a peer);
+     * - "all", "below_top", "none": refactorize() with that cholesky::Refresh (WCC's
+     *   strategies: every column that depends on a change, those below the top, none);
+     * - "background": the factor a background refresh finished was taken in (Strategy =
+     *   background, WarpCancelingModel).
+     * The summary counts the steps by this word (RunTotals::refreshes), the log writes it.
+     */
     std::string refresh;
     /**
      * How the factorization of the step took its changes (cholesky::RefactorizationMethod:

@@ -24,9 +24,9 @@ namespace warpchol::fem
    * - the threshold went a hundred times below where it started while the steps update a
    *   quarter of the elements or more and still miss the goal (moving averages), or
    * - the step error was over four times the goal in three of the last five steps, or
-   * - the steps hold the goal only by updating 40 % of the elements or more: their
-   *   partial refactorization then recomputes over 90 % of a full one's flops (measured
-   *   on ten scenes).
+   * - the steps hold the goal only by updating 40 % of the elements or more: a partial
+   *   refactorization of that many elements' columns recomputes nearly all of a full
+   *   one's flops (doc/calibration).
    * The model then iterates on the exact corotational matrix instead.
    */
   class TargetErrorController

@@ -57,8 +57,8 @@ namespace warpchol::sparse
   DealiiCscMap csc_map(const dealii::SparseMatrix<double> &matrix, const CSCMatrix &csc);
 
   /**
-   * Copy the values of @p matrix into @p csc through @p map: O(nnz), no search, 2.5x faster
-   * than copy_values() above. Throws MatrixError, naming an entry, if the pattern of
+   * Copy the values of @p matrix into @p csc through @p map: O(nnz), one pass in storage
+   * order, where copy_values() above searches each entry's place in its column. Throws MatrixError, naming an entry, if the pattern of
    * @p matrix is not the map's.
    */
   void copy_values(const dealii::SparseMatrix<double> &matrix, const DealiiCscMap &map, CSCMatrix &csc);

@@ -172,6 +172,17 @@ namespace warpchol::fem
     double                      reached_time = 0;
     ChangeEnergy                energy_of_changes;
 
+    /** changes_of_step()'s parts, in its order: the blades' cuts, the materials' changes, the grasps. */
+    void cut_elements(ElasticBody &body, const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
+                      bool rotated, unsigned int step, double time, double time_step, SystemChange &change,
+                      StepStatistics &statistics);
+    void change_materials(ElasticBody &body, const std::vector<Vector3> &positions, bool rotated, double time,
+                          double time_step, SystemChange &change, StepStatistics &statistics);
+    /** The jaws that close or open in the step; the springs' diagonals of the vertices they change. */
+    void grasp_and_release(ElasticBody &body, const std::vector<Vector3> &positions, double time, double time_step,
+                           const std::vector<double> &tool_diagonal, SystemChange &change,
+                           StepStatistics &statistics);
+
     void save_hold(BinaryWriter &writer, const Hold &hold) const;
     void load_hold(BinaryReader &reader, Hold &hold);
   };

@@ -213,12 +213,17 @@ namespace warpchol::app
       };
       for (const auto &type : items(prm.get("Models")))
         {
-          if (type != "linear" && type != "corotational" && type != "stiffness_warping" &&
-              type != "warp_canceling")
-            file.fail(prm, "Bodies", "Models",
-                      quote(type) + " is not a model (linear, corotational, stiffness_warping, "
-                      "warp_canceling)");
-          model_types.push_back(type);
+          try
+            {
+              model_types.push_back(fem::parse_model_type(type));
+            }
+          catch (const InputError &)
+            {
+              std::string names;
+              for (const auto &entry : fem::model_type_names)
+                names += (names.empty() ? "" : ", ") + std::string(entry.name);
+              file.fail(prm, "Bodies", "Models", quote(type) + " is not a model (" + names + ")");
+            }
         }
       require_one_per_body("Models", model_types.size());
       for (const auto &text : items(prm.get("Update thresholds")))

@@ -90,7 +90,8 @@ namespace warpchol::app
                       "Region = sphere: the radius (m)");
     prm.declare_entry("Vertex ids", "", Patterns::List(Patterns::Integer(0), 0, Patterns::List::max_int_value, ","),
                       "Region = ids: vertex ids counted from 0 in the order of the mesh "
-                      "file's node list (SOFA's numbering), or of a generated mesh's vertices");
+                      "file's node list (SOFA's numbering), or of a generated mesh's vertices; "
+                      "given without a Region, the region is these ids");
   }
 
   void RegionParameters::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file,
@@ -104,6 +105,9 @@ namespace warpchol::app
     vertex_ids.clear();
     for (const auto &id : dealii::Utilities::split_string_list(prm.get("Vertex ids"), ','))
       vertex_ids.push_back(dealii::Utilities::string_to_int(id));
+    // Ids written without a Region mean those vertices: the default (none) would drop them.
+    if (!vertex_ids.empty() && !file.sets(subsection, "Region"))
+      kind = "ids";
     if (kind == "box" && !(box_upper_corner.array() >= box_lower_corner.array()).all())
       file.fail(prm, subsection, "Box upper corner",
                 "must not lie below Box lower corner along any axis");

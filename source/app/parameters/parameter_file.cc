@@ -291,6 +291,12 @@ namespace warpchol::app
     return file + ": " + path + " (default)";
   }
 
+  bool ParameterFileLocator::sets(const std::string &subsection, const std::string &entry) const
+  {
+    const std::string path = subsection + "/" + entry;
+    return std::any_of(set_lines.begin(), set_lines.end(), [&](const auto &set) { return set.first == path; });
+  }
+
   std::string ParameterFileLocator::entry_at(const int line) const
   {
     for (const auto &[path, set_line] : set_lines)

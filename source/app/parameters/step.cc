@@ -50,8 +50,7 @@ namespace warpchol::app
     void Model::declare_parameters(ParameterHandler &prm)
     {
       prm.enter_subsection("Model");
-      prm.declare_entry("Type", "warp_canceling",
-                        Patterns::Selection("linear|corotational|stiffness_warping|warp_canceling"),
+      prm.declare_entry("Type", "warp_canceling", Patterns::Selection(selection_of(fem::model_type_names)),
                         "linear: no rotation, factor once; corotational: exact per-element "
                         "rotations, refactor every step; stiffness_warping: nodal rotations, "
                         "factor once; warp_canceling: WCC, partial refactorization of the "
@@ -108,7 +107,8 @@ namespace warpchol::app
     void Model::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
     {
       prm.enter_subsection("Model");
-      type                   = prm.get("Type");
+      // Choices: ParameterHandler has checked them against their one list.
+      type = fem::parse_model_type(prm.get("Type"));
       if (!parse_threshold(prm.get("Update threshold"), update_threshold))
         file.fail(prm, "Model", "Update threshold", "must be a number >= 0 or inf");
       // Choices: ParameterHandler has checked them against their one list.
@@ -121,11 +121,6 @@ namespace warpchol::app
       strategy.refresh_iterations = prm.get_integer("Refresh iterations");
       strategy.background_lag     = prm.get_integer("Background lag");
       prm.leave_subsection();
-    }
-
-    Solver::Solver()
-    {
-      settings.method = cholesky::FactorizationMethod::supernodal;
     }
 
     void Solver::declare_parameters(ParameterHandler &prm)

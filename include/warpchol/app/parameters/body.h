@@ -6,6 +6,7 @@
 #include <warpchol/fem/small_dense.h>
 #include <warpchol/mesh/cell_order.h>
 #include <warpchol/mesh/mesh_generators.h>
+#include <warpchol/models/model_type.h>
 
 #include <deal.II/base/parameter_handler.h>
 
@@ -68,7 +69,7 @@ namespace warpchol::app
       unsigned int             count   = 1;
       fem::Vector3             spacing{0, 0, 0};
       /** One model type per body; empty: Model/Type for all. */
-      std::vector<std::string> model_types;
+      std::vector<fem::ModelType> model_types;
       /** One threshold per body; empty: Model/Update threshold for all. */
       std::vector<double>      update_thresholds;
 

@@ -47,6 +47,9 @@ namespace warpchol::app
      */
     std::string where(const std::string &subsection, const std::string &entry) const;
 
+    /** Whether a set statement of the file (or of a file it includes) sets Subsection/Entry. */
+    bool sets(const std::string &subsection, const std::string &entry) const;
+
     /** "Subsection/Entry" of the set statement at line @p line (from 1) of text(), "" if none is there. */
     std::string entry_at(int line) const;
 

@@ -3,6 +3,7 @@
 #include <warpchol/app/parameters/parameter_file.h>
 #include <warpchol/backends/linear_solver.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
+#include <warpchol/models/model_type.h>
 #include <warpchol/models/step_strategy.h>
 
 #include <deal.II/base/parameter_handler.h>
@@ -41,7 +42,7 @@ namespace warpchol::app
     /** Subsection "Model". */
     struct Model
     {
-      std::string       type             = "warp_canceling";
+      fem::ModelType    type             = fem::ModelType::warp_canceling;
       double            update_threshold = 0.05;
       /** > 0: the threshold adapts each step to keep the trajectory error near this. */
       double            target_error = 0;
@@ -58,9 +59,6 @@ namespace warpchol::app
       cholesky::SparseCholesky::Settings settings;
       /** Who factors and solves the step's system: warpchol's factor or a peer's. */
       backends::Settings                 backend;
-
-      /** The supernodal method by default: the fast one, which refactorizes partially. */
-      Solver();
 
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <array>
 #include <ostream>
 #include <string>
 #include <vector>
@@ -56,6 +57,17 @@ namespace warpchol::app
     std::string script(const std::string &png_file) const;
 
   private:
+    /** The legend's groups, in the order of their first point. */
+    std::vector<std::string> groups() const;
+    /** The points of each group and the Pareto fronts as data blocks; whether a point diverged. */
+    bool write_data(std::ostream &out) const;
+    /** The terminal, the two panels' margins and axes, the reference's line. */
+    void write_layout(std::ostream &out, const std::string &png_file, bool any_diverged) const;
+    /** Width, height and the legend column's width (pixels). */
+    std::array<double, 3> picture_size() const;
+    /** The plot commands of both panels: the front, each group's points and labels. */
+    void write_panels(std::ostream &out) const;
+
     std::string        title;
     std::string        reference_name;
     double             reference_seconds_per_step;

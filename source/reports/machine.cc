@@ -1,4 +1,4 @@
-#include <warpchol/app/machine.h>
+#include <warpchol/reports/machine.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/simd.h>
 #include <warpchol/base/stopwatch.h>

@@ -1,7 +1,7 @@
+#include <warpchol/backends/cholmod_reference.h>
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/blas.h>
-#include <warpchol/cholesky/cholmod_reference.h>
 
 #include <cholmod.h>
 

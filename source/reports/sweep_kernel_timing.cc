@@ -1,6 +1,6 @@
-#include <warpchol/app/kernel_timing.h>
-#include <warpchol/app/machine.h>
-#include <warpchol/app/sweep_kernel_timing.h>
+#include <warpchol/reports/sweep_kernel_timing.h>
+#include <warpchol/reports/kernel_timing.h>
+#include <warpchol/reports/machine.h>
 
 #include <algorithm>
 

@@ -1,6 +1,7 @@
-#include <warpchol/app/error_time_plot.h>
-#include <warpchol/app/sweep_plot.h>
+#include <warpchol/reports/sweep_plot.h>
 #include <warpchol/base/format.h>
+#include <warpchol/models/model_type.h>
+#include <warpchol/reports/error_time_plot.h>
 
 #include <algorithm>
 
@@ -11,7 +12,7 @@ namespace warpchol::app
     /** The legend entry of a row's model in the plot. */
     std::string plot_group(const std::string &model)
     {
-      if (model == "warp_canceling")
+      if (model == fem::to_string(fem::ModelType::warp_canceling))
         return "WCC partial";
       if (model == "wcc_target")
         return "WCC target error";
@@ -31,7 +32,7 @@ namespace warpchol::app
                          std::to_string(parameters.time_stepping.n_steps) + " steps, " +
                          std::to_string(parameters.solver.settings.n_threads) +
                          " thread(s); error against the exact corotational run",
-                       "corotational", exact_per_step);
+                       fem::to_string(fem::ModelType::corotational), exact_per_step);
     for (const auto &row : rows)
       if (&row != &rows.front() && row.failure.empty())
         plot.add({plot_group(row.model),

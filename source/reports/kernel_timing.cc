@@ -1,4 +1,4 @@
-#include <warpchol/app/kernel_timing.h>
+#include <warpchol/reports/kernel_timing.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/fem/rotations.h>

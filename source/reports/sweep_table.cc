@@ -1,4 +1,4 @@
-#include <warpchol/app/sweep_table.h>
+#include <warpchol/reports/sweep_table.h>
 #include <warpchol/base/format.h>
 
 #include <algorithm>
@@ -35,7 +35,8 @@ namespace warpchol::app
         };
         const auto &p     = row.phases;
         const auto  error = [&](const double value) {
-          return row.model == "corotational" ? std::string("0") : format_number(value, 2);
+          return row.model == fem::to_string(fem::ModelType::corotational) ? std::string("0") :
+                                                                             format_number(value, 2);
         };
         out << std::setw(24) << row.model << std::setw(10) << threshold_text(row) << std::setw(9)
             << format_number(row.elements_updated, 3) << std::setw(8)

@@ -1,8 +1,8 @@
 #pragma once
 
 #include <warpchol/app/scene.h>
-#include <warpchol/app/sweep_table.h>
 #include <warpchol/fem/small_dense.h>
+#include <warpchol/reports/sweep_table.h>
 
 #include <ostream>
 #include <vector>
@@ -10,7 +10,7 @@
 /**
  * @file
  * The element kernels' cost in warpchol-threshold-sweep: ns per tet on this machine's SIMD
- * target (app/kernel_timing.h), beside the error estimate's as the sweep's runs measured it.
+ * target (reports/kernel_timing.h), beside the error estimate's as the sweep's runs measured it.
  */
 namespace warpchol::app
 {

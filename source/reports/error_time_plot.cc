@@ -1,4 +1,4 @@
-#include <warpchol/app/error_time_plot.h>
+#include <warpchol/reports/error_time_plot.h>
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/pareto_front.h>
@@ -71,44 +71,36 @@ namespace warpchol::app
     points.push_back(point);
   }
 
+  std::vector<std::string> ErrorTimePlot::groups() const
+  {
+    // In the order of their first point: a colour and a point type each.
+    std::vector<std::string> names;
+    for (const auto &point : points)
+      if (std::find(names.begin(), names.end(), point.group) == names.end())
+        names.push_back(point.group);
+    return names;
+  }
+
   std::string ErrorTimePlot::script(const std::string &png_file) const
   {
-    // The groups in the order of their first point: a colour and a point type each.
-    std::vector<std::string> groups;
-    for (const auto &point : points)
-      if (std::find(groups.begin(), groups.end(), point.group) == groups.end())
-        groups.push_back(point.group);
-    double largest_seconds = reference_seconds_per_step, smallest_seconds = reference_seconds_per_step;
-    for (const auto &point : points)
-      {
-        largest_seconds  = std::max(largest_seconds, point.seconds_per_step);
-        smallest_seconds = std::min(smallest_seconds, point.seconds_per_step);
-      }
-    // Peers that take 100x longer would squeeze every other point against the axis.
-    const bool log_seconds = smallest_seconds > 0 && largest_seconds > 30 * smallest_seconds;
-
-    const auto number = [](const double value) { return format_number(value, 6); };
-
-    // The legend is a column of its own right of both panels, outside their axes, so that
-    // no number of groups brings it onto a tick label or an axis label: the picture widens
-    // by the column, as wide as the longest title (pngcairo's 11 points take about 8
-    // pixels a character; 9 here, and the sample before it), and the panels keep their
-    // 1500 x 650 pixels.
-    std::size_t longest_title = std::string("Pareto front").size();
-    for (const auto &group : groups)
-      longest_title = std::max(longest_title, group.size());
-    const double height = 650, key_width = 90 + 9 * static_cast<double>(longest_title);
-    const double width  = 1500 + key_width;
-    const auto   fraction = [](const double pixels, const double of) { return format_number(pixels / of, 4); };
-    const std::string size = std::to_string(static_cast<int>(width)) + "," + std::to_string(static_cast<int>(height));
-
     std::ostringstream out;
     out << "# The error-against-time study, written by warpchol-threshold-sweep: edit and\n"
         << "# rerun with `gnuplot THIS_FILE` from the directory the sweep ran in.\n"
         << "# Per configuration: seconds per step, the largest over the steps of the worst\n"
         << "# vertex's error max_i |x_i - x_i(ref)| and of the RMS error\n"
         << "# sqrt(mean_i |x_i - x_i(ref)|^2), both over max_i |x_i(ref) - X_i|; its label.\n\n";
-    bool any_diverged = false;
+    const bool any_diverged = write_data(out);
+    write_layout(out, png_file, any_diverged);
+    write_panels(out);
+    out << "unset multiplot\n";
+    return out.str();
+  }
+
+  bool ErrorTimePlot::write_data(std::ostream &out) const
+  {
+    const auto                     number = [](const double value) { return format_number(value, 6); };
+    const std::vector<std::string> groups = this->groups();
+    bool                           any_diverged = false;
     for (unsigned int g = 0; g < groups.size(); ++g)
       {
         // Columns: seconds, max error, RMS error (both clipped at diverged_error), the labels
@@ -150,6 +142,23 @@ namespace warpchol::app
             out << number(seconds[i]) << " " << number(errors[i]) << "\n";
         out << "EOD\n";
       }
+    return any_diverged;
+  }
+
+  void ErrorTimePlot::write_layout(std::ostream &out, const std::string &png_file, const bool any_diverged) const
+  {
+    const auto number = [](const double value) { return format_number(value, 6); };
+    double     largest_seconds = reference_seconds_per_step, smallest_seconds = reference_seconds_per_step;
+    for (const auto &point : points)
+      {
+        largest_seconds  = std::max(largest_seconds, point.seconds_per_step);
+        smallest_seconds = std::min(smallest_seconds, point.seconds_per_step);
+      }
+    // Peers that take 100x longer would squeeze every other point against the axis.
+    const bool log_seconds = smallest_seconds > 0 && largest_seconds > 30 * smallest_seconds;
+    const auto [width, height, key_width] = picture_size();
+    const auto fraction = [](const double pixels, const double of) { return format_number(pixels / of, 4); };
+    const std::string size = std::to_string(static_cast<int>(width)) + "," + std::to_string(static_cast<int>(height));
 
     out << "\nif (strstrt(GPVAL_TERMINALS, \"pngcairo\") > 0) {\n"
         << "  set terminal pngcairo size " << size << " font \",11\"\n"
@@ -177,6 +186,25 @@ namespace warpchol::app
         << number(reference_seconds_per_step) << ", graph 1 nohead dashtype 2 linewidth 2 linecolor rgb \"black\"\n"
         << "set label 1 " << quoted(reference_name + " (error 0)") << " at "
         << number(reference_seconds_per_step) << ", graph 0.5 center rotate by 90 offset -1.2, 0\n";
+  }
+
+  std::array<double, 3> ErrorTimePlot::picture_size() const
+  {
+    // The legend is a column of its own right of both panels, outside their axes, so that
+    // no number of groups brings it onto a tick label or an axis label: the picture widens
+    // by the column, as wide as the longest title (pngcairo's 11 points take about 8
+    // pixels a character; 9 here, and the sample before it), and the panels keep their
+    // 1500 x 650 pixels.
+    std::size_t longest_title = std::string("Pareto front").size();
+    for (const auto &group : groups())
+      longest_title = std::max(longest_title, group.size());
+    const double height = 650, key_width = 90 + 9 * static_cast<double>(longest_title);
+    return {{1500 + key_width, height, key_width}};
+  }
+
+  void ErrorTimePlot::write_panels(std::ostream &out) const
+  {
+    const std::vector<std::string> groups = this->groups();
     for (const bool rms : {false, true})
       {
         // One legend for both panels.
@@ -206,8 +234,6 @@ namespace warpchol::app
           }
         out << "\n";
       }
-    out << "unset multiplot\n";
-    return out.str();
   }
 
   bool ErrorTimePlot::write(const std::string &script_file, const std::string &png_file,

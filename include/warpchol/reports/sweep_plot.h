@@ -1,7 +1,7 @@
 #pragma once
 
 #include <warpchol/app/parameters.h>
-#include <warpchol/app/sweep_table.h>
+#include <warpchol/reports/sweep_table.h>
 
 #include <ostream>
 #include <string>
@@ -10,7 +10,7 @@
 /**
  * @file
  * The plot of warpchol-threshold-sweep: error against seconds per step, one curve per
- * model or strategy (app/error_time_plot.h draws it).
+ * model or strategy (reports/error_time_plot.h draws it).
  */
 namespace warpchol::app
 {

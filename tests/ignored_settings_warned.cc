@@ -1,0 +1,82 @@
+// A setting that the chosen option leaves unused does not stop the run: it is named in a
+// warning, "FILE:LINE: Subsection/Entry = value: ignored with CHOICE", in every subsection
+// that has such choices; a file that sets only what its choices use gets none. And where
+// the intent is plain, the file is taken as written: Fixed vertices/Vertex ids without a
+// Region holds those vertices (Region = ids), in the program's run as in the scene.
+
+#include "simulation_tests.h"
+
+#include <warpchol/app/parameters.h>
+#include <warpchol/app/scene.h>
+
+using namespace warpchol;
+
+namespace
+{
+  const std::string base = "subsection Mesh\n"
+                           "  set Source = torus\n"
+                           "  set Torus toroidal cells = 8\n"
+                           "end\n"
+                           "subsection Time stepping\n"
+                           "  set Number of steps = 3\n"
+                           "end\n"
+                           "subsection Output\n"
+                           "  set Directory = results\n"
+                           "  set Print timings = false\n"
+                           "end\n";
+
+  /** The warnings of @p text, read as case.prm, one per line ("none" if there is none). */
+  void print_warnings(const std::string &label, const std::string &text)
+  {
+    tests::write_file("case.prm", base + text);
+    const app::AllParameters parameters("case.prm");
+    std::cout << label << ":";
+    if (parameters.warnings.empty())
+      std::cout << " none";
+    std::cout << "\n";
+    for (const std::string &warning : parameters.warnings)
+      std::cout << "  " << warning << "\n";
+  }
+} // namespace
+
+int main()
+{
+  print_warnings("only what the choices use", "subsection Fixed vertices\n  set Region = box\n"
+                                              "  set Box lower corner = -1, -1, -1\n"
+                                              "  set Box upper corner = -0.33, 1, 1\nend\n");
+  const std::vector<std::pair<std::string, std::string>> cases = {
+    {"Mesh", "subsection Mesh\n  set Box grading = 2\n  set Refinements = 1\nend\n"},
+    {"Material", "subsection Material\n  set Total mass = 1\n  set Density = 30\nend\n"},
+    {"Model, not WCC", "subsection Model\n  set Type = corotational\n  set Update threshold = 0.3\nend\n"},
+    {"Model, partial", "subsection Model\n  set Strategy = partial\n  set CG tolerance = 1e-4\n"
+                       "  set Background lag = 2\nend\n"},
+    {"Solver", "subsection Solver\n  set Tolerance = 1e-8\n  set Top flops fraction = 0.3\nend\n"},
+    {"Fixed vertices", "subsection Fixed vertices\n  set Region = box\n  set Box upper corner = 1, 1, 1\n"
+                       "  set Sphere radius = 0.1\n  set Vertex ids = 1, 2\nend\n"},
+    {"Region force", "subsection Region force\n  set Total force = 0, 1, 0\nend\n"},
+    {"Tool", "subsection Tool\n  set Region = sphere\n  set Sphere radius = 0.05\n  set Spring stiffness = 10\n"
+             "  set Box lower corner = 0, 0, 0\nend\n"},
+    {"Cut", "subsection Cut\n  set Blade start = 0, 0, 0\nend\n"},
+    {"Grasp", "subsection Grasp 2\n  set Grasp time = 0.1\nend\n"},
+    {"Material change", "subsection Material change\n  set Stiffness factor = 2\nend\n"},
+    {"Bodies", "subsection Bodies\n  set Spacing = 1, 0, 0\nend\n"},
+    {"Output", "subsection Output\n  set VTU precision = float64\nend\n"},
+    {"Distributed", "subsection Distributed\n  set Linear solver = mumps\n  set Tolerance = 1e-10\nend\n"}};
+  for (const auto &[label, text] : cases)
+    print_warnings(label, text);
+
+  // Vertex ids without a Region: those vertices are held, and said nothing about.
+  const std::string ids = "subsection Fixed vertices\n  set Vertex ids = 0, 1, 2, 3\nend\n";
+  print_warnings("Vertex ids without a Region", ids);
+  {
+    const app::AllParameters parameters("case.prm");
+    const app::Scene         scene(parameters);
+    std::cout << "  region " << parameters.fixed_vertices.region.kind << ", fixed vertices:";
+    for (const unsigned int v : scene.fixed_vertices())
+      std::cout << " " << v;
+    std::cout << "\n";
+  }
+  // The program: warnings first on standard error, then the run, exit 0.
+  tests::write_file("run.prm", base + ids + "subsection Fixed vertices\n  set Sphere radius = 0.1\nend\n");
+  std::cout << "warpchol run.prm: " << tests::run_warpchol({"run.prm"}) << "\n";
+}
