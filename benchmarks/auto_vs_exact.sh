@@ -10,10 +10,11 @@
 # same process (Output/Compare with corotational): a slower or faster spell of the machine
 # slows both alike. It prints per scene the exact path's seconds per step and each run's
 # speed-up over the exact path beside it, as ranges over REPEAT rounds of all scenes, in a
-# Markdown table (also OUT/table.md; the runs' summaries and parameter files in OUT/runs/,
-# the scenes' in OUT/scenes/).
+# Markdown table (OUT/table.md, copied to TABLE; the runs' summaries and parameter files in
+# OUT/runs/, the scenes' in OUT/scenes/).
 #   sh benchmarks/auto_vs_exact.sh   (after sh .ci/setup; about 40 minutes with REPEAT=3)
-# Environment: BUILD (default build), OUT (default output/auto_vs_exact), REPEAT (default
+# Environment: BUILD (default build), OUT (default output/auto_vs_exact), TABLE (default
+# doc/auto_vs_exact/table.md), REPEAT (default
 # 3), CORE (the core to pin to, default 0), SCENES (default: all below), SHARED (default
 # ../shared/data: the real meshes outside the repository).
 set -eu
@@ -218,4 +219,7 @@ machine=$(taskset -c "$core" "$build/warpchol-kernels" parameters/torus_pull.prm
       }' "$ratios"
   done
 } > "$out/table.md"
-cat "$out/table.md"
+table=${TABLE:-doc/auto_vs_exact/table.md}
+mkdir -p "$(dirname "$table")"
+cp "$out/table.md" "$table"
+cat "$table"
