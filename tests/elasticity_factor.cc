@@ -35,6 +35,7 @@ int main()
       std::cout << cholesky::to_string(ordering) << ":" << std::endl;
       cholesky::SparseCholesky::Settings settings;
       settings.ordering.method = ordering;
+      settings.method          = cholesky::FactorizationMethod::left_looking;
       cholesky::SparseCholesky left(settings);
       left.factorize(a);
       settings.method = cholesky::FactorizationMethod::up_looking;

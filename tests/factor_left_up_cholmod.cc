@@ -20,6 +20,7 @@ namespace
     std::cout << name << ", " << cholesky::to_string(ordering) << ":" << std::endl;
     cholesky::SparseCholesky::Settings settings;
     settings.ordering.method = ordering;
+    settings.method          = cholesky::FactorizationMethod::left_looking;
     cholesky::SparseCholesky left(settings);
     left.factorize(matrix); // analyzes on first use
     settings.method = cholesky::FactorizationMethod::up_looking;

@@ -290,6 +290,7 @@ int main()
   sparse::CSCMatrix                  matrix = tests::random_spd(1000, 3, 5);
   cholesky::SparseCholesky::Settings settings;
   settings.ordering.method = cholesky::OrderingMethod::amd;
+  settings.method          = cholesky::FactorizationMethod::left_looking;
   cholesky::SparseCholesky left(settings);
   left.factorize(matrix);
   refactorize("none", left, matrix, perturb_vertices(matrix, 9), Refresh::none);

@@ -23,6 +23,7 @@ namespace
               << ":" << std::endl;
     cholesky::SparseCholesky::Settings settings;
     settings.ordering.method = ordering;
+    settings.method          = cholesky::FactorizationMethod::left_looking;
     cholesky::SparseCholesky left(settings);
     left.factorize(matrix);
 
