@@ -17,10 +17,14 @@ using namespace warpchol;
 
 namespace
 {
-  /** A small valid scene (a box of 96 tetrahedra) with @p extra appended. */
-  std::string scene(const std::string &extra)
+  /**
+   * A small valid scene (a box of 96 tetrahedra, or the mesh of @p mesh_entries) with
+   * @p extra appended.
+   */
+  std::string scene(const std::string &extra,
+                    const std::string &mesh_entries = "  set Source = box\n  set Box subdivisions = 2, 1, 1\n")
   {
-    return "subsection Mesh\n  set Source = box\n  set Box subdivisions = 2, 1, 1\nend\n"
+    return "subsection Mesh\n" + mesh_entries + "end\n"
            "subsection Time stepping\n  set Number of steps = 2\nend\n"
            "subsection Output\n  set Print timings = false\nend\n" +
            extra;
@@ -132,8 +136,9 @@ int main()
                   "subsection Time stepping\n  set Rest kinetic energy = 1e-9\nend\n"));
 
   std::cout << "-- mesh files" << std::endl;
+  // The box's entries left out: a mesh file uses none of them (they would be warned about).
   const auto mesh_scene = [](const std::string &mesh) {
-    return scene("subsection Mesh\n  set Source = file\n  set File = " + mesh + "\nend\n");
+    return scene("", "  set Source = file\n  set File = " + mesh + "\n");
   };
   run_scene("missing mesh file", "missing_mesh.prm", mesh_scene("no_such_mesh.msh"));
   run_scene("no mesh file given", "no_mesh.prm", mesh_scene(""));

@@ -128,9 +128,11 @@ int main()
 
   std::cout << "-- the output directory, checked first" << std::endl;
   tests::write_file("a_file", "not a directory\n");
-  tests::write_file("unwritable.prm", scene + "subsection Output\n  set Directory = a_file\nend\n"
-                                              "subsection Mesh\n  set Source = file\n"
-                                              "  set File = no_such_mesh.msh\nend\n");
+  // The box's Mesh subsection replaced by a missing file's (a file uses none of the box's entries).
+  std::string file_scene = scene;
+  file_scene.replace(0, file_scene.find("end\n") + 4,
+                     "subsection Mesh\n  set Source = file\n  set File = no_such_mesh.msh\nend\n");
+  tests::write_file("unwritable.prm", file_scene + "subsection Output\n  set Directory = a_file\nend\n");
   std::cout << "a file in the way (and a missing mesh): " << run({"unwritable.prm"}) << std::endl;
   tests::check("nothing was created", std::filesystem::is_regular_file("a_file"));
 }
