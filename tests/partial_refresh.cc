@@ -300,8 +300,10 @@ int main()
 
   std::cout << "bad input:" << std::endl;
   tests::expect_error("below_top with the left-looking method", [] {
-    const sparse::CSCMatrix  matrix = tests::random_spd(100, 3, 1);
-    cholesky::SparseCholesky solver;
+    const sparse::CSCMatrix            matrix = tests::random_spd(100, 3, 1);
+    cholesky::SparseCholesky::Settings settings;
+    settings.method = cholesky::FactorizationMethod::left_looking;
+    cholesky::SparseCholesky solver(settings);
     solver.factorize(matrix);
     solver.refactorize(matrix, {1}, Refresh::below_top);
   });
