@@ -333,6 +333,16 @@ namespace warpchol::fem
     virtual bool uses_rotations() const;
 
     /**
+     * The nodal rotations R of solve()'s frame (it solves A y = R^T rhs, v = R y), or null
+     * for the identity: a constraint row h on the velocities is the row R^T h on A's
+     * unknowns (contact/contact_constraints.h).
+     */
+    const std::vector<Matrix3> *solve_rotations() const
+    {
+      return solve_frame;
+    }
+
+    /**
      * How many threads the next step's own work may use: 0 for all that deal.II allows;
      * fewer while a thread of the model's works beside the steps (WarpCancelingModel's
      * background refresh), so that it keeps a core to itself instead of slowing every
