@@ -10,6 +10,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdint>
+#include <unordered_map>
 
 namespace warpchol::fem
 {
@@ -40,6 +42,11 @@ namespace warpchol::fem
     : obstacle_list(std::move(obstacles))
     , contact_settings(settings)
   {}
+
+  std::uint64_t ContactConstraints::contact_key(const Contact &contact)
+  {
+    return (static_cast<std::uint64_t>(contact.vertex) << 32) | contact.obstacle;
+  }
 
   std::vector<unsigned int> surface_vertices(const ElasticBody &body)
   {
@@ -185,7 +192,8 @@ namespace warpchol::fem
                                    const std::vector<Vector3> &positions, std::vector<Vector3> &velocities,
                                    const double time, const double time_step, StepStatistics &statistics)
   {
-    report = ContactStepReport();
+    report            = ContactStepReport();
+    previous_contacts = std::move(step_contacts);
     forces.assign(body.n_vertices(), Vector3::Zero());
     gaps.assign(body.n_vertices(), contact_settings.margin);
     {
@@ -194,12 +202,18 @@ namespace warpchol::fem
     }
     const std::size_t n_contacts = step_contacts.size();
     report.n_contacts            = static_cast<unsigned int>(n_contacts);
+    report.contacts_per_obstacle.assign(obstacle_list.size(), 0);
+    for (const Contact &contact : step_contacts)
+      ++report.contacts_per_obstacle[contact.obstacle];
     if (n_contacts > contact_settings.max_contacts)
-      throw InputError(std::to_string(n_contacts) + " contacts at time " + format_number(time + time_step) +
-                       " s, more than " + contact_settings.max_contacts_origin + " = " +
-                       std::to_string(contact_settings.max_contacts));
+      throw InputError(contact_settings.max_contacts_origin + " = " + std::to_string(contact_settings.max_contacts) +
+                       ": " + std::to_string(n_contacts) + " contacts at time " + format_number(time + time_step) +
+                       " s exceed the cap");
     if (n_contacts == 0)
-      return;
+      {
+        lambda.clear();
+        return;
+      }
     if (model.solver().state() != cholesky::SparseCholesky::State::factorized)
       throw InputError("contact needs warpchol's own factor of A, not a peer's (Solver/Backend)");
 
@@ -227,7 +241,17 @@ namespace warpchol::fem
       }
     {
       StageTimer timer(statistics.stages, stage::contact_gauss_seidel);
-      lambda.assign(3 * n_contacts, 0.);
+      // Warm start: a contact that persists (same vertex, same obstacle) starts from its
+      // impulses of the step before, as SOFA's solver starts from the last forces.
+      std::unordered_map<std::uint64_t, std::size_t> previous;
+      for (std::size_t j = 0; j < previous_contacts.size(); ++j)
+        previous[contact_key(previous_contacts[j])] = j;
+      std::vector<double> start(3 * n_contacts, 0.);
+      for (std::size_t j = 0; j < n_contacts; ++j)
+        if (const auto found = previous.find(contact_key(step_contacts[j])); found != previous.end())
+          for (std::size_t d = 0; d < 3; ++d)
+            start[3 * j + d] = lambda[3 * found->second + d];
+      lambda              = std::move(start);
       report.gauss_seidel = solve_friction_cone(w, free_velocity, friction, contact_settings.gauss_seidel, lambda);
     }
 

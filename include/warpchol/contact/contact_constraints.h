@@ -6,6 +6,7 @@
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/models/elasticity_model.h>
 
+#include <cstdint>
 #include <string>
 #include <vector>
 
@@ -68,7 +69,7 @@ namespace warpchol::fem
     /** More contacts than this in a step is an error (the size of W grows as their square). */
     unsigned int max_contacts = 1000;
     /** Where the cap is set, for the message ("FILE:LINE: Contact/Max contacts"). */
-    std::string  max_contacts_origin = "the cap";
+    std::string  max_contacts_origin = "Contact/Max contacts";
     /** Where Gauss-Seidel's iterations are set, for the warning when it stops short. */
     std::string  max_iterations_origin = "Contact/Max iterations";
     /** How W is built from the factor. */
@@ -79,6 +80,8 @@ namespace warpchol::fem
   struct ContactStepReport
   {
     unsigned int n_contacts = 0;
+    /** The contacts of each obstacle. */
+    std::vector<unsigned int> contacts_per_obstacle;
     /** The largest penetration (m) after the step, over the contacts (0: none). */
     double       largest_penetration = 0;
     GaussSeidelResult gauss_seidel;
@@ -160,7 +163,11 @@ namespace warpchol::fem
     ContactSettings           contact_settings;
     std::vector<unsigned int> surface;
     unsigned int              surface_of_cut_count = static_cast<unsigned int>(-1);
-    std::vector<Contact>      step_contacts;
+    /** (vertex, obstacle) as one number: how a contact is found again in the next step. */
+    static std::uint64_t contact_key(const Contact &contact);
+
+    std::vector<Contact>      step_contacts, previous_contacts;
+    /** The impulses of the last step's contacts (3 per contact), the next one's warm start. */
     std::vector<double>       lambda;
     ContactStepReport         report;
     double                    total_work = 0, total_dissipation = 0;
