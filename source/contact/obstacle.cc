@@ -176,6 +176,19 @@ namespace warpchol::fem
     return proximity_at_rest(point - offset(time));
   }
 
+  Vector3 Obstacle::core_point(const Vector3 &point, const double time) const
+  {
+    const Vector3 shift = offset(time);
+    if (kind == ObstacleShape::sphere)
+      return first + shift;
+    if (kind != ObstacleShape::capsule)
+      throw Error("core_point(): only spheres and capsules have a core");
+    const Vector3 axis   = second - first;
+    const double  length = axis.squaredNorm();
+    const double  along  = length > 0 ? std::clamp((point - shift - first).dot(axis) / length, 0., 1.) : 0.;
+    return first + along * axis + shift;
+  }
+
   Proximity Obstacle::proximity_at_rest(const Vector3 &point) const
   {
     switch (kind)

@@ -6,6 +6,7 @@
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/models/elasticity_model.h>
 
+#include <array>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -31,11 +32,30 @@ namespace warpchol::fem
     constexpr const char *contact_correction = "contact correction";
   } // namespace stage
 
-  /** One contact: a surface vertex near an obstacle. */
+  /**
+   * One contact: a surface vertex near an obstacle, or a point inside a surface triangle
+   * near an instrument's tip (a sphere or a capsule), which would otherwise pass between
+   * the vertices.
+   */
   struct Contact
   {
+    /** The vertex (the triangle's first vertex for a point in a triangle). */
     unsigned int vertex   = 0;
     unsigned int obstacle = 0;
+    /**
+     * The point is sum_a weights[a] x(vertices[a]) over the first n_vertices: 1 for a
+     * vertex (weight 1), 3 for a point in a triangle (its barycentric coordinates). Its
+     * rows of H touch the 3 dofs of each.
+     */
+    unsigned int                n_vertices = 1;
+    std::array<unsigned int, 3> vertices{};
+    std::array<double, 3>       weights{{1, 0, 0}};
+
+    /** The @p k-th vertex of the point (vertex itself for a vertex contact). */
+    unsigned int vertex_of(const unsigned int k) const
+    {
+      return n_vertices == 1 ? vertex : vertices[k];
+    }
     /** The obstacle's outward normal and two tangents (an orthonormal frame). */
     Vector3 normal, tangent_1, tangent_2;
     /** The signed distance (m) at the start of the step from the obstacle where it is at the step's end. */
@@ -48,6 +68,9 @@ namespace warpchol::fem
    * element touches nothing.
    */
   std::vector<unsigned int> surface_vertices(const ElasticBody &body);
+
+  /** The faces on the surface of @p body (each once, its vertices sorted), as surface_vertices() finds them. */
+  std::vector<std::array<unsigned int, 3>> surface_triangles(const ElasticBody &body);
 
   /**
    * Why @p obstacle is inside the body at the start, or "" if it is not: a vertex of the
@@ -159,9 +182,18 @@ namespace warpchol::fem
     /** surface_vertices(), recomputed when the number of cut elements changes. */
     const std::vector<unsigned int> &current_surface(const ElasticBody &body);
 
+    /**
+     * Points inside surface triangles near the instruments' tips (spheres, capsules) whose
+     * vertices are not in @p found already: appended to @p found.
+     */
+    void detect_tips(const ElasticBody &body, const std::vector<Vector3> &positions,
+                     const std::vector<Vector3> &velocities, double time, double time_step,
+                     std::vector<Contact> &found) const;
+
     std::vector<Obstacle>     obstacle_list;
     ContactSettings           contact_settings;
     std::vector<unsigned int> surface;
+    std::vector<std::array<unsigned int, 3>> triangles;
     unsigned int              surface_of_cut_count = static_cast<unsigned int>(-1);
     /** (vertex, obstacle) as one number: how a contact is found again in the next step. */
     static std::uint64_t contact_key(const Contact &contact);

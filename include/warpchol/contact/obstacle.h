@@ -86,6 +86,14 @@ namespace warpchol::fem
     Proximity proximity(const Vector3 &point, double time) const;
 
     /**
+     * For the shapes that are a core grown by a radius, the point of the core nearest
+     * @p point at @p time: a sphere's centre, the point of a capsule's axis. The deepest
+     * point of a flat triangle in such an obstacle is the triangle's point nearest it.
+     * Throws Error for the other shapes.
+     */
+    Vector3 core_point(const Vector3 &point, double time) const;
+
+    /**
      * The surface at @p time as triangles, for output: the analytic shapes tessellated, a
      * plane as a square of side @p plane_size around its point.
      */
