@@ -407,7 +407,7 @@ namespace warpchol::fem
     {
       StageTimer           timer(statistics.stages, stage::contact_correction);
       std::vector<Vector3> change;
-      model.solve(impulses, change, statistics);
+      model.solve_again(impulses, change, statistics);
       for (unsigned int v = 0; v < body.n_vertices(); ++v)
         velocities[v] += change[v];
     }

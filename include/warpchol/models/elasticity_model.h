@@ -323,6 +323,14 @@ namespace warpchol::fem
                StepStatistics &statistics);
 
     /**
+     * solve() once more in the same step (a contact's correction, A^-1 H^T lambda): its CG
+     * iterations and seconds add to those of the step's solve, which a strategy that
+     * weighs its steps (auto's cost model) reads as the step's, instead of replacing them.
+     */
+    void solve_again(const std::vector<Vector3> &right_hand_side, std::vector<Vector3> &velocities,
+                     StepStatistics &statistics);
+
+    /**
      * Whether the next solve() iterates (preconditioned CG, which starts from the velocities
      * it is given) rather than solving directly with the factor: not in a step whose factor
      * is that of the strategy's target matrix (factor_solves_target()).
