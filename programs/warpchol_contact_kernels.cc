@@ -13,7 +13,7 @@
 // paths, milliseconds of both ways, their ratio and their largest difference.
 
 #include <warpchol/app/command_line.h>
-#include <warpchol/app/machine.h>
+#include <warpchol/reports/machine.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/blas.h>
