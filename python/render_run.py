@@ -7,7 +7,7 @@ reads the VTU files the PVD lists (written by build/warpchol: per vertex displac
 velocity and, in a scene with cuts or grasps, grasped; per cell updated,
 steps_since_update, error_estimate, body, removed and cut_step), draws the body in its
 deformed shape coloured by a field, hides the cells a cut removed, marks the grasped
-vertices, and writes
+vertices, draws the obstacles of a scene with contact (part 1 of the PVD), and writes
 
     OUT/SCENE-FIELD-NNNNN.png   one frame per step (--no-frames: none)
     OUT/SCENE-FIELD-sheet.png   a grid of --sheet frames spread over the run
@@ -40,8 +40,10 @@ class InputError(Exception):
 # The run: the PVD's records and the scene's material
 # --------------------------------------------------------------------------------------
 
-def read_pvd(path):
-    """The (time, step, VTU path) records of the PVD at @p path, in the order of time."""
+def read_pvd(path, part="0"):
+    """The (time, step, VTU path) records of the PVD at @p path, in the order of time: the
+    body's (part 0, or no part), or with @p part = "1" the obstacles' files that a scene
+    with contact writes beside them (none otherwise)."""
     if not os.path.isfile(path):
         raise InputError(f"{path}: no such file")
     try:
@@ -54,6 +56,8 @@ def read_pvd(path):
     records = []
     for dataset in root.iter("DataSet"):
         name, time = dataset.get("file"), dataset.get("timestep")
+        if dataset.get("part", "0") != part:
+            continue
         if name is None or time is None:
             raise InputError(f"{path}: a DataSet without file or timestep")
         try:
@@ -64,9 +68,25 @@ def read_pvd(path):
         match = re.search(r"-(\d+)\.p?vtu$", name)
         step = int(match.group(1)) if match else len(records)
         records.append((time, step, os.path.join(folder, name)))
-    if not records:
+    if not records and part == "0":
         raise InputError(f"{path}: the PVD lists no data sets")
     return sorted(records)
+
+
+def obstacle_surface(vtk, path):
+    """The obstacles' triangles of one frame (SCENE-obstacles-NNNNN.vtu) as polydata."""
+    reader = vtk.vtkXMLUnstructuredGridReader()
+    reader.SetFileName(path)
+    reader.Update()
+    if reader.GetOutput().GetNumberOfCells() == 0:
+        raise InputError(f"{path}: no obstacle triangles")
+    surface = vtk.vtkDataSetSurfaceFilter()
+    surface.SetInputConnection(reader.GetOutputPort())
+    normals = vtk.vtkPolyDataNormals()
+    normals.SetInputConnection(surface.GetOutputPort())
+    normals.SetFeatureAngle(50)
+    normals.Update()
+    return normals.GetOutput()
 
 
 def read_material(prm):
@@ -417,6 +437,17 @@ def body_actors(vtk, frame, table, radius, edges):
         grasp.GetProperty().SetColor(0.10, 0.25, 0.85)
         grasp.GetProperty().SetAmbient(0.5)
         actors.append(grasp)
+    if frame.get("obstacles") is not None:
+        # The rigid obstacles and instruments: grey, a little transparent.
+        obstacle_mapper = vtk.vtkPolyDataMapper()
+        obstacle_mapper.SetInputData(frame["obstacles"])
+        obstacle_mapper.ScalarVisibilityOff()
+        obstacles = vtk.vtkActor()
+        obstacles.SetMapper(obstacle_mapper)
+        obstacles.GetProperty().SetColor(0.62, 0.64, 0.68)
+        obstacles.GetProperty().SetOpacity(0.75)
+        obstacles.GetProperty().SetAmbient(0.35)
+        actors.append(obstacles)
     return actors
 
 
@@ -698,6 +729,10 @@ def main(argv):
     sheet_records = spread(records, options.sheet) if options.sheet else []
     drawn = sheet_records if options.no_frames else records
     frames = {step: run.frame(path) for _, step, path in drawn}
+    # A scene with contact: its obstacles where they are at each frame.
+    for _, step, path in read_pvd(options.pvd, part="1"):
+        if step in frames:
+            frames[step]["obstacles"] = obstacle_surface(vtk, path)
 
     # One camera and one colour range for all frames.
     points = numpy.concatenate([numpy_support.vtk_to_numpy(f["surface"].GetPoints().GetData())

@@ -1,11 +1,11 @@
 ## The library's layers include only those below them (STYLE.md: one direction, no
 ## back-references): base, sparse, cholesky, lac, backends, mesh, fem, models, surgery,
-## dynamics, app, reports, distributed, in this order (doc/ARCHITECTURE.md); the programs
-## choose among the top ones. Run as
+## contact, dynamics, app, reports, distributed, in this order (doc/ARCHITECTURE.md); the
+## programs choose among the top ones. Run as
 ##   cmake -DSOURCE_DIR=<repository> -P tests/layers_point_one_way.cmake
 ## and fails with one line per include that points up and per folder the list leaves out.
 
-set(layers base sparse cholesky lac backends mesh fem models surgery dynamics app reports distributed)
+set(layers base sparse cholesky lac backends mesh fem models surgery contact dynamics app reports distributed)
 set(violations "")
 # Every folder of the library has its place in the order: a new one is added to the list.
 foreach(root source include/warpchol)

@@ -59,4 +59,11 @@ for scene in liver_cut torus_cut grasp_release torus_cauterize flap_incision; do
   draw $scene --no-frames
 done
 
+# Contact (doc/contact.md): the palpation (contact force; the table and the probe drawn
+# grey) and the retraction (the capsule under the tongue).
+run liver_palpation
+draw liver_palpation --no-frames --field contact_force --steps 0,30,50,55,70,95
+run flap_retraction
+draw flap_retraction --no-frames --steps 100,140,160,180,200,220 --view=-y --up z --elevation 25 --azimuth 20
+
 ls "$pictures"/*.png

@@ -130,9 +130,25 @@ namespace warpchol::app
         data_out.add_data_vector(body_index, "body", dealii::DataOut<3>::type_cell_data);
       // Cuts and grasps. DataOut keeps references: the vectors, and the scalar dofs that
       // number "grasped" vertex by vertex, must live until build_patches().
-      dealii::Vector<double>      removed, cut_step, grasped;
+      dealii::Vector<double>      removed, cut_step, grasped, contact_force, contact_gap;
       dealii::FE_SimplexP<3>      scalar_element(1);
       dealii::DoFHandler<3>       scalar_dofs(body.triangulation());
+      if (!snapshot.cut_steps.empty() || !snapshot.contact_gaps.empty())
+        scalar_dofs.distribute_dofs(scalar_element);
+      if (!snapshot.contact_forces.empty())
+        {
+          contact_force.reinit(3 * body.n_vertices());
+          for (unsigned int v = 0; v < body.n_vertices(); ++v)
+            for (unsigned int c = 0; c < 3; ++c)
+              contact_force[3 * v + c] = snapshot.contact_forces[v][c];
+          data_out.add_data_vector(contact_force, std::vector<std::string>(3, "contact_force"),
+                                   dealii::DataOut<3>::type_dof_data, vector_field);
+          contact_gap.reinit(scalar_dofs.n_dofs());
+          for (const auto &cell : scalar_dofs.active_cell_iterators())
+            for (unsigned int a = 0; a < 4; ++a)
+              contact_gap[cell->vertex_dof_index(a, 0)] = snapshot.contact_gaps[cell->vertex_index(a)];
+          data_out.add_data_vector(scalar_dofs, contact_gap, "contact_gap");
+        }
       if (!snapshot.cut_steps.empty())
         {
           removed.reinit(n_cells);
@@ -144,7 +160,6 @@ namespace warpchol::app
             }
           data_out.add_data_vector(removed, "removed", dealii::DataOut<3>::type_cell_data);
           data_out.add_data_vector(cut_step, "cut_step", dealii::DataOut<3>::type_cell_data);
-          scalar_dofs.distribute_dofs(scalar_element);
           grasped.reinit(scalar_dofs.n_dofs());
           for (const auto &cell : scalar_dofs.active_cell_iterators())
             for (unsigned int a = 0; a < 4; ++a)
@@ -210,7 +225,9 @@ namespace warpchol::app
     {
       std::vector<double>        points, displacements, velocities;
       std::vector<double>        updated, steps_since_update, error_estimate, body_index, removed, cut_step, grasped;
+      std::vector<double>        contact_forces, contact_gaps;
       const bool                 with_surgery = !bodies[0].cut_steps.empty();
+      const bool                 with_contact = !bodies[0].contact_forces.empty();
       std::vector<std::int64_t>  connectivity, offsets;
       std::vector<std::uint8_t>  types;
       for (unsigned int i = 0; i < bodies.size(); ++i)
@@ -229,6 +246,13 @@ namespace warpchol::app
           if (with_surgery)
             for (unsigned int v = 0; v < body.n_vertices(); ++v)
               grasped.push_back(snapshot.grasped[v]);
+          if (with_contact)
+            for (unsigned int v = 0; v < body.n_vertices(); ++v)
+              {
+                for (unsigned int c = 0; c < 3; ++c)
+                  contact_forces.push_back(snapshot.contact_forces[v][c]);
+                contact_gaps.push_back(snapshot.contact_gaps[v]);
+              }
           const auto &record = snapshot.record;
           for (unsigned int e = 0; e < body.n_elements(); ++e)
             {
@@ -267,6 +291,11 @@ namespace warpchol::app
       write_data_array(out, "type=\"Float64\" Name=\"velocity\" NumberOfComponents=\"3\"", velocities);
       if (with_surgery)
         write_data_array(out, "type=\"Float64\" Name=\"grasped\"", grasped);
+      if (with_contact)
+        {
+          write_data_array(out, "type=\"Float64\" Name=\"contact_force\" NumberOfComponents=\"3\"", contact_forces);
+          write_data_array(out, "type=\"Float64\" Name=\"contact_gap\"", contact_gaps);
+        }
       out << "</PointData>\n<CellData>\n";
       write_data_array(out, "type=\"Float64\" Name=\"updated\"", updated);
       write_data_array(out, "type=\"Float64\" Name=\"steps_since_update\"", steps_since_update);
@@ -279,6 +308,41 @@ namespace warpchol::app
           write_data_array(out, "type=\"Float64\" Name=\"removed\"", removed);
           write_data_array(out, "type=\"Float64\" Name=\"cut_step\"", cut_step);
         }
+      out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
+    }
+
+    /** The obstacles' triangles as a VTU file (Float64), with the cell field "obstacle" (1, 2, ...). */
+    void write_obstacles_vtu(std::ostream &out, const std::vector<fem::TriangleSurface> &obstacles)
+    {
+      std::vector<double>       points, obstacle_index;
+      std::vector<std::int64_t> connectivity, offsets;
+      std::vector<std::uint8_t> types;
+      for (std::size_t o = 0; o < obstacles.size(); ++o)
+        {
+          const std::int64_t first = points.size() / 3;
+          for (const fem::Vector3 &point : obstacles[o].points)
+            points.insert(points.end(), {point[0], point[1], point[2]});
+          for (const auto &triangle : obstacles[o].triangles)
+            {
+              for (const unsigned int corner : triangle)
+                connectivity.push_back(first + corner);
+              offsets.push_back(connectivity.size());
+              types.push_back(5); // VTK_TRIANGLE
+              obstacle_index.push_back(o + 1);
+            }
+        }
+      out << "<?xml version=\"1.0\"?>\n"
+          << "<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" header_type=\"UInt64\" "
+             "compressor=\"vtkZLibDataCompressor\">\n"
+          << "<UnstructuredGrid>\n<Piece NumberOfPoints=\"" << points.size() / 3 << "\" NumberOfCells=\""
+          << types.size() << "\">\n<Points>\n";
+      write_data_array(out, "type=\"Float64\" NumberOfComponents=\"3\"", points);
+      out << "</Points>\n<Cells>\n";
+      write_data_array(out, "type=\"Int64\" Name=\"connectivity\"", connectivity);
+      write_data_array(out, "type=\"Int64\" Name=\"offsets\"", offsets);
+      write_data_array(out, "type=\"UInt8\" Name=\"types\"", types);
+      out << "</Cells>\n<CellData>\n";
+      write_data_array(out, "type=\"Float64\" Name=\"obstacle\"", obstacle_index);
       out << "</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n";
     }
   } // namespace
@@ -299,8 +363,27 @@ namespace warpchol::app
       write_deal_ii_vtu(directory + "/" + name.str(), bodies, with_error_estimate);
 
     times_and_names.emplace_back(time, name.str());
+    if (!bodies[0].obstacles.empty())
+      {
+        std::ostringstream obstacle_name;
+        obstacle_name << scene << "-obstacles-" << std::setw(5) << std::setfill('0') << step << ".vtu";
+        write_file_atomically(directory + "/" + obstacle_name.str(),
+                              [&](std::ostream &out) { write_obstacles_vtu(out, bodies[0].obstacles); });
+        obstacle_times_and_names.emplace_back(time, obstacle_name.str());
+      }
     write_file_atomically(pvd_name, [&](std::ostream &out) {
-      dealii::DataOutBase::write_pvd_record(out, times_and_names);
+      if (obstacle_times_and_names.empty())
+        {
+          dealii::DataOutBase::write_pvd_record(out, times_and_names);
+          return;
+        }
+      // The body as part 0 and the obstacles as part 1 of each time: ParaView shows both.
+      out << std::setprecision(16) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n";
+      for (const auto &[when, file] : times_and_names)
+        out << "  <DataSet timestep=\"" << when << "\" group=\"\" part=\"0\" file=\"" << file << "\"/>\n";
+      for (const auto &[when, file] : obstacle_times_and_names)
+        out << "  <DataSet timestep=\"" << when << "\" group=\"\" part=\"1\" file=\"" << file << "\"/>\n";
+      out << "</Collection>\n</VTKFile>\n";
     });
   }
 
@@ -359,9 +442,10 @@ namespace warpchol::app
     return pvd_name;
   }
 
-  StepLog::StepLog(const std::string &filename, const bool with_error)
+  StepLog::StepLog(const std::string &filename, const bool with_error, const bool with_contact)
     : file(filename)
     , with_error(with_error)
+    , with_contact(with_contact)
   {}
 
   namespace
@@ -486,6 +570,9 @@ namespace warpchol::app
     std::string names;
     for (std::size_t k = 0; k < columns.size() - (with_error ? 0 : n_error_columns); ++k)
       names += (k == 0 ? "" : ",") + std::string(columns[k].name);
+    if (with_contact)
+      names += ",contacts,contacts_per_obstacle,largest_penetration,gs_iterations,gs_residual,normal_force,"
+               "friction_force,t_contact,contact_work,friction_dissipation";
     return names;
   }
 
@@ -498,6 +585,23 @@ namespace warpchol::app
         if (k > 0)
           line << ",";
         columns[k].write(line, row);
+      }
+    if (with_contact)
+      {
+        const auto  &s       = row.statistics;
+        const auto  &c       = row.contact;
+        const double seconds = s.stages.seconds(fem::stage::contact_detection) +
+                               s.stages.seconds(fem::stage::contact_compliance) +
+                               s.stages.seconds(fem::stage::contact_gauss_seidel) +
+                               s.stages.seconds(fem::stage::contact_correction);
+        line << "," << std::setprecision(6) << c.n_contacts << ",";
+        // "12;3": the contacts of obstacle 1, 2, ... (a semicolon keeps the CSV's columns).
+        for (std::size_t o = 0; o < c.contacts_per_obstacle.size(); ++o)
+          line << (o > 0 ? ";" : "") << c.contacts_per_obstacle[o];
+        line << "," << c.largest_penetration << ","
+             << c.gauss_seidel.iterations << "," << c.gauss_seidel.residual << "," << c.normal_force << ","
+             << c.friction_force << "," << seconds << "," << std::setprecision(10) << row.contact_work << ","
+             << row.friction_dissipation;
       }
     rows.push_back(line.str());
     // Rewriting the whole file costs more as the rows pile up (a third of a 100-step run

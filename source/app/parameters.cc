@@ -34,6 +34,8 @@ namespace warpchol::app
     parameters::Cut::declare_parameters(prm);
     parameters::Grasp::declare_parameters(prm);
     parameters::MaterialChange::declare_parameters(prm);
+    parameters::Contact::declare_parameters(prm);
+    parameters::Obstacle::declare_parameters(prm);
     // The numbered events ("Cut 2", ...) are declared where a file holds them (the constructor).
     parameters::Bodies::declare_parameters(prm);
     parameters::Output::declare_parameters(prm);
@@ -64,6 +66,11 @@ namespace warpchol::app
       grasps.emplace_back().parse_parameters(prm, file, name);
     for (const auto &name : numbered_events(file.text(), "Material change"))
       material_changes.emplace_back().parse_parameters(prm, file, name);
+    contact.parse_parameters(prm, file);
+    obstacles.assign(1, {});
+    obstacles[0].parse_parameters(prm, file);
+    for (const auto &name : numbered_events(file.text(), "Obstacle"))
+      obstacles.emplace_back().parse_parameters(prm, file, name);
     bodies.parse_parameters(prm, file);
     output.parse_parameters(prm, file);
     distributed.parse_parameters(prm, file);
@@ -93,6 +100,13 @@ namespace warpchol::app
         file.fail(prm, conflict->subsection, conflict->entry, conflict->message);
       }
     check_backend(prm);
+    const bool touches = std::any_of(obstacles.begin(), obstacles.end(), [](const auto &o) { return o.active(); });
+    if (touches && solver.settings.method != cholesky::FactorizationMethod::supernodal)
+      {
+        prm.enter_subsection("Solver");
+        file.fail(prm, "Solver", "Method",
+                  "contact builds W = H A^-1 H^T from the supernodal factor's panels: needs Method = supernodal");
+      }
     read_paths();
     warn_about_ignored_entries(prm);
   }
@@ -210,6 +224,12 @@ namespace warpchol::app
     if (backend == backends::Backend::warpchol)
       return;
     const std::string name = backends::to_string(backend);
+    if (std::any_of(obstacles.begin(), obstacles.end(), [](const auto &obstacle) { return obstacle.active(); }))
+      {
+        prm.enter_subsection("Solver");
+        file.fail(prm, "Solver", "Backend",
+                  "contact builds W = H A^-1 H^T from warpchol's own factor: needs Backend = warpchol, not " + name);
+      }
     const auto        fail = [&](const std::string &message) {
       prm.enter_subsection("Solver");
       file.fail(prm, "Solver", "Backend", message);
@@ -249,6 +269,12 @@ namespace warpchol::app
         if (!cut.path.file_name.empty() && cut.duration > 0 && cut.start_time < end_of_run)
           cut.path.check_covers(cut.start_time, std::min(cut.start_time + cut.duration, end_of_run),
                                 cut.subsection + " (Start time to Start time + Duration)");
+      }
+    for (auto &obstacle : obstacles)
+      {
+        read(obstacle.path, obstacle.subsection, 3, "time, x, y, z");
+        if (!obstacle.path.file_name.empty() && obstacle.active())
+          obstacle.path.check_covers(0, end_of_run, obstacle.subsection + " (the run)");
       }
     for (auto &grasp : grasps)
       {
@@ -320,6 +346,8 @@ namespace warpchol::app
       parameters::Grasp::declare_parameters(prm, name);
     for (const auto &name : numbered_events(file.text(), "Material change"))
       parameters::MaterialChange::declare_parameters(prm, name);
+    for (const auto &name : numbered_events(file.text(), "Obstacle"))
+      parameters::Obstacle::declare_parameters(prm, name);
     try
       {
         // deal.II reads .xml and .json files as such; a .prm file it is given as the

@@ -127,6 +127,19 @@ namespace warpchol::app
     elasticity_model = create_model(all.model, *elastic_body, coefficients, all.solver);
     time_integrator  = std::make_unique<fem::ImplicitEuler>(*elastic_body, *elasticity_model, scene_loads,
                                                            all.time_stepping.time_step, surgery());
+    // The obstacles: each refused, at its subsection, if it starts inside the body.
+    std::vector<fem::Obstacle> obstacles;
+    for (const auto &parameters : all.obstacles)
+      if (parameters.active())
+        {
+          obstacles.push_back(parameters.build());
+          const std::string why = fem::obstacle_inside_body(obstacles.back(), *elastic_body, time_integrator->positions(),
+                                                            all.contact.settings.tolerance);
+          if (!why.empty())
+            throw InputError(all.file.where(parameters.subsection, "Type") + " = " + parameters.type + ": " + why);
+        }
+    if (!obstacles.empty())
+      time_integrator->set_contact(fem::ContactConstraints(std::move(obstacles), all.contact.settings));
     const auto &initial = all.initial_state;
     if (initial.linear_velocity.norm() > 0 || initial.angular_velocity.norm() > 0)
       time_integrator->set_initial_velocities(fem::rigid_body_velocities(

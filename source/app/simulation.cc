@@ -255,6 +255,24 @@ namespace warpchol::app
             snapshots.back().cut_steps.resize(body.n_elements(), -1);
             snapshots.back().grasped = surgery.grasped_vertices(body.n_vertices());
           }
+        if (const fem::ContactConstraints *contact = integrator.contact())
+          {
+            const auto  &body     = simulated.scene->body();
+            BodySnapshot &snapshot = snapshots.back();
+            snapshot.contact_forces = contact->vertex_forces();
+            snapshot.contact_gaps   = contact->vertex_gaps();
+            snapshot.contact_forces.resize(body.n_vertices(), fem::Vector3::Zero());
+            snapshot.contact_gaps.resize(body.n_vertices(), contact->settings().margin);
+            // A plane is drawn as a square twice the body's size around its point.
+            fem::Vector3 lower = body.rest_positions()[0], upper = lower;
+            for (const fem::Vector3 &x : body.rest_positions())
+              {
+                lower = lower.cwiseMin(x);
+                upper = upper.cwiseMax(x);
+              }
+            for (const fem::Obstacle &obstacle : contact->obstacles())
+              snapshot.obstacles.push_back(obstacle.boundary(integrator.time(), 2 * (upper - lower).norm()));
+          }
       }
     vtu_series->write(step, bodies[0].scene->integrator().time(), std::move(snapshots));
     add_vtu_seconds(stopwatch.seconds(), 1);
@@ -329,6 +347,19 @@ namespace warpchol::app
     integrator.advance(statistics);
     const double step_seconds = stopwatch.seconds();
 
+    // Gauss-Seidel short of its tolerance: said once a run (with the residual), the run goes on.
+    if (const fem::ContactConstraints *contact = integrator.contact();
+        contact && !contact->last_step().gauss_seidel.converged && !simulated.warned_gauss_seidel)
+      {
+        const auto &settings = contact->settings();
+        std::cerr << "warpchol: warning: " << settings.max_iterations_origin << " = "
+                  << settings.gauss_seidel.max_iterations << ": Gauss-Seidel stopped at step " << step
+                  << " with residual " << format_number(contact->last_step().gauss_seidel.residual, 3)
+                  << " m/s, above Contact/Tolerance = " << format_number(settings.gauss_seidel.tolerance, 3)
+                  << " (later steps not reported); the run goes on" << std::endl;
+        simulated.warned_gauss_seidel = true;
+      }
+
     auto &t = simulated.totals;
     t.add_step(statistics, step_seconds);
     if (!simulated.scene->loads().tool.vertices.empty())
@@ -389,6 +420,12 @@ namespace warpchol::app
         row.energy_ratio      = simulated.energy_balance->ratio();
         row.error_vs_corotational     = error_vs_corotational;
         row.rms_error_vs_corotational = rms_error_vs_corotational;
+        if (const fem::ContactConstraints *contact = integrator.contact())
+          {
+            row.contact              = contact->last_step();
+            row.contact_work         = contact->work_on_body();
+            row.friction_dissipation = contact->friction_dissipation();
+          }
         simulated.log->add(row);
       }
     if (track_energy)
@@ -516,7 +553,7 @@ namespace warpchol::app
       if (settings.write_log)
         bodies[i].log = std::make_unique<StepLog>(
           directory + (bodies.size() == 1 ? "/log.csv" : "/log_body" + std::to_string(i + 1) + ".csv"),
-          bodies[i].reference != nullptr);
+          bodies[i].reference != nullptr, bodies[i].scene->integrator().contact() != nullptr);
     if (settings.vtu_interval > 0)
       vtu_series = std::make_unique<VtuSeries>(directory, parameters.scene_name(), settings.vtu_precision);
     const bool show_progress =

@@ -712,6 +712,53 @@ namespace warpchol::cholesky
         x[r * n + fill_reducing_permutation[k]] = y[r * n + k];
   }
 
+  std::vector<double> SparseCholesky::compliance(const sparse::CSCMatrix &ht, const ComplianceMethod method,
+                                                 ComplianceStatistics *statistics) const
+  {
+    require(State::factorized, "compliance()");
+    if (solver_settings.method != FactorizationMethod::supernodal)
+      throw InputError("compliance() needs the supernodal method, not " + to_string(solver_settings.method));
+    if (ht.n_rows != stats.n)
+      throw InputError("compliance(): the constraints have " + std::to_string(ht.n_rows) + " rows, A " +
+                       std::to_string(stats.n));
+    // H^T's rows in the factor's numbering, sorted within each column.
+    sparse::CSCMatrix permuted = sparse::CSCMatrix::zero(ht.n_rows, ht.n_cols);
+    std::vector<std::pair<Index, double>> column;
+    for (Index i = 0; i < ht.n_cols; ++i)
+      {
+        column.clear();
+        for (Index p = ht.column_start[i]; p < ht.column_start[i + 1]; ++p)
+          column.emplace_back(inverse_permutation[ht.row_index[p]], ht.values[p]);
+        std::sort(column.begin(), column.end());
+        for (const auto &[row, value] : column)
+          {
+            permuted.row_index.push_back(row);
+            permuted.values.push_back(value);
+          }
+        permuted.column_start[i + 1] = static_cast<Index>(permuted.row_index.size());
+      }
+    const std::vector<double> &values = supernodal_factor.values();
+    if (method == ComplianceMethod::full_solves)
+      {
+        if (statistics)
+          {
+            const double m       = static_cast<double>(ht.n_cols);
+            statistics->supernodes_visited = supernodal_structure.n_supernodes();
+            statistics->flops    = 2. * m * static_cast<double>(supernodal_structure.n_stored_values()) +
+                                m * (m + 1) * static_cast<double>(stats.n);
+          }
+        return compliance_by_full_solves(supernodal_structure, values, permuted);
+      }
+    PathForwardSolve    paths = forward_solve_on_paths(supernodal_structure, values, permuted);
+    std::vector<double> w     = compliance_from_paths(supernodal_structure, paths);
+    if (statistics)
+      {
+        statistics->supernodes_visited = static_cast<Index>(paths.supernodes.size());
+        statistics->flops              = paths.solve_flops + paths.product_flops;
+      }
+    return w;
+  }
+
   std::size_t SparseCholesky::numeric_bytes() const
   {
     return l_values.capacity() * sizeof(double) + supernodal_factor.memory_bytes();

@@ -16,7 +16,9 @@ namespace warpchol::fem
     held   = integrator.kinetic_energy() + integrator.tool_energy() +
            (elastic == ElasticEnergy::current ? integrator.elastic_energy() :
                                                 integrator.elastic_energy_at_step_start());
-    put_in = integrator.initial_energy() + integrator.external_work() + integrator.change_energy() - potential;
+    // The contacts' impulses: what moving obstacles did, less what friction dissipated.
+    put_in = integrator.initial_energy() + integrator.external_work() + integrator.change_energy() +
+             integrator.contact_work() - potential;
     finite = finite && std::isfinite(held) && std::isfinite(put_in);
     if (std::isfinite(held))
       largest_held = std::max(largest_held, held);

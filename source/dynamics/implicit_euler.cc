@@ -223,6 +223,9 @@ namespace warpchol::fem
     try
       {
         model.solve(right_hand_side, new_velocities, statistics);
+        // The free motion's velocities corrected by the contacts' impulses.
+        if (contact_constraints)
+          contact_constraints->correct(body, model, x, new_velocities, current_time, time_step, statistics);
       }
     catch (const MatrixError &error)
       {
@@ -359,6 +362,24 @@ namespace warpchol::fem
   double ImplicitEuler::external_work() const
   {
     return tool_work;
+  }
+
+  double ImplicitEuler::contact_work() const
+  {
+    return contact_constraints ? contact_constraints->work_on_body() : 0.;
+  }
+
+  void ImplicitEuler::set_contact(ContactConstraints contact)
+  {
+    if (steps_done > 0)
+      throw InputError("the obstacles can only be set before the first step");
+    contact.check_start(body, x);
+    contact_constraints = std::move(contact);
+  }
+
+  const ContactConstraints *ImplicitEuler::contact() const
+  {
+    return contact_constraints ? &*contact_constraints : nullptr;
   }
 
   double ImplicitEuler::change_energy() const

@@ -394,6 +394,17 @@ namespace warpchol::fem
     last_solve_seconds = stopwatch.seconds();
   }
 
+  void ElasticityModel::solve_again(const std::vector<Vector3> &right_hand_side,
+                                    std::vector<Vector3> &velocities, StepStatistics &statistics)
+  {
+    const unsigned int iterations = last_cg_iterations;
+    const double       cg_seconds = last_cg_seconds, solve_seconds = last_solve_seconds;
+    solve(right_hand_side, velocities, statistics);
+    last_cg_iterations += iterations;
+    last_cg_seconds += cg_seconds;
+    last_solve_seconds += solve_seconds;
+  }
+
   void ElasticityModel::solve_in_frame(const std::vector<Vector3> &right_hand_side,
                                        std::vector<Vector3> &velocities, StepStatistics &statistics)
   {

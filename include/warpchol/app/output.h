@@ -2,6 +2,7 @@
 
 #include <warpchol/base/binary_io.h>
 #include <warpchol/base/stopwatch.h>
+#include <warpchol/contact/contact_constraints.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/small_dense.h>
 #include <warpchol/models/elasticity_model.h>
@@ -45,6 +46,14 @@ namespace warpchol::app
      */
     std::vector<int>          cut_steps;
     std::vector<char>         grasped;
+    /**
+     * With obstacles (empty otherwise): per vertex the contact force (N) and the gap to the
+     * nearest obstacle (m, up to Contact/Alarm distance), and the obstacles' surfaces where
+     * they are, written to a VTU file of their own beside the body's.
+     */
+    std::vector<fem::Vector3>         contact_forces;
+    std::vector<double>               contact_gaps;
+    std::vector<fem::TriangleSurface> obstacles;
   };
 
   /**
@@ -55,6 +64,9 @@ namespace warpchol::app
    * "body" (0, 1, ...) telling them apart. A scene with cuts or grasps adds the cell fields
    * "removed" (1 for a cut element: ParaView's Threshold filter on removed < 0.5 hides them)
    * and "cut_step" (the step it was cut at, -1 if not), and the vertex field "grasped".
+   * A scene with obstacles adds the vertex fields "contact_force" and "contact_gap", and
+   * writes the obstacles' triangles to SCENE-obstacles-NNNNN.vtu (cell field "obstacle":
+   * 1, 2, ...), listed in the PVD as part 1 of each time beside the body's part 0.
    */
   class VtuSeries
   {
@@ -104,6 +116,8 @@ namespace warpchol::app
     std::string                                 precision;
     std::string                                 pvd_name;
     std::vector<std::pair<double, std::string>> times_and_names;
+    /** The obstacles' files, with their times (none without obstacles). */
+    std::vector<std::pair<double, std::string>> obstacle_times_and_names;
   };
 
   /** One row of the per-step log. */
@@ -131,6 +145,10 @@ namespace warpchol::app
         RMS); negative when none runs. */
     double                    error_vs_corotational     = -1;
     double                    rms_error_vs_corotational = -1;
+    /** The contact step's report, and the totals so far of the contact impulses' work and friction's dissipation. */
+    fem::ContactStepReport    contact;
+    double                    contact_work         = 0;
+    double                    friction_dissipation = 0;
   };
 
   /**
@@ -142,8 +160,14 @@ namespace warpchol::app
   class StepLog
   {
   public:
-    /** @p with_error: add the columns error_vs_corotational and rms_error_vs_corotational. */
-    StepLog(const std::string &filename, bool with_error);
+    /**
+     * @p with_error: add the columns error_vs_corotational and rms_error_vs_corotational;
+     * @p with_contact: the contact columns (contacts, contacts_per_obstacle as "12;3",
+     * largest_penetration, gs_iterations,
+     * gs_residual, normal_force, friction_force, t_contact, contact_work,
+     * friction_dissipation).
+     */
+    StepLog(const std::string &filename, bool with_error, bool with_contact = false);
     /** Flushes (errors are swallowed: a destructor must not throw). */
     ~StepLog();
 
@@ -164,6 +188,7 @@ namespace warpchol::app
   private:
     std::string              file;
     bool                     with_error;
+    bool                     with_contact;
     std::vector<std::string> rows;
     std::size_t              written_rows = 0;
     Stopwatch                since_written;

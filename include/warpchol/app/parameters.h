@@ -1,6 +1,7 @@
 #pragma once
 
 #include <warpchol/app/parameters/body.h>
+#include <warpchol/app/parameters/contact.h>
 #include <warpchol/app/parameters/entries.h>
 #include <warpchol/app/parameters/events.h>
 #include <warpchol/app/parameters/loads.h>
@@ -47,6 +48,9 @@ namespace warpchol::app
     std::vector<parameters::Cut>            cuts;
     std::vector<parameters::Grasp>          grasps;
     std::vector<parameters::MaterialChange> material_changes;
+    /** How contacts are solved, and the obstacles: "Obstacle" (possibly inactive), "Obstacle 2", ... */
+    parameters::Contact                contact;
+    std::vector<parameters::Obstacle>  obstacles;
     parameters::Bodies        bodies;
     parameters::Output        output;
     parameters::Distributed   distributed;

@@ -116,6 +116,8 @@ namespace warpchol::app
      * on); empty while it runs.
      */
     std::string                stopped;
+    /** Whether a Gauss-Seidel that stopped short of its tolerance was reported. */
+    bool                       warned_gauss_seidel = false;
     /** "body 2 (warp_canceling, threshold 0.3)" when the scene has several, else "". */
     std::string                label;
     double                     setup_seconds = 0;

@@ -2,6 +2,7 @@
 
 #include <warpchol/base/named_values.h>
 #include <warpchol/base/types.h>
+#include <warpchol/cholesky/compliance.h>
 #include <warpchol/cholesky/modify.h>
 #include <warpchol/cholesky/numeric_supernodal.h>
 #include <warpchol/cholesky/ordering.h>
@@ -357,6 +358,16 @@ namespace warpchol::cholesky
      * to iterate with does it beside the steps.
      */
     void prepare_preconditioner();
+
+    /**
+     * The compliance W = H (L L^T)^-1 H^T (m x m, column-major) of the m columns of @p ht
+     * (n x m, the rows of H in the user's numbering), from the factor as it is: A^-1 when
+     * the factor is exact (factor_is_exact()), the preconditioner's inverse otherwise
+     * (compliance.h). Supernodal method (InputError otherwise). What it cost goes to
+     * @p statistics if not null.
+     */
+    std::vector<double> compliance(const sparse::CSCMatrix &ht, ComplianceMethod method = ComplianceMethod::paths,
+                                   ComplianceStatistics *statistics = nullptr) const;
 
     /** L, the factor of P^T A P (permuted numbering; a triangular matrix, full storage). */
     sparse::CSCMatrix factor() const;

@@ -51,7 +51,8 @@ namespace warpchol::fem
     double held_energy() const;
     /**
      * Of the last record(): initial energy + work of the tool and the constant loads + the
-     * changes' energy (J).
+     * changes' energy + the work of the contact impulses (J: moving obstacles' work less
+     * what friction dissipated).
      */
     double energy_put_in() const;
     /**

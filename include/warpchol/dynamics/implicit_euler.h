@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/contact/contact_constraints.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/small_dense.h>
 #include <warpchol/fem/system_matrix.h>
@@ -10,6 +11,7 @@
 #include <tbb/task_arena.h>
 
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -179,6 +181,21 @@ namespace warpchol::fem
     double tool_work_on_body() const;
     /** @} */
 
+    /**
+     * Work done on the body so far by the contact impulses (ContactConstraints): what
+     * moving obstacles did, less what friction dissipated; 0 without contact.
+     */
+    double contact_work() const;
+
+    /**
+     * Let the body touch @p contact's obstacles from the next step on (only before the
+     * first step): after each step's free solve, ContactConstraints::correct(). Throws
+     * InputError if an obstacle is inside the body at the start.
+     */
+    void set_contact(ContactConstraints contact);
+    /** The contact step, or null without obstacles. */
+    const ContactConstraints *contact() const;
+
     /** The cuts, grasps and material changes of the run, and what they did so far. */
     const Surgery &surgery() const;
     /** Replace the run's cuts, grasps and material changes; only before the first step. */
@@ -230,6 +247,8 @@ namespace warpchol::fem
     /** elastic_energy() costs a pass over the elements: kept for the step it was computed at. */
     mutable double       cached_elastic_energy = 0;
     mutable unsigned int cached_elastic_step   = static_cast<unsigned int>(-1);
+    /** The obstacles and the contact step (none without obstacles). */
+    std::optional<ContactConstraints> contact_constraints;
     /** The threads of the steps while the model limits them (shared: the integrator is copied). */
     std::shared_ptr<tbb::task_arena> step_arena;
   };

@@ -323,6 +323,14 @@ namespace warpchol::fem
                StepStatistics &statistics);
 
     /**
+     * solve() once more in the same step (a contact's correction, A^-1 H^T lambda): its CG
+     * iterations and seconds add to those of the step's solve, which a strategy that
+     * weighs its steps (auto's cost model) reads as the step's, instead of replacing them.
+     */
+    void solve_again(const std::vector<Vector3> &right_hand_side, std::vector<Vector3> &velocities,
+                     StepStatistics &statistics);
+
+    /**
      * Whether the next solve() iterates (preconditioned CG, which starts from the velocities
      * it is given) rather than solving directly with the factor: not in a step whose factor
      * is that of the strategy's target matrix (factor_solves_target()).
@@ -331,6 +339,16 @@ namespace warpchol::fem
 
     /** Whether the model uses rotations at all (all but the linear one). */
     virtual bool uses_rotations() const;
+
+    /**
+     * The nodal rotations R of solve()'s frame (it solves A y = R^T rhs, v = R y), or null
+     * for the identity: a constraint row h on the velocities is the row R^T h on A's
+     * unknowns (contact/contact_constraints.h).
+     */
+    const std::vector<Matrix3> *solve_rotations() const
+    {
+      return solve_frame;
+    }
 
     /**
      * How many threads the next step's own work may use: 0 for all that deal.II allows;

@@ -1,0 +1,96 @@
+#pragma once
+
+#include <warpchol/base/types.h>
+#include <warpchol/cholesky/supernodal_symbolic.h>
+#include <warpchol/sparse/csc_matrix.h>
+
+#include <vector>
+
+/**
+ * @file
+ * The compliance W = H A^-1 H^T of a few constraint rows h_i from a supernodal factor
+ * A = P L L^T P^T: what a constraint solver (contact, SOFA's GenericConstraintSolver)
+ * needs of the linear solver. With Y = L^-1 P^T H^T, W = Y^T Y.
+ *
+ * Column i of Y is nonzero only on the rows the elimination tree reaches from the nonzeros
+ * of h_i: the union of their paths to the root (Gilbert and Peierls' reach). The forward
+ * solve is therefore restricted to the supernodes on those paths, and done for all the
+ * columns whose paths cross a supernode at once, with dense BLAS-3 on its panel (dtrsm,
+ * dgemm); near the top, where every path meets, that is every column. W is then summed
+ * supernode by supernode (dsyrk of each panel) over those rows only.
+ *
+ * SOFA's SparseLDLSolver (addJMInvJt) builds the same W by one full-length forward solve
+ * per row of H into a dense m x n array, then the dense product over all n rows:
+ * compliance_by_full_solves() does that, the peer of the benchmarks and the reference of
+ * the tests.
+ */
+namespace warpchol::cholesky
+{
+  /** How SparseCholesky::compliance() builds W. */
+  enum class ComplianceMethod
+  {
+    /** Forward solves restricted to the elimination-tree paths, BLAS-3 per supernode. */
+    paths,
+    /** SOFA's way: a full-length forward solve per row, then the dense product. */
+    full_solves
+  };
+
+  /** What building W cost. */
+  struct ComplianceStatistics
+  {
+    /** Supernodes the forward solves visited (all of them for the full solves). */
+    Index  supernodes_visited = 0;
+    /** Flops of the forward solves and of the product. */
+    double flops = 0;
+  };
+
+  /**
+   * Y = L^-1 P^T H^T on the elimination-tree paths of H's columns, kept by supernode: what
+   * W is made of, and what a caller may keep while the factor and the constraints do not
+   * change (a contact that persists keeps its column).
+   */
+  struct PathForwardSolve
+  {
+    /** Columns of H^T (constraints). */
+    Index m = 0;
+    /** The supernodes on the union of the paths, increasing (children before parents). */
+    std::vector<Index> supernodes;
+    /**
+     * For supernodes[k]: the constraints whose path crosses it, sorted, are
+     * constraints[constraint_start[k] .. constraint_start[k+1]).
+     */
+    std::vector<Index> constraint_start;
+    std::vector<Index> constraints;
+    /**
+     * The panel of supernodes[k]: Y restricted to its columns and its constraints,
+     * transposed (one row per constraint, leading dimension the number of constraints),
+     * from panels[panel_start[k]]: its constraints' values of one column of L are
+     * contiguous, which the scatter into the ancestors reads.
+     */
+    std::vector<std::size_t> panel_start;
+    std::vector<double>      panels;
+    /** Flops of the forward solve and of the product (dtrsm, dgemm, dsyrk as counted by their sizes). */
+    double solve_flops   = 0;
+    double product_flops = 0;
+  };
+
+  /**
+   * The forward solve of the columns of @p ht (n x m, in the permuted numbering of the
+   * factor: row k is column k of C = P^T A P) with the supernodal factor @p values of
+   * @p symbolic, restricted to their paths.
+   */
+  PathForwardSolve forward_solve_on_paths(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
+                                          const sparse::CSCMatrix &ht);
+
+  /** W = Y^T Y (m x m, column-major, both triangles) from the panels of @p solve. */
+  std::vector<double> compliance_from_paths(const SupernodalSymbolic &symbolic, PathForwardSolve &solve);
+
+  /**
+   * SOFA's way, the peer: for each column of @p ht (permuted numbering) a full-length
+   * forward solve L y_i = h_i (every supernode, one right-hand side at a time, as
+   * SparseLDLSolver does) into a dense m x n array Y^T, then W = Y^T Y over all n rows
+   * (dsyrk). m x m, column-major, both triangles.
+   */
+  std::vector<double> compliance_by_full_solves(const SupernodalSymbolic &symbolic,
+                                                const std::vector<double> &values, const sparse::CSCMatrix &ht);
+} // namespace warpchol::cholesky

@@ -1,0 +1,209 @@
+#pragma once
+
+#include <warpchol/cholesky/compliance.h>
+#include <warpchol/contact/friction_cone_solver.h>
+#include <warpchol/contact/obstacle.h>
+#include <warpchol/fem/elastic_body.h>
+#include <warpchol/models/elasticity_model.h>
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+/**
+ * @file
+ * Contact of the body's surface with rigid obstacles, solved as SOFA solves it
+ * (GenericConstraintSolver with LinearSolverConstraintCorrection): the step's free motion
+ * first, then a correction by impulses on the contacts' rows.
+ */
+namespace warpchol::fem
+{
+  /** The stages of a contact step, as StepStatistics::stages names them. */
+  namespace stage
+  {
+    /** The body's surface vertices against the obstacles. */
+    constexpr const char *contact_detection = "contact detection";
+    /** W = H A^-1 H^T from the factor (cholesky/compliance.h). */
+    constexpr const char *contact_compliance = "contact compliance";
+    /** Projected Gauss-Seidel on W. */
+    constexpr const char *contact_gauss_seidel = "contact Gauss-Seidel";
+    /** The correction v += A^-1 H^T lambda (one solve). */
+    constexpr const char *contact_correction = "contact correction";
+  } // namespace stage
+
+  /**
+   * One contact: a surface vertex near an obstacle, or a point inside a surface triangle
+   * near an instrument's tip (a sphere or a capsule), which would otherwise pass between
+   * the vertices.
+   */
+  struct Contact
+  {
+    /** The vertex (the triangle's first vertex for a point in a triangle). */
+    unsigned int vertex   = 0;
+    unsigned int obstacle = 0;
+    /**
+     * The point is sum_a weights[a] x(vertices[a]) over the first n_vertices: 1 for a
+     * vertex (weight 1), 3 for a point in a triangle (its barycentric coordinates). Its
+     * rows of H touch the 3 dofs of each.
+     */
+    unsigned int                n_vertices = 1;
+    std::array<unsigned int, 3> vertices{};
+    std::array<double, 3>       weights{{1, 0, 0}};
+
+    /** The @p k-th vertex of the point (vertex itself for a vertex contact). */
+    unsigned int vertex_of(const unsigned int k) const
+    {
+      return n_vertices == 1 ? vertex : vertices[k];
+    }
+    /** The obstacle's outward normal and two tangents (an orthonormal frame). */
+    Vector3 normal, tangent_1, tangent_2;
+    /** The signed distance (m) at the start of the step from the obstacle where it is at the step's end. */
+    double gap = 0;
+  };
+
+  /**
+   * The vertices on the surface of @p body (sorted): those of the faces that belong to one
+   * element only of those not cut, so that a cut's new faces are surface and a cut
+   * element touches nothing.
+   */
+  std::vector<unsigned int> surface_vertices(const ElasticBody &body);
+
+  /** The faces on the surface of @p body (each once, its vertices sorted), as surface_vertices() finds them. */
+  std::vector<std::array<unsigned int, 3>> surface_triangles(const ElasticBody &body);
+
+  /**
+   * Why @p obstacle is inside the body at the start, or "" if it is not: a vertex of the
+   * free surface at @p positions more than @p tolerance inside it, or its reference point
+   * (the centre of its boundary's points) inside an element that is not cut. A plane has
+   * no inside point to check but the vertices.
+   */
+  std::string obstacle_inside_body(const Obstacle &obstacle, const ElasticBody &body,
+                                   const std::vector<Vector3> &positions, double tolerance);
+
+  /** What the contact step is told. */
+  struct ContactSettings
+  {
+    /** A surface vertex within this distance (m) of an obstacle is a contact (besides how far it may move in a step). */
+    double margin = 1e-3;
+    /** The penetration (m) a step may leave: the largest one is checked against it. */
+    double tolerance = 1e-4;
+    GaussSeidelSettings gauss_seidel;
+    /** More contacts than this in a step is an error (the size of W grows as their square). */
+    unsigned int max_contacts = 1000;
+    /** Where the cap is set, for the message ("FILE:LINE: Contact/Max contacts"). */
+    std::string  max_contacts_origin = "Contact/Max contacts";
+    /** Where Gauss-Seidel's iterations are set, for the warning when it stops short. */
+    std::string  max_iterations_origin = "Contact/Max iterations";
+    /** How W is built from the factor. */
+    cholesky::ComplianceMethod compliance = cholesky::ComplianceMethod::paths;
+  };
+
+  /** What the last contact step did. */
+  struct ContactStepReport
+  {
+    unsigned int n_contacts = 0;
+    /** The contacts of each obstacle. */
+    std::vector<unsigned int> contacts_per_obstacle;
+    /** The largest penetration (m) after the step, over the contacts (0: none). */
+    double       largest_penetration = 0;
+    GaussSeidelResult gauss_seidel;
+    /** Sums over the contacts of |normal force| and |friction force| (N). */
+    double normal_force   = 0;
+    double friction_force = 0;
+    /** Sum of the contact forces (N), as a vector. */
+    Vector3 total_force = Vector3::Zero();
+    /** Work (J) of the contact impulses on the body in the step: lambda . H v(t+dt). */
+    double work_on_body = 0;
+    /** What friction dissipated (J, >= 0): -lambda_t . u_t, u_t the sliding velocity. */
+    double friction_dissipation = 0;
+  };
+
+  /**
+   * The obstacles and the contact step of one body. For a step with free velocities
+   * v_free (the implicit Euler step without contact, A~ v_free = b with
+   * A~ = R A R^T): the contacts at x(t) (detect()), the compliance
+   *   W = H A~^-1 H^T = (H R) A^-1 (H R)^T
+   * from the factor of A (cholesky::SparseCholesky::compliance(), the rows of H rotated by
+   * R^T, 3 unknowns per contact vertex), the impulses lambda by projected Gauss-Seidel with
+   * the friction cone, and the correction v = v_free + A~^-1 H^T lambda (one solve with
+   * the model). A contact's normal row asks for n . v(t+dt) >= -gap / dt, so that the next
+   * position is outside the obstacle to first order (no Baumgarte term); the tangents slide
+   * relative to the obstacle's velocity.
+   *
+   * Where the model's solve iterates (WCC's CG on a stale factor), W comes from that
+   * factor: the preconditioner's compliance, not A's; the correction is the model's own
+   * solve (exact to CG's tolerance), so a stale W only makes Gauss-Seidel aim slightly
+   * off (contact_compliance_from_stale_factor measures by how much).
+   */
+  class ContactConstraints
+  {
+  public:
+    ContactConstraints(std::vector<Obstacle> obstacles, const ContactSettings &settings);
+
+    /** Throw InputError naming the obstacle (from 1) if it is inside the body at time 0 (obstacle_inside_body()). */
+    void check_start(const ElasticBody &body, const std::vector<Vector3> &positions) const;
+
+    /**
+     * The contacts of the vertices on the body's surface (faces of one element that is not
+     * cut: a cut's new faces are surface, a cut element touches nothing) at @p positions,
+     * the obstacles where they are at @p time, within the margin plus how far
+     * @p velocities move a vertex in @p time_step.
+     */
+    std::vector<Contact> detect(const ElasticBody &body, const std::vector<Vector3> &positions,
+                                const std::vector<Vector3> &velocities, double time, double time_step);
+
+    /**
+     * The contact step: @p velocities holds the free velocities at time @p time (the
+     * step's start) on entry, the corrected ones on exit. Throws InputError if more
+     * contacts than ContactSettings::max_contacts touch.
+     */
+    void correct(const ElasticBody &body, ElasticityModel &model, const std::vector<Vector3> &positions,
+                 std::vector<Vector3> &velocities, double time, double time_step, StepStatistics &statistics);
+
+    const std::vector<Obstacle> &obstacles() const;
+    const ContactSettings       &settings() const;
+    const ContactStepReport     &last_step() const;
+    /** Totals over the steps so far: the contact impulses' work on the body, friction's dissipation. */
+    double work_on_body() const;
+    double friction_dissipation() const;
+    /** The contact force (N) on each vertex in the last step (zero off the contacts). */
+    const std::vector<Vector3> &vertex_forces() const;
+    /** The gap (m) of each vertex after the last step: its distance to the nearest obstacle, up to the margin. */
+    const std::vector<double> &vertex_gaps() const;
+    /** The contacts of the last step. */
+    const std::vector<Contact> &contacts() const;
+
+    /** H^T (A's unknowns x 3 contacts) for @p contacts, rotated by @p rotations (null: identity). */
+    static sparse::CSCMatrix constraint_columns(const ElasticBody &body, const std::vector<Contact> &contacts,
+                                                const std::vector<Matrix3> *rotations);
+
+  private:
+    /** surface_vertices(), recomputed when the number of cut elements changes. */
+    const std::vector<unsigned int> &current_surface(const ElasticBody &body);
+
+    /**
+     * Points inside surface triangles near the instruments' tips (spheres, capsules) whose
+     * vertices are not in @p found already: appended to @p found.
+     */
+    void detect_tips(const ElasticBody &body, const std::vector<Vector3> &positions,
+                     const std::vector<Vector3> &velocities, double time, double time_step,
+                     std::vector<Contact> &found) const;
+
+    std::vector<Obstacle>     obstacle_list;
+    ContactSettings           contact_settings;
+    std::vector<unsigned int> surface;
+    std::vector<std::array<unsigned int, 3>> triangles;
+    unsigned int              surface_of_cut_count = static_cast<unsigned int>(-1);
+    /** (vertex, obstacle) as one number: how a contact is found again in the next step. */
+    static std::uint64_t contact_key(const Contact &contact);
+
+    std::vector<Contact>      step_contacts, previous_contacts;
+    /** The impulses of the last step's contacts (3 per contact), the next one's warm start. */
+    std::vector<double>       lambda;
+    ContactStepReport         report;
+    double                    total_work = 0, total_dissipation = 0;
+    std::vector<Vector3>      forces;
+    std::vector<double>       gaps;
+  };
+} // namespace warpchol::fem

@@ -1,0 +1,230 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/cholesky/blas.h>
+#include <warpchol/cholesky/compliance.h>
+
+#include <algorithm>
+
+namespace warpchol::cholesky
+{
+  namespace
+  {
+    void check_constraints(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
+                           const sparse::CSCMatrix &ht)
+    {
+      if (ht.n_rows != symbolic.n)
+        throw InputError("the constraints have " + std::to_string(ht.n_rows) + " rows, the factor " +
+                         std::to_string(symbolic.n) + " columns");
+      if (values.size() < static_cast<std::size_t>(symbolic.n_stored_values()))
+        throw Error("compliance of a factor without values (factorize() first)");
+      ht.check_consistency();
+    }
+
+    /** Copy the lower triangle of the m x m @p w into its upper one. */
+    void symmetrize(std::vector<double> &w, const Index m)
+    {
+      for (Index j = 0; j < m; ++j)
+        for (Index i = j + 1; i < m; ++i)
+          w[j + i * m] = w[i + j * m];
+    }
+  } // namespace
+
+  PathForwardSolve forward_solve_on_paths(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
+                                          const sparse::CSCMatrix &ht)
+  {
+    check_constraints(symbolic, values, ht);
+    const Index      ns = symbolic.n_supernodes();
+    const Index      m  = ht.n_cols;
+    PathForwardSolve solve;
+    solve.m = m;
+
+    // The paths: from the supernode of each nonzero of h_i up to the root, stopping where
+    // an earlier nonzero of the same column has been (the reach of h_i). Columns are
+    // visited in order, so each supernode's list of constraints comes out sorted.
+    std::vector<Index> visited_by(ns, -1), count(ns, 0);
+    const auto         walk_paths = [&](const auto &visit) {
+      std::fill(visited_by.begin(), visited_by.end(), Index(-1));
+      for (Index i = 0; i < m; ++i)
+        for (Index p = ht.column_start[i]; p < ht.column_start[i + 1]; ++p)
+          for (Index s = symbolic.supernode_of[ht.row_index[p]]; s >= 0 && visited_by[s] != i;
+               s       = symbolic.supernode_parent[s])
+            {
+              visited_by[s] = i;
+              visit(s, i);
+            }
+    };
+    walk_paths([&](const Index s, Index) { ++count[s]; });
+
+    std::vector<Index> position_of(ns, -1);
+    solve.constraint_start.push_back(0);
+    solve.panel_start.push_back(0);
+    for (Index s = 0; s < ns; ++s)
+      if (count[s] > 0)
+        {
+          position_of[s] = static_cast<Index>(solve.supernodes.size());
+          solve.supernodes.push_back(s);
+          solve.constraint_start.push_back(solve.constraint_start.back() + count[s]);
+          solve.panel_start.push_back(solve.panel_start.back() +
+                                      static_cast<std::size_t>(count[s]) * symbolic.n_columns(s));
+        }
+    solve.constraints.resize(solve.constraint_start.back());
+    std::vector<Index> filled(solve.supernodes.size(), 0);
+    walk_paths([&](const Index s, const Index i) {
+      const Index k = position_of[s];
+      solve.constraints[solve.constraint_start[k] + filled[k]++] = i;
+    });
+
+    // The right-hand sides into the panels (constraints x columns of the supernode).
+    solve.panels.assign(solve.panel_start.back(), 0.);
+    const auto local_constraint = [&](const Index k, const Index i) {
+      const auto begin = solve.constraints.begin() + solve.constraint_start[k];
+      const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
+      return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
+    };
+    for (Index i = 0; i < m; ++i)
+      for (Index p = ht.column_start[i]; p < ht.column_start[i + 1]; ++p)
+        {
+          const Index row = ht.row_index[p], s = symbolic.supernode_of[row], k = position_of[s];
+          const Index n_constraints = solve.constraint_start[k + 1] - solve.constraint_start[k];
+          solve.panels[solve.panel_start[k] + local_constraint(k, i) +
+                       static_cast<std::size_t>(row - symbolic.first_column[s]) * n_constraints] += ht.values[p];
+        }
+
+    // Supernode by supernode, children first: Y_s = L_ss^-1 b_s on the panel (transposed:
+    // Y_s^T L_ss^-T, dtrsm), then the rows below it, L_bs Y_s (dgemm), subtracted from the
+    // panels of the ancestors that hold those rows.
+    std::vector<double> below;
+    std::vector<Index>  map;
+    for (std::size_t k = 0; k < solve.supernodes.size(); ++k)
+      {
+        const Index   s  = solve.supernodes[k];
+        const Index   kc = solve.constraint_start[k + 1] - solve.constraint_start[k];
+        const Index   nc = symbolic.n_columns(s), nr = symbolic.n_rows(s), rows_below = nr - nc;
+        const double *ls = values.data() + symbolic.value_start[s];
+        const Index  *rows = symbolic.row_index.data() + symbolic.row_start[s];
+        double       *panel = solve.panels.data() + solve.panel_start[k];
+        blas::trsm_right_lower_transpose(static_cast<int>(kc), static_cast<int>(nc), ls, static_cast<int>(nr), panel,
+                                         static_cast<int>(kc));
+        solve.solve_flops += static_cast<double>(kc) * nc * nc;
+        if (rows_below == 0)
+          continue;
+        below.resize(static_cast<std::size_t>(kc) * rows_below);
+        blas::gemm_nt(static_cast<int>(kc), static_cast<int>(rows_below), static_cast<int>(nc), 1., panel,
+                      static_cast<int>(kc), ls + nc, static_cast<int>(nr), 0., below.data(), static_cast<int>(kc));
+        solve.solve_flops += 2. * static_cast<double>(kc) * nc * rows_below;
+
+        // The rows below, grouped by the ancestor holding them (rows are sorted, and a
+        // supernode's columns contiguous). Every path through s goes on through that
+        // ancestor, so its constraints include those of s: map them by a merge.
+        const Index *own = solve.constraints.data() + solve.constraint_start[k];
+        for (Index q = 0; q < rows_below;)
+          {
+            const Index t     = symbolic.supernode_of[rows[nc + q]];
+            const Index kt    = position_of[t];
+            const Index ct    = solve.constraint_start[kt + 1] - solve.constraint_start[kt];
+            const Index end_t = symbolic.first_column[t + 1];
+            Index       end   = q;
+            while (end < rows_below && rows[nc + end] < end_t)
+              ++end;
+            double *target = solve.panels.data() + solve.panel_start[kt];
+            if (ct == kc)
+              for (; q < end; ++q)
+                {
+                  double       *to   = target + static_cast<std::size_t>(rows[nc + q] - symbolic.first_column[t]) * ct;
+                  const double *from = below.data() + static_cast<std::size_t>(q) * kc;
+                  for (Index a = 0; a < kc; ++a)
+                    to[a] -= from[a];
+                }
+            else
+              {
+                map.resize(kc);
+                const Index *theirs = solve.constraints.data() + solve.constraint_start[kt];
+                for (Index a = 0, b = 0; a < kc; ++a)
+                  {
+                    while (theirs[b] != own[a])
+                      ++b;
+                    map[a] = b;
+                  }
+                for (; q < end; ++q)
+                  {
+                    double *to = target + static_cast<std::size_t>(rows[nc + q] - symbolic.first_column[t]) * ct;
+                    const double *from = below.data() + static_cast<std::size_t>(q) * kc;
+                    for (Index a = 0; a < kc; ++a)
+                      to[map[a]] -= from[a];
+                  }
+              }
+          }
+      }
+    return solve;
+  }
+
+  std::vector<double> compliance_from_paths(const SupernodalSymbolic &symbolic, PathForwardSolve &solve)
+  {
+    const Index         m = solve.m;
+    std::vector<double> w(static_cast<std::size_t>(m) * m, 0.);
+    std::vector<double> gram;
+    solve.product_flops = 0;
+    // W = sum over the supernodes on the paths of Y_s^T Y_s, each on its constraints: at
+    // the top, where every path meets, straight into W.
+    for (std::size_t k = 0; k < solve.supernodes.size(); ++k)
+      {
+        const Index   kc    = solve.constraint_start[k + 1] - solve.constraint_start[k];
+        const Index   nc    = symbolic.n_columns(solve.supernodes[k]);
+        const double *panel = solve.panels.data() + solve.panel_start[k];
+        solve.product_flops += static_cast<double>(kc) * (kc + 1) * nc;
+        if (kc == m)
+          {
+            blas::syrk_lower(static_cast<int>(m), static_cast<int>(nc), 1., panel, static_cast<int>(m), 1., w.data(),
+                             static_cast<int>(m));
+            continue;
+          }
+        gram.resize(static_cast<std::size_t>(kc) * kc);
+        blas::syrk_lower(static_cast<int>(kc), static_cast<int>(nc), 1., panel, static_cast<int>(kc), 0., gram.data(),
+                         static_cast<int>(kc));
+        const Index *own = solve.constraints.data() + solve.constraint_start[k];
+        for (Index b = 0; b < kc; ++b)
+          for (Index a = b; a < kc; ++a)
+            w[own[a] + static_cast<std::size_t>(own[b]) * m] += gram[a + static_cast<std::size_t>(b) * kc];
+      }
+    symmetrize(w, m);
+    return w;
+  }
+
+  std::vector<double> compliance_by_full_solves(const SupernodalSymbolic &symbolic,
+                                                const std::vector<double> &values, const sparse::CSCMatrix &ht)
+  {
+    check_constraints(symbolic, values, ht);
+    const Index         n = symbolic.n, m = ht.n_cols, ns = symbolic.n_supernodes();
+    std::vector<double> y_transposed(static_cast<std::size_t>(m) * n, 0.);
+    std::vector<double> x(n), below;
+    for (Index i = 0; i < m; ++i)
+      {
+        std::fill(x.begin(), x.end(), 0.);
+        for (Index p = ht.column_start[i]; p < ht.column_start[i + 1]; ++p)
+          x[ht.row_index[p]] = ht.values[p];
+        // L y = h over every supernode, one right-hand side (dtrsv, dgemv).
+        for (Index s = 0; s < ns; ++s)
+          {
+            const Index   f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+            const Index   rows_below = nr - nc;
+            const double *ls         = values.data() + symbolic.value_start[s];
+            const Index  *rows       = symbolic.row_index.data() + symbolic.row_start[s];
+            blas::trsv_lower(false, static_cast<int>(nc), ls, static_cast<int>(nr), x.data() + f);
+            if (rows_below == 0)
+              continue;
+            below.resize(rows_below);
+            blas::gemv(false, static_cast<int>(rows_below), static_cast<int>(nc), 1., ls + nc, static_cast<int>(nr),
+                       x.data() + f, 0., below.data());
+            for (Index q = 0; q < rows_below; ++q)
+              x[rows[nc + q]] -= below[q];
+          }
+        for (Index r = 0; r < n; ++r)
+          y_transposed[i + static_cast<std::size_t>(r) * m] = x[r];
+      }
+    // The dense product over all n rows.
+    std::vector<double> w(static_cast<std::size_t>(m) * m, 0.);
+    blas::syrk_lower(static_cast<int>(m), static_cast<int>(n), 1., y_transposed.data(), static_cast<int>(m), 0.,
+                     w.data(), static_cast<int>(m));
+    symmetrize(w, m);
+    return w;
+  }
+} // namespace warpchol::cholesky

@@ -1,0 +1,478 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/base/format.h>
+#include <warpchol/base/stage_times.h>
+#include <warpchol/contact/contact_constraints.h>
+
+#include <Eigen/Geometry>
+
+#include <Eigen/LU>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <unordered_map>
+
+namespace warpchol::fem
+{
+  namespace
+  {
+    /** Whether @p point lies in the tetrahedron @p corners (barycentric coordinates all >= 0). */
+    bool in_tetrahedron(const Vector3 &point, const std::array<Vector3, 4> &corners)
+    {
+      Matrix3 edges;
+      for (int a = 0; a < 3; ++a)
+        edges.col(a) = corners[a + 1] - corners[0];
+      const Vector3 local = edges.fullPivLu().solve(point - corners[0]);
+      return local.minCoeff() >= 0 && local.sum() <= 1;
+    }
+
+    /**
+     * The point of the triangle @p a, @p b, @p c closest to @p p, as barycentric
+     * coordinates (Ericson, Real-Time Collision Detection, 5.1.5).
+     */
+    std::array<double, 3> closest_in_triangle(const Vector3 &p, const Vector3 &a, const Vector3 &b, const Vector3 &c)
+    {
+      const Vector3 ab = b - a, ac = c - a, ap = p - a;
+      const double  d1 = ab.dot(ap), d2 = ac.dot(ap);
+      if (d1 <= 0 && d2 <= 0)
+        return {{1, 0, 0}};
+      const Vector3 bp = p - b;
+      const double  d3 = ab.dot(bp), d4 = ac.dot(bp);
+      if (d3 >= 0 && d4 <= d3)
+        return {{0, 1, 0}};
+      const double vc = d1 * d4 - d3 * d2;
+      if (vc <= 0 && d1 >= 0 && d3 <= 0)
+        {
+          const double v = d1 / (d1 - d3);
+          return {{1 - v, v, 0}};
+        }
+      const Vector3 cp = p - c;
+      const double  d5 = ab.dot(cp), d6 = ac.dot(cp);
+      if (d6 >= 0 && d5 <= d6)
+        return {{0, 0, 1}};
+      const double vb = d5 * d2 - d1 * d6;
+      if (vb <= 0 && d2 >= 0 && d6 <= 0)
+        {
+          const double w = d2 / (d2 - d6);
+          return {{1 - w, 0, w}};
+        }
+      const double va = d3 * d6 - d5 * d4;
+      if (va <= 0 && (d4 - d3) >= 0 && (d5 - d6) >= 0)
+        {
+          const double w = (d4 - d3) / ((d4 - d3) + (d5 - d6));
+          return {{0, 1 - w, w}};
+        }
+      const double denominator = 1 / (va + vb + vc);
+      const double v = vb * denominator, w = vc * denominator;
+      return {{1 - v - w, v, w}};
+    }
+
+    /** The obstacle's reference point, which must not be inside the body at the start. */
+    Vector3 reference_point(const Obstacle &obstacle)
+    {
+      const TriangleSurface boundary = obstacle.boundary(0);
+      Vector3               centre   = Vector3::Zero();
+      for (const Vector3 &point : boundary.points)
+        centre += point;
+      return centre / static_cast<double>(boundary.points.size());
+    }
+  } // namespace
+
+  namespace
+  {
+    /** A field at a contact's point: sum_a weights[a] field[vertices[a]]. */
+    Vector3 point_value(const Contact &contact, const std::vector<Vector3> &field)
+    {
+      Vector3 value = Vector3::Zero();
+      for (unsigned int k = 0; k < contact.n_vertices; ++k)
+        value += contact.weights[k] * field[contact.vertex_of(k)];
+      return value;
+    }
+  } // namespace
+
+  ContactConstraints::ContactConstraints(std::vector<Obstacle> obstacles, const ContactSettings &settings)
+    : obstacle_list(std::move(obstacles))
+    , contact_settings(settings)
+  {}
+
+  std::uint64_t ContactConstraints::contact_key(const Contact &contact)
+  {
+    // A point in a triangle is keyed by its first vertex with the top bit set.
+    return (static_cast<std::uint64_t>(contact.vertex) << 32) | contact.obstacle |
+           (contact.n_vertices > 1 ? std::uint64_t(1) << 31 : 0);
+  }
+
+  std::vector<std::array<unsigned int, 3>> surface_triangles(const ElasticBody &body)
+  {
+    // A face of one element only (of those not cut) is on the surface.
+    std::vector<std::array<unsigned int, 3>> faces;
+    faces.reserve(4 * static_cast<std::size_t>(body.n_elements()));
+    for (unsigned int e = 0; e < body.n_elements(); ++e)
+      if (!body.element_is_cut(e))
+        {
+          const auto &v = body.element_vertices(e);
+          for (unsigned int skip = 0; skip < 4; ++skip)
+            {
+              std::array<unsigned int, 3> face{};
+              for (unsigned int a = 0, k = 0; a < 4; ++a)
+                if (a != skip)
+                  face[k++] = v[a];
+              std::sort(face.begin(), face.end());
+              faces.push_back(face);
+            }
+        }
+    std::sort(faces.begin(), faces.end());
+    std::vector<std::array<unsigned int, 3>> surface;
+    for (std::size_t k = 0; k < faces.size();)
+      {
+        std::size_t same = k + 1;
+        while (same < faces.size() && faces[same] == faces[k])
+          ++same;
+        if (same == k + 1)
+          surface.push_back(faces[k]);
+        k = same;
+      }
+    return surface;
+  }
+
+  std::vector<unsigned int> surface_vertices(const ElasticBody &body)
+  {
+    std::vector<char> on_surface(body.n_vertices(), 0);
+    for (const auto &face : surface_triangles(body))
+      for (const unsigned int v : face)
+        on_surface[v] = 1;
+    std::vector<unsigned int> vertices;
+    for (unsigned int v = 0; v < body.n_vertices(); ++v)
+      if (on_surface[v])
+        vertices.push_back(v);
+    return vertices;
+  }
+
+  const std::vector<unsigned int> &ContactConstraints::current_surface(const ElasticBody &body)
+  {
+    unsigned int n_cut = 0;
+    for (unsigned int e = 0; e < body.n_elements(); ++e)
+      n_cut += body.element_is_cut(e) ? 1 : 0;
+    if (n_cut != surface_of_cut_count)
+      {
+        triangles = surface_triangles(body);
+        std::vector<char> on_surface(body.n_vertices(), 0);
+        for (const auto &face : triangles)
+          for (const unsigned int v : face)
+            on_surface[v] = 1;
+        surface.clear();
+        for (unsigned int v = 0; v < body.n_vertices(); ++v)
+          if (on_surface[v])
+            surface.push_back(v);
+        surface_of_cut_count = n_cut;
+      }
+    return surface;
+  }
+
+  std::string obstacle_inside_body(const Obstacle &obstacle, const ElasticBody &body,
+                                   const std::vector<Vector3> &positions, const double tolerance)
+  {
+    for (const unsigned int v : surface_vertices(body))
+      {
+        const double distance = obstacle.proximity(positions[v], 0).distance;
+        if (distance < -tolerance)
+          return "the obstacle is inside the body at the start: vertex " + std::to_string(v) + " lies " +
+                 format_number(-distance) + " m inside it (more than the tolerance " + format_number(tolerance) +
+                 " m)";
+      }
+    if (obstacle.shape() == ObstacleShape::plane)
+      return "";
+    const Vector3 point = reference_point(obstacle);
+    for (unsigned int e = 0; e < body.n_elements(); ++e)
+      {
+        if (body.element_is_cut(e))
+          continue;
+        const auto &v = body.element_vertices(e);
+        if (in_tetrahedron(point, {{positions[v[0]], positions[v[1]], positions[v[2]], positions[v[3]]}}))
+          return "the obstacle is inside the body at the start: its centre lies in element " + std::to_string(e);
+      }
+    return "";
+  }
+
+  void ContactConstraints::check_start(const ElasticBody &body, const std::vector<Vector3> &positions) const
+  {
+    for (std::size_t o = 0; o < obstacle_list.size(); ++o)
+      {
+        const std::string why = obstacle_inside_body(obstacle_list[o], body, positions, contact_settings.tolerance);
+        if (!why.empty())
+          throw InputError("obstacle " + std::to_string(o + 1) + ": " + why);
+      }
+  }
+
+  std::vector<Contact> ContactConstraints::detect(const ElasticBody &body, const std::vector<Vector3> &positions,
+                                                  const std::vector<Vector3> &velocities, const double time,
+                                                  const double time_step)
+  {
+    std::vector<Contact> found;
+    for (const unsigned int v : current_surface(body))
+      {
+        if (body.is_fixed(v))
+          continue;
+        // A vertex may reach an obstacle from as far as it moves in the step.
+        const double reach = contact_settings.margin + time_step * velocities[v].norm();
+        for (unsigned int o = 0; o < obstacle_list.size(); ++o)
+          {
+            const Proximity proximity = obstacle_list[o].proximity(positions[v], time + time_step);
+            if (proximity.distance >= reach)
+              continue;
+            Contact contact;
+            contact.vertex    = v;
+            contact.obstacle  = o;
+            contact.normal    = proximity.normal;
+            contact.tangent_1 = proximity.normal.unitOrthogonal();
+            contact.tangent_2 = proximity.normal.cross(contact.tangent_1);
+            contact.gap       = proximity.distance;
+            found.push_back(contact);
+          }
+      }
+    detect_tips(body, positions, velocities, time, time_step, found);
+    return found;
+  }
+
+  void ContactConstraints::detect_tips(const ElasticBody &body, const std::vector<Vector3> &positions,
+                                       const std::vector<Vector3> &velocities, const double time,
+                                       const double time_step, std::vector<Contact> &found) const
+  {
+    // A tip smaller than the mesh's spacing passes between the vertices: where the point of
+    // a surface triangle closest to it lies inside the triangle, that point is a contact.
+    // Triangles with a vertex in contact with the same obstacle already are left out.
+    std::vector<char> touching(body.n_vertices(), 0);
+    for (unsigned int o = 0; o < obstacle_list.size(); ++o)
+      {
+        const ObstacleShape shape = obstacle_list[o].shape();
+        if (shape != ObstacleShape::sphere && shape != ObstacleShape::capsule)
+          continue;
+        std::fill(touching.begin(), touching.end(), 0);
+        for (const Contact &contact : found)
+          if (contact.obstacle == o)
+            touching[contact.vertex] = 1;
+        for (const auto &face : triangles)
+          {
+            if (touching[face[0]] || touching[face[1]] || touching[face[2]] ||
+                (body.is_fixed(face[0]) && body.is_fixed(face[1]) && body.is_fixed(face[2])))
+              continue;
+            const Vector3 &a = positions[face[0]], &b = positions[face[1]], &c = positions[face[2]];
+            // The obstacle's proximity at the triangle's centroid first: a cheap rejection.
+            const double size  = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+            double       speed = 0;
+            for (const unsigned int v : face)
+              speed = std::max(speed, velocities[v].norm());
+            const double reach = contact_settings.margin + time_step * speed;
+            if (obstacle_list[o].proximity((a + b + c) / 3, time + time_step).distance >= reach + size)
+              continue;
+            // The triangle's deepest point in the obstacle: the one nearest its core (a
+            // sphere's centre; for a capsule's axis, by alternating the two nearest-point
+            // projections, which converge for two convex sets).
+            Vector3               point = (a + b + c) / 3;
+            std::array<double, 3> weights{};
+            for (unsigned int pass = 0; pass < (shape == ObstacleShape::sphere ? 1 : 4); ++pass)
+              {
+                weights = closest_in_triangle(obstacle_list[o].core_point(point, time + time_step), a, b, c);
+                point   = weights[0] * a + weights[1] * b + weights[2] * c;
+              }
+            if (std::min({weights[0], weights[1], weights[2]}) <= 1e-3)
+              continue; // on an edge or at a vertex: the vertices' own contacts cover it
+            const Proximity proximity = obstacle_list[o].proximity(point, time + time_step);
+            if (proximity.distance >= reach)
+              continue;
+            Contact contact;
+            contact.vertex     = face[0];
+            contact.obstacle   = o;
+            contact.n_vertices = 3;
+            contact.vertices   = face;
+            contact.weights    = weights;
+            contact.normal     = proximity.normal;
+            contact.tangent_1  = proximity.normal.unitOrthogonal();
+            contact.tangent_2  = proximity.normal.cross(contact.tangent_1);
+            contact.gap        = proximity.distance;
+            found.push_back(contact);
+          }
+      }
+  }
+
+  sparse::CSCMatrix ContactConstraints::constraint_columns(const ElasticBody &body, const std::vector<Contact> &contacts,
+                                                           const std::vector<Matrix3> *rotations)
+  {
+    const Index       m  = 3 * static_cast<Index>(contacts.size());
+    sparse::CSCMatrix ht = sparse::CSCMatrix::zero(body.n_unknowns(), m);
+    for (std::size_t j = 0; j < contacts.size(); ++j)
+      {
+        const Contact &contact = contacts[j];
+        for (int d = 0; d < 3; ++d)
+          {
+            const Vector3 &direction = d == 0 ? contact.normal : d == 1 ? contact.tangent_1 : contact.tangent_2;
+            for (unsigned int k = 0; k < contact.n_vertices; ++k)
+              {
+                const unsigned int v     = contact.vertex_of(k);
+                const Index        first = body.first_unknown(v);
+                if (first < 0)
+                  continue; // a fixed vertex of a triangle: its velocity is zero
+                // The row h on v is the row R^T h on the unknowns y (v = R y).
+                const Vector3 rotated =
+                  contact.weights[k] * (rotations ? Vector3((*rotations)[v].transpose() * direction) : direction);
+                for (int c = 0; c < 3; ++c)
+                  {
+                    ht.row_index.push_back(first + c);
+                    ht.values.push_back(rotated[c]);
+                  }
+              }
+            ht.column_start[3 * j + d + 1] = static_cast<Index>(ht.row_index.size());
+          }
+      }
+    return ht;
+  }
+
+  void ContactConstraints::correct(const ElasticBody &body, ElasticityModel &model,
+                                   const std::vector<Vector3> &positions, std::vector<Vector3> &velocities,
+                                   const double time, const double time_step, StepStatistics &statistics)
+  {
+    report            = ContactStepReport();
+    previous_contacts = std::move(step_contacts);
+    forces.assign(body.n_vertices(), Vector3::Zero());
+    gaps.assign(body.n_vertices(), contact_settings.margin);
+    {
+      StageTimer timer(statistics.stages, stage::contact_detection);
+      step_contacts = detect(body, positions, velocities, time, time_step);
+    }
+    const std::size_t n_contacts = step_contacts.size();
+    report.n_contacts            = static_cast<unsigned int>(n_contacts);
+    report.contacts_per_obstacle.assign(obstacle_list.size(), 0);
+    for (const Contact &contact : step_contacts)
+      ++report.contacts_per_obstacle[contact.obstacle];
+    if (n_contacts > contact_settings.max_contacts)
+      throw InputError(contact_settings.max_contacts_origin + " = " + std::to_string(contact_settings.max_contacts) +
+                       ": " + std::to_string(n_contacts) + " contacts at time " + format_number(time + time_step) +
+                       " s exceed the cap");
+    if (n_contacts == 0)
+      {
+        lambda.clear();
+        return;
+      }
+    if (model.solver().state() != cholesky::SparseCholesky::State::factorized)
+      throw InputError("contact needs warpchol's own factor of A, not a peer's (Solver/Backend)");
+
+    std::vector<double> w;
+    {
+      StageTimer timer(statistics.stages, stage::contact_compliance);
+      w = model.solver().compliance(constraint_columns(body, step_contacts, model.solve_rotations()),
+                                    contact_settings.compliance);
+    }
+
+    // u = H v_free + the targets: u_n >= 0 keeps the next position out of the obstacle,
+    // u_t is the sliding velocity relative to the obstacle.
+    std::vector<double> free_velocity(3 * n_contacts), friction(n_contacts);
+    std::vector<Vector3> obstacle_velocity(n_contacts);
+    for (std::size_t j = 0; j < n_contacts; ++j)
+      {
+        const Contact  &c = step_contacts[j];
+        const Obstacle &o = obstacle_list[c.obstacle];
+        obstacle_velocity[j]     = o.velocity(time, time + time_step);
+        const Vector3 relative   = point_value(c, velocities) - obstacle_velocity[j];
+        free_velocity[3 * j]     = c.normal.dot(point_value(c, velocities)) + c.gap / time_step;
+        free_velocity[3 * j + 1] = c.tangent_1.dot(relative);
+        free_velocity[3 * j + 2] = c.tangent_2.dot(relative);
+        friction[j]              = o.friction();
+      }
+    {
+      StageTimer timer(statistics.stages, stage::contact_gauss_seidel);
+      // Warm start: a contact that persists (same vertex, same obstacle) starts from its
+      // impulses of the step before, as SOFA's solver starts from the last forces.
+      std::unordered_map<std::uint64_t, std::size_t> previous;
+      for (std::size_t j = 0; j < previous_contacts.size(); ++j)
+        previous[contact_key(previous_contacts[j])] = j;
+      std::vector<double> start(3 * n_contacts, 0.);
+      for (std::size_t j = 0; j < n_contacts; ++j)
+        if (const auto found = previous.find(contact_key(step_contacts[j])); found != previous.end())
+          for (std::size_t d = 0; d < 3; ++d)
+            start[3 * j + d] = lambda[3 * found->second + d];
+      lambda              = std::move(start);
+      report.gauss_seidel = solve_friction_cone(w, free_velocity, friction, contact_settings.gauss_seidel, lambda);
+    }
+
+    // v += A~^-1 H^T lambda: the impulses as forces on the vertices, one solve.
+    std::vector<Vector3> impulses(body.n_vertices(), Vector3::Zero());
+    for (std::size_t j = 0; j < n_contacts; ++j)
+      {
+        const Contact &c       = step_contacts[j];
+        const Vector3  impulse = lambda[3 * j] * c.normal + lambda[3 * j + 1] * c.tangent_1 + lambda[3 * j + 2] * c.tangent_2;
+        for (unsigned int k = 0; k < c.n_vertices; ++k)
+          impulses[c.vertex_of(k)] += c.weights[k] * impulse;
+      }
+    {
+      StageTimer           timer(statistics.stages, stage::contact_correction);
+      std::vector<Vector3> change;
+      model.solve_again(impulses, change, statistics);
+      for (unsigned int v = 0; v < body.n_vertices(); ++v)
+        velocities[v] += change[v];
+    }
+
+    for (std::size_t j = 0; j < n_contacts; ++j)
+      {
+        const Contact &c        = step_contacts[j];
+        const Vector3  impulse  = lambda[3 * j] * c.normal + lambda[3 * j + 1] * c.tangent_1 + lambda[3 * j + 2] * c.tangent_2;
+        const Vector3  velocity = point_value(c, velocities);
+        const Vector3  relative = velocity - obstacle_velocity[j];
+        const double   sliding  = -(lambda[3 * j + 1] * c.tangent_1.dot(relative) + lambda[3 * j + 2] * c.tangent_2.dot(relative));
+        for (unsigned int k = 0; k < c.n_vertices; ++k)
+          forces[c.vertex_of(k)] += c.weights[k] * impulse / time_step;
+        report.total_force += impulse / time_step;
+        report.normal_force += std::abs(lambda[3 * j]) / time_step;
+        report.friction_force += std::hypot(lambda[3 * j + 1], lambda[3 * j + 2]) / time_step;
+        report.work_on_body += impulse.dot(velocity);
+        report.friction_dissipation += std::max(0., sliding);
+        const Vector3 next = point_value(c, positions) + time_step * velocity;
+        const double  gap  = obstacle_list[c.obstacle].proximity(next, time + time_step).distance;
+        for (unsigned int k = 0; k < c.n_vertices; ++k)
+          gaps[c.vertex_of(k)] = std::min(gaps[c.vertex_of(k)], gap);
+        report.largest_penetration = std::max(report.largest_penetration, -gap);
+      }
+    total_work += report.work_on_body;
+    total_dissipation += report.friction_dissipation;
+  }
+
+  const std::vector<Obstacle> &ContactConstraints::obstacles() const
+  {
+    return obstacle_list;
+  }
+
+  const ContactSettings &ContactConstraints::settings() const
+  {
+    return contact_settings;
+  }
+
+  const ContactStepReport &ContactConstraints::last_step() const
+  {
+    return report;
+  }
+
+  double ContactConstraints::work_on_body() const
+  {
+    return total_work;
+  }
+
+  double ContactConstraints::friction_dissipation() const
+  {
+    return total_dissipation;
+  }
+
+  const std::vector<Vector3> &ContactConstraints::vertex_forces() const
+  {
+    return forces;
+  }
+
+  const std::vector<double> &ContactConstraints::vertex_gaps() const
+  {
+    return gaps;
+  }
+
+  const std::vector<Contact> &ContactConstraints::contacts() const
+  {
+    return step_contacts;
+  }
+} // namespace warpchol::fem
