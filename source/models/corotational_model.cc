@@ -22,18 +22,7 @@ namespace warpchol::fem
   void CorotationalModel::prepare_step(const std::vector<Vector3> &positions,
                                        const std::vector<Vector3> &, StepStatistics &statistics)
   {
-    evaluate_elastic_state(positions, rotations_of(ModelType::corotational), statistics);
-    const auto &element_rotations = elastic_state.element_rotations;
-
-    {
-      StageTimer timer(statistics.stages, stage::assembly);
-      // R_e K_e R_e^T: every vertex of element e in the frame R_e.
-      system.assemble(ElementFrames::rotated(element_rotations));
-    }
-    statistics.elements_updated = body.n_elements();
-    record_updates(true);
-
-    factorize(statistics);
+    corotational_exact_step(positions, statistics);
   }
 
   ElementFrames CorotationalModel::contribution_frames() const

@@ -2,6 +2,7 @@
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/models/elasticity_model.h>
+#include <warpchol/models/model_type.h>
 
 #include <deal.II/lac/solver_cg.h>
 #include <deal.II/lac/solver_control.h>
@@ -307,6 +308,18 @@ namespace warpchol::fem
 
   void ElasticityModel::load_model_state(BinaryReader &)
   {}
+
+  void ElasticityModel::corotational_exact_step(const std::vector<Vector3> &positions, StepStatistics &statistics)
+  {
+    evaluate_elastic_state(positions, rotations_of(ModelType::corotational), statistics);
+    {
+      StageTimer timer(statistics.stages, stage::assembly);
+      system.assemble(ElementFrames::rotated(elastic_state.element_rotations));
+    }
+    statistics.elements_updated = body.n_elements();
+    record_updates(true);
+    factorize(statistics);
+  }
 
   void ElasticityModel::factorize(StepStatistics &statistics)
   {

@@ -454,15 +454,7 @@ namespace warpchol::fem
     // one waits for auto's own steps.
     if (background)
       take_background_refresh(statistics);
-    // As CorotationalModel::prepare_step().
-    evaluate_elastic_state(positions, ElasticBody::Rotations::elements, statistics);
-    {
-      StageTimer timer(statistics.stages, stage::assembly);
-      system.assemble(ElementFrames::rotated(elastic_state.element_rotations));
-    }
-    statistics.elements_updated = body.n_elements();
-    record_updates(true);
-    factorize(statistics);
+    corotational_exact_step(positions, statistics);
     history.matrix_in_element_frames = true;
     history.factor_step              = history.step_count;
     exact_this_step                  = true;

@@ -459,6 +459,13 @@ namespace warpchol::fem
     /** Full numeric factorization of the current A (analyzed on the first call). */
     void factorize(StepStatistics &statistics);
 
+    /**
+     * The corotational model's step: the element rotations at @p positions, A assembled
+     * with every vertex of element e in its frame R_e (R_e K_e R_e^T), every element
+     * recorded as updated, A factored in full. WCC's fall-back runs it too.
+     */
+    void corotational_exact_step(const std::vector<Vector3> &positions, StepStatistics &statistics);
+
     /** Whether the factor (warpchol's or the peer's) is that of the current A. */
     bool factor_is_exact() const;
     /**
