@@ -679,12 +679,10 @@ namespace warpchol::cholesky
     std::mutex                 copy_mutex;
 
     /** The copy of supernode s is older than the values from its local column q on. */
-    void mark_stale(const SupernodalSymbolic &symbolic, const Index s, const Index q)
+    void mark_stale(const Index s, const Index q)
     {
       if (copy == PreconditionerPrecision::full)
         return;
-      if (static_cast<Index>(stale_copy_from.size()) != symbolic.n_supernodes())
-        stale_copy_from.assign(symbolic.n_supernodes(), clean_copy);
       stale_copy_from[s] = std::min(stale_copy_from[s], q);
       copy_stale.store(true, std::memory_order_release);
     }
@@ -840,10 +838,10 @@ namespace warpchol::cholesky
     // supernode, its columns from the offset on), when it is next read.
     if (supernodes.empty())
       for (Index s = 0; s < symbolic.n_supernodes(); ++s)
-        implementation->mark_stale(symbolic, s, 0);
+        implementation->mark_stale(s, 0);
     else
       for (std::size_t k = 0; k < supernodes.size(); ++k)
-        implementation->mark_stale(symbolic, supernodes[k], start_offsets.empty() ? 0 : start_offsets[k]);
+        implementation->mark_stale(supernodes[k], start_offsets.empty() ? 0 : start_offsets[k]);
     double flops = 0;
     for (const Workspace &workspace : implementation->workspaces)
       flops += workspace.flops;
@@ -861,7 +859,7 @@ namespace warpchol::cholesky
       {
         const ModificationPlan plan = plan_modification(symbolic, c);
         for (std::size_t k = 0; k < plan.supernodes.size(); ++k)
-          implementation->mark_stale(symbolic, plan.supernodes[k], plan.start_columns[k]);
+          implementation->mark_stale(plan.supernodes[k], plan.start_columns[k]);
       }
     return result;
   }
