@@ -4,8 +4,9 @@
 // an exact step fall back (a probe of two exact steps while only the estimate is known,
 // then a stretch whose retry costs 1 % of it), the stretch doubles while the own steps
 // keep losing and starts from their loss again once they won; own steps that pay never
-// fall back, a tie within the margin does not; over runs of 100 to 10000 steps that lose
-// by 30 % throughout, the steps before the first fall-back and the retries cost under 1 %.
+// fall back, a tie within the margin does not, nor one own step held up among steps that
+// pay; over runs of 1000 and 10000 steps that lose by 30 % throughout, the steps before the
+// first fall-back and the retries cost under 1 % (2 % over 100 steps).
 //
 // Then on scenes. Where nothing pays (every element's error over the update threshold, so
 // every step updates all of them, and CG to 1e-10: no step of auto's own is cheaper than an
@@ -56,10 +57,11 @@ namespace
               << " %):" << std::endl;
     fem::ExactFallback losing;
     losing.set_exact_estimate(0.5);
-    // Steps 1, 2 not counted; step 3 loses more than an exact step (the estimate) over
-    // (1 + margin) exact steps: a probe of two exact steps (4, 5) measures 1.0.
-    tests::check("  own steps that cost twice an exact one: exact from step 4",
-                 feed(losing, 3, 2.0, 1.0) == 0 && losing.runs_exact());
+    // Steps 1, 2 not counted; steps 3 and 4 lose more than an exact step (the estimate)
+    // over (1 + margin) exact steps, two of them (one alone may have been held up by
+    // something else): a probe of two exact steps (5, 6) measures 1.0.
+    tests::check("  own steps that cost twice an exact one: exact from step 5",
+                 feed(losing, 4, 2.0, 1.0) == 0 && losing.runs_exact());
     tests::check("  a probe of 2 exact steps measures the exact step",
                  feed(losing, 2, 2.0, 1.0) == 2 && losing.exact_step_seconds() == 1.0);
     const unsigned int first = losing.stretch_length();
@@ -73,7 +75,7 @@ namespace
 
     fem::ExactFallback mild;
     mild.set_exact_estimate(0.5);
-    feed(mild, 5, 1.25, 1.0);
+    feed(mild, 6, 1.25, 1.0);
     std::cout << "  own steps that lose by 25 %: a stretch of " << mild.stretch_length() << std::endl;
     tests::check("  own steps that win (0.5) after it stay: 96 steps, none exact",
                  feed(mild, mild.stretch_length(), 1.25, 1.0) == mild.stretch_length() &&
@@ -83,7 +85,7 @@ namespace
               << std::endl;
     fem::ExactFallback small;
     small.set_exact_estimate(0.5);
-    feed(small, 5, 1.05, 1.0);
+    feed(small, 6, 1.05, 1.0);
     std::cout << "  own steps that lose by 5 % (a window of 8 to tell): a stretch of " << small.stretch_length()
               << std::endl;
 
@@ -91,6 +93,11 @@ namespace
     paying.set_exact_estimate(0.5);
     tests::check("  own steps cheaper than the estimate: 200 steps, none exact",
                  feed(paying, 200, 0.4, 1.0) == 0 && paying.fallbacks() == 0);
+    fem::ExactFallback held_up;
+    held_up.set_exact_estimate(0.5);
+    feed(held_up, 10, 0.1, 1.0);
+    tests::check("  one own step held up (as long as 4 exact ones) among own steps that pay: none exact",
+                 feed(held_up, 1, 2.0, 1.0) == 0 && feed(held_up, 100, 0.1, 1.0) == 0 && held_up.exact_steps() == 0);
     fem::ExactFallback tie;
     tie.set_exact_estimate(0.5);
     tests::check("  a tie within the margin (own 1.015x exact): the probe only",
@@ -106,7 +113,8 @@ namespace
         const unsigned int exact = feed(long_run, steps, 1.3, 1.0, &total);
         std::cout << "  own steps at 1.3x exact, " << steps << " steps: " << exact << " exact, "
                   << long_run.fallbacks() << " stretch(es)" << std::endl;
-        tests::check_below("    the run's cost over the exact path's - 1", total / steps - 1, 0.01);
+        // The two losing steps that detect the loss weigh 0.6 % of the shortest run.
+        tests::check_below("    the run's cost over the exact path's - 1", total / steps - 1, steps < 1000 ? 0.02 : 0.01);
       }
   }
 
@@ -223,5 +231,8 @@ int main()
                                                                               "  set Update threshold = inf\n"),
                                                      "Mesh"),
                          30);
-  tests::check("  where its own steps pay, it does not fall back", paying.exact_steps == 0);
+  // Under the sanitizers the error estimate, the element pass and CG (the project's code,
+  // instrumented) cost several times more against the factorization (BLAS, not
+  // instrumented): there own steps need not pay, and the decision is not checked.
+  tests::check("  where its own steps pay, it does not fall back", paying.exact_steps == 0 || tests::sanitized);
 }

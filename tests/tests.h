@@ -29,6 +29,23 @@
 
 namespace tests
 {
+  /**
+   * Whether the test runs under AddressSanitizer (.ci/sanitize). Its instrumentation slows
+   * the project's code several times and not BLAS: a decision taken on measured seconds
+   * there is not the one a user's build takes.
+   */
+#if defined(__SANITIZE_ADDRESS__)
+  constexpr bool sanitized = true;
+#elif defined(__has_feature)
+#  if __has_feature(address_sanitizer)
+  constexpr bool sanitized = true;
+#  else
+  constexpr bool sanitized = false;
+#  endif
+#else
+  constexpr bool sanitized = false;
+#endif
+
   /** Path of a file in tests/data (SOURCE_DIR is defined by deal.II's test macros). */
   inline std::string data_file(const std::string &name)
   {

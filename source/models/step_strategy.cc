@@ -350,18 +350,23 @@ namespace warpchol::fem
         after_stretch = true;
         return;
       }
-    // What the own steps lost to the exact path since they last did not (a CUSUM): a
-    // step far dearer than an exact one ends the window at once.
+    // What the own steps lost to the exact path since they last did not (a CUSUM): steps
+    // far dearer than an exact one end the window at once. Two of them: one step held up
+    // by something else on the machine is not the strategy's cost.
     const bool   measured  = exact_seconds > 0;
     const double reference = measured ? exact_seconds : estimate;
     if (reference > 0)
-      excess = std::max(0., excess + seconds - (1 + margin) * reference);
-    const bool lost_an_exact_step = reference > 0 && excess > reference;
+      {
+        excess = std::max(0., excess + seconds - (1 + margin) * reference);
+        losing_steps += seconds > (1 + margin) * reference;
+      }
+    const bool lost_an_exact_step = reference > 0 && excess > reference && losing_steps >= 2;
     if (phase_steps < window && !lost_an_exact_step)
       return;
     own_seconds   = phase_seconds / phase_steps;
     phase_seconds = 0;
     phase_steps   = 0;
+    losing_steps  = 0;
     if (!lost_an_exact_step && !own_steps_lose(own_seconds, reference))
       {
         // The own steps won (again): a later fall-back starts from its own loss.
@@ -392,6 +397,7 @@ namespace warpchol::fem
     writer.write(after_stretch);
     writer.write(own_seconds);
     writer.write(excess);
+    writer.write(losing_steps);
     writer.write(exact_seconds);
     writer.write(estimate);
     writer.write(exact_count);
@@ -410,6 +416,7 @@ namespace warpchol::fem
     reader.read(after_stretch);
     reader.read(own_seconds);
     reader.read(excess);
+    reader.read(losing_steps);
     reader.read(exact_seconds);
     reader.read(estimate);
     reader.read(exact_count);

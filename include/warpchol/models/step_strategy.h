@@ -342,6 +342,8 @@ namespace warpchol::fem
     double       own_seconds    = -1;
     /** The own steps' CUSUM of seconds over (1 + margin) exact steps. */
     double       excess         = 0;
+    /** The own steps of the current window that cost more than (1 + margin) exact steps. */
+    unsigned int losing_steps   = 0;
     /** The mean of the last run of exact steps of the fall-back (negative: none yet). */
     double       exact_seconds  = -1;
     /** The model's estimate of an exact step, until one is measured. */
