@@ -731,12 +731,134 @@ namespace warpchol::cholesky::HWY_NAMESPACE
             store(w + t * ldw + w_row + g * target_lanes, carried[g][t]);
       }
 
+      /**
+       * Rows of a block of apply_to_block(): its columns of W (K x block_rows doubles) stay
+       * in the first-level cache while every reflector passes over them.
+       */
+      static constexpr Index block_rows = 16 * target_lanes;
+
+      /**
+       * Apply the reflectors [j_begin, j_end) to the @p n_groups groups of rows from row
+       * @p w_row (those of L at @p rows, column stride @p ld), W kept in memory instead of
+       * registers (targets with 16 registers).
+       *
+       * apply_to_groups() carries a group's K columns of W in registers: on 16 registers
+       * that leaves one group, whose chain of dependent operations from one reflector to
+       * the next is longer than the reflector's work. Here reflector by reflector goes over
+       * all groups of the block, two at a time (each coefficient read once for both), so
+       * that the groups' independent chains overlap; the next reflector's dot product is
+       * formed from the columns just modified, as they are stored. The block's columns of W
+       * are copied to a buffer of fixed stride, so that every address is a constant offset.
+       */
+      void apply_to_block(double *rows, const Index ld, const Index w_row, const Index n_groups, const Index j_begin,
+                          const Index j_end) const
+      {
+        constexpr Index    most_groups = block_rows / target_lanes;
+        alignas(64) double stored[K * block_rows];
+        Lanes              dots[most_groups];
+        double *const      w_block = w + w_row;
+        const Index        n_rows = n_groups * target_lanes, w_stride = ldw;
+        const Coefficient *coefficients = reflectors;
+        for (int t = 0; t < K; ++t)
+          std::copy(w_block + t * w_stride, w_block + t * w_stride + n_rows, stored + t * block_rows);
+        for (Index g = 0; g < n_groups; ++g)
+          {
+            Lanes carried[K];
+            for (int t = 0; t < K; ++t)
+              carried[t] = load(stored + t * block_rows + g * target_lanes);
+            dots[g] = dot(load(rows + j_begin * ld + g * target_lanes), carried, coefficients + j_begin * stride + 1 + K);
+          }
+        for (Index j = j_begin; j < j_end; ++j)
+          {
+            if (j + prefetch_columns < j_end)
+              {
+                const double *ahead = rows + (j + prefetch_columns) * ld;
+                for (Index k = 0; k < n_rows; k += 8)
+                  __builtin_prefetch(ahead + k, 1);
+                __builtin_prefetch(ahead + n_rows - 1, 1);
+              }
+            const Coefficient *r      = coefficients + j * stride;
+            const Coefficient *next   = j + 1 < j_end ? r + stride : nullptr;
+            double            *column = rows + j * ld;
+            Index              g      = 0;
+            for (; g + 2 <= n_groups; g += 2)
+              apply_to_stored_groups<2>(column + g * target_lanes, ld, stored + g * target_lanes, dots + g, r, next);
+            if (g < n_groups)
+              apply_to_stored_groups<1>(column + g * target_lanes, ld, stored + g * target_lanes, dots + g, r, next);
+          }
+        for (int t = 0; t < K; ++t)
+          std::copy(stored + t * block_rows, stored + t * block_rows + n_rows, w_block + t * w_stride);
+      }
+
+      /**
+       * Reflector @p r on P groups side by side (their entries of its column at @p column,
+       * of W at @p w_rows with stride block_rows, their dot products for it in @p dots);
+       * then, if @p next, their dot products for the next reflector, in the order of dot().
+       */
+      template <int P>
+      static void apply_to_stored_groups(double *column, const Index ld, double *w_rows, Lanes *dots,
+                                         const Coefficient *r, const Coefficient *next)
+      {
+        Lanes sum[P];
+        for (int p = 0; p < P; ++p)
+          {
+            const Lanes old     = load(column + p * target_lanes);
+            const Lanes changed = r[0] * dots[p] - old;
+            store(column + p * target_lanes, changed);
+            sum[p] = old + changed;
+          }
+        if (!next)
+          {
+#pragma GCC unroll 16
+            for (int t = 0; t < K; ++t)
+              {
+                const Coefficient v = r[1 + t];
+                for (int p = 0; p < P; ++p)
+                  {
+                    double *entry = w_rows + t * block_rows + p * target_lanes;
+                    store(entry, load(entry) - sum[p] * v);
+                  }
+              }
+            return;
+          }
+        Lanes even[P], odd[P];
+        for (int p = 0; p < P; ++p)
+          even[p] = load(column + ld + p * target_lanes);
+#pragma GCC unroll 16
+        for (int t = 0; t < K; ++t)
+          {
+            const Coefficient v = r[1 + t], scaled = next[1 + K + t];
+            for (int p = 0; p < P; ++p)
+              {
+                double     *entry = w_rows + t * block_rows + p * target_lanes;
+                const Lanes moved = load(entry) - sum[p] * v;
+                store(entry, moved);
+                if (t % 2 == 0 || K == 1)
+                  even[p] += moved * scaled;
+                else if (t == 1)
+                  odd[p] = moved * scaled;
+                else
+                  odd[p] += moved * scaled;
+              }
+          }
+        for (int p = 0; p < P; ++p)
+          dots[p] = K == 1 ? even[p] : even[p] + odd[p];
+      }
+
       /** Apply the reflectors [j_begin, j_end) to the whole groups of rows [row_begin, row_end) in place. */
       void apply_to_rows(const Index row_begin, const Index row_end, const Index j_begin, const Index j_end) const
       {
         if (j_begin >= j_end)
           return;
         Index i = row_begin;
+        if constexpr (whole_vector_coefficients)
+          {
+            for (; i + target_lanes <= row_end; i += block_rows)
+              {
+                apply_to_block(l + i, nr, i, std::min(block_rows, row_end - i) / target_lanes, j_begin, j_end);
+              }
+            return;
+          }
         if constexpr (groups > 1)
           for (; i + groups * target_lanes <= row_end; i += groups * target_lanes)
             apply_to_groups<groups>(l + i, nr, i, j_begin, j_end);
