@@ -3,6 +3,7 @@
 #include <warpchol/cholesky/compliance.h>
 
 #include <algorithm>
+#include <unordered_map>
 
 namespace warpchol::cholesky
 {
@@ -26,55 +27,89 @@ namespace warpchol::cholesky
         for (Index i = j + 1; i < m; ++i)
           w[j + i * m] = w[i + j * m];
     }
+
+    /**
+     * The structure of the forward solve of the columns of @p ht on their paths: the
+     * supernodes, their constraints and where their panels start; the panels zero.
+     */
+    PathForwardSolve path_structure(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &ht)
+    {
+      const Index      ns = symbolic.n_supernodes();
+      const Index      m  = ht.n_cols;
+      PathForwardSolve solve;
+      solve.m = m;
+
+      // The paths: from the supernode of each nonzero of h_i up to the root, stopping where
+      // an earlier nonzero of the same column has been (the reach of h_i). Columns are
+      // visited in order, so each supernode's list of constraints comes out sorted.
+      std::vector<Index> visited_by(ns, -1), count(ns, 0);
+      const auto         walk_paths = [&](const auto &visit) {
+        std::fill(visited_by.begin(), visited_by.end(), Index(-1));
+        for (Index i = 0; i < m; ++i)
+          for (Index p = ht.column_start[i]; p < ht.column_start[i + 1]; ++p)
+            for (Index s = symbolic.supernode_of[ht.row_index[p]]; s >= 0 && visited_by[s] != i;
+                 s       = symbolic.supernode_parent[s])
+              {
+                visited_by[s] = i;
+                visit(s, i);
+              }
+      };
+      walk_paths([&](const Index s, Index) { ++count[s]; });
+
+      std::vector<Index> position_of(ns, -1);
+      solve.constraint_start.push_back(0);
+      solve.panel_start.push_back(0);
+      for (Index s = 0; s < ns; ++s)
+        if (count[s] > 0)
+          {
+            position_of[s] = static_cast<Index>(solve.supernodes.size());
+            solve.supernodes.push_back(s);
+            solve.constraint_start.push_back(solve.constraint_start.back() + count[s]);
+            solve.panel_start.push_back(solve.panel_start.back() +
+                                        static_cast<std::size_t>(count[s]) * symbolic.n_columns(s));
+          }
+      solve.constraints.resize(solve.constraint_start.back());
+      std::vector<Index> filled(solve.supernodes.size(), 0);
+      walk_paths([&](const Index s, const Index i) {
+        const Index k = position_of[s];
+        solve.constraints[solve.constraint_start[k] + filled[k]++] = i;
+      });
+      solve.panels.assign(solve.panel_start.back(), 0.);
+      return solve;
+    }
+
+    /** position_of[s]: the place of supernode s in @p solve's list, -1 if off its paths. */
+    std::vector<Index> positions_of(const SupernodalSymbolic &symbolic, const PathForwardSolve &solve)
+    {
+      std::vector<Index> position_of(symbolic.n_supernodes(), -1);
+      for (std::size_t k = 0; k < solve.supernodes.size(); ++k)
+        position_of[solve.supernodes[k]] = static_cast<Index>(k);
+      return position_of;
+    }
+
+    /** The unit columns (n x |which|) of the rows rows[which[0]], rows[which[1]], ... */
+    sparse::CSCMatrix unit_columns(const Index n, const std::vector<Index> &rows, const std::vector<Index> &which)
+    {
+      sparse::CSCMatrix columns = sparse::CSCMatrix::zero(n, static_cast<Index>(which.size()));
+      for (std::size_t f = 0; f < which.size(); ++f)
+        {
+          columns.row_index.push_back(rows[which[f]]);
+          columns.values.push_back(1.);
+          columns.column_start[f + 1] = static_cast<Index>(f + 1);
+        }
+      return columns;
+    }
   } // namespace
 
   PathForwardSolve forward_solve_on_paths(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
                                           const sparse::CSCMatrix &ht)
   {
     check_constraints(symbolic, values, ht);
-    const Index      ns = symbolic.n_supernodes();
-    const Index      m  = ht.n_cols;
-    PathForwardSolve solve;
-    solve.m = m;
-
-    // The paths: from the supernode of each nonzero of h_i up to the root, stopping where
-    // an earlier nonzero of the same column has been (the reach of h_i). Columns are
-    // visited in order, so each supernode's list of constraints comes out sorted.
-    std::vector<Index> visited_by(ns, -1), count(ns, 0);
-    const auto         walk_paths = [&](const auto &visit) {
-      std::fill(visited_by.begin(), visited_by.end(), Index(-1));
-      for (Index i = 0; i < m; ++i)
-        for (Index p = ht.column_start[i]; p < ht.column_start[i + 1]; ++p)
-          for (Index s = symbolic.supernode_of[ht.row_index[p]]; s >= 0 && visited_by[s] != i;
-               s       = symbolic.supernode_parent[s])
-            {
-              visited_by[s] = i;
-              visit(s, i);
-            }
-    };
-    walk_paths([&](const Index s, Index) { ++count[s]; });
-
-    std::vector<Index> position_of(ns, -1);
-    solve.constraint_start.push_back(0);
-    solve.panel_start.push_back(0);
-    for (Index s = 0; s < ns; ++s)
-      if (count[s] > 0)
-        {
-          position_of[s] = static_cast<Index>(solve.supernodes.size());
-          solve.supernodes.push_back(s);
-          solve.constraint_start.push_back(solve.constraint_start.back() + count[s]);
-          solve.panel_start.push_back(solve.panel_start.back() +
-                                      static_cast<std::size_t>(count[s]) * symbolic.n_columns(s));
-        }
-    solve.constraints.resize(solve.constraint_start.back());
-    std::vector<Index> filled(solve.supernodes.size(), 0);
-    walk_paths([&](const Index s, const Index i) {
-      const Index k = position_of[s];
-      solve.constraints[solve.constraint_start[k] + filled[k]++] = i;
-    });
+    const Index              m           = ht.n_cols;
+    PathForwardSolve         solve       = path_structure(symbolic, ht);
+    const std::vector<Index> position_of = positions_of(symbolic, solve);
 
     // The right-hand sides into the panels (constraints x columns of the supernode).
-    solve.panels.assign(solve.panel_start.back(), 0.);
     const auto local_constraint = [&](const Index k, const Index i) {
       const auto begin = solve.constraints.begin() + solve.constraint_start[k];
       const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
@@ -187,6 +222,128 @@ namespace warpchol::cholesky
       }
     symmetrize(w, m);
     return w;
+  }
+
+  void update_inverse_columns(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
+                              const std::uint64_t factor_revision, const std::vector<Index> &rows,
+                              KeptInverseColumns &columns)
+  {
+    const Index m = static_cast<Index>(rows.size());
+    if (columns.factor_revision != factor_revision)
+      columns = KeptInverseColumns();
+    if (columns.factor_revision != 0 && rows == columns.rows)
+      {
+        // The same unknowns in the same order (the same contacts): everything is kept.
+        columns.kept   = m;
+        columns.solved = 0;
+        return;
+      }
+
+    // Where each unknown was in the kept columns (-1: new).
+    std::unordered_map<Index, Index> kept_position;
+    for (std::size_t i = 0; i < columns.rows.size(); ++i)
+      kept_position.emplace(columns.rows[i], static_cast<Index>(i));
+    std::vector<Index> was(m, -1), fresh;
+    for (Index i = 0; i < m; ++i)
+      if (const auto found = kept_position.find(rows[i]); found != kept_position.end())
+        was[i] = found->second;
+      else
+        fresh.push_back(i);
+
+    // The new unknowns' columns, on their paths.
+    const PathForwardSolve solved = forward_solve_on_paths(symbolic, values, unit_columns(symbolic.n, rows, fresh));
+    KeptInverseColumns     next;
+    next.factor_revision = factor_revision;
+    next.rows            = rows;
+    next.kept            = m - static_cast<Index>(fresh.size());
+    next.solved          = static_cast<Index>(fresh.size());
+    if (next.kept == 0)
+      {
+        // Nothing kept: Y is the solve itself, G its product.
+        next.solve = solved;
+        next.gram  = compliance_from_paths(symbolic, next.solve);
+        columns    = std::move(next);
+        return;
+      }
+
+    // Y on the paths of all the unknowns: each column copied from where it was solved, the
+    // kept ones from the last call's panels, the new ones from this call's. A column's path
+    // is that of its one nonzero: the same supernodes in either.
+    std::vector<Index> all(m);
+    for (Index i = 0; i < m; ++i)
+      all[i] = i;
+    next.solve = path_structure(symbolic, unit_columns(symbolic.n, rows, all));
+    std::vector<Index> fresh_index(m, -1);
+    for (std::size_t f = 0; f < fresh.size(); ++f)
+      fresh_index[fresh[f]] = static_cast<Index>(f);
+    const std::vector<Index> kept_at   = positions_of(symbolic, columns.solve);
+    const std::vector<Index> solved_at = positions_of(symbolic, solved);
+    const auto               column_of = [](const PathForwardSolve &solve, const Index k, const Index i) {
+      const auto begin = solve.constraints.begin() + solve.constraint_start[k];
+      const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
+      return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
+    };
+    for (std::size_t k = 0; k < next.solve.supernodes.size(); ++k)
+      {
+        const Index s  = next.solve.supernodes[k];
+        const Index nc = symbolic.n_columns(s);
+        const Index kc = next.solve.constraint_start[k + 1] - next.solve.constraint_start[k];
+        double     *to = next.solve.panels.data() + next.solve.panel_start[k];
+        for (Index a = 0; a < kc; ++a)
+          {
+            const Index             i      = next.solve.constraints[next.solve.constraint_start[k] + a];
+            const bool              is_new = was[i] < 0;
+            const PathForwardSolve &source = is_new ? solved : columns.solve;
+            const Index             ks     = is_new ? solved_at[s] : kept_at[s];
+            const Index             b      = column_of(source, ks, is_new ? fresh_index[i] : was[i]);
+            const Index             ld     = source.constraint_start[ks + 1] - source.constraint_start[ks];
+            const double           *from   = source.panels.data() + source.panel_start[ks];
+            for (Index c = 0; c < nc; ++c)
+              to[a + c * kc] = from[b + c * ld];
+          }
+      }
+
+    // G: the kept entries between kept unknowns, then the new unknowns' rows, supernode by
+    // supernode (their panel rows times the panel, dgemm), mirrored into their columns.
+    const Index m_kept = static_cast<Index>(columns.rows.size());
+    next.gram.assign(static_cast<std::size_t>(m) * m, 0.);
+    for (Index j = 0; j < m; ++j)
+      if (was[j] >= 0)
+        for (Index i = 0; i < m; ++i)
+          if (was[i] >= 0)
+            next.gram[i + static_cast<std::size_t>(j) * m] = columns.gram[was[i] + static_cast<std::size_t>(was[j]) * m_kept];
+    std::vector<Index>  local_fresh;
+    std::vector<double> fresh_panel, product;
+    for (std::size_t k = 0; k < next.solve.supernodes.size(); ++k)
+      {
+        const Index  nc    = symbolic.n_columns(next.solve.supernodes[k]);
+        const Index  kc    = next.solve.constraint_start[k + 1] - next.solve.constraint_start[k];
+        const Index *own   = next.solve.constraints.data() + next.solve.constraint_start[k];
+        const double *panel = next.solve.panels.data() + next.solve.panel_start[k];
+        local_fresh.clear();
+        for (Index a = 0; a < kc; ++a)
+          if (was[own[a]] < 0)
+            local_fresh.push_back(a);
+        const Index kf = static_cast<Index>(local_fresh.size());
+        if (kf == 0)
+          continue;
+        fresh_panel.resize(static_cast<std::size_t>(kf) * nc);
+        for (Index c = 0; c < nc; ++c)
+          for (Index f = 0; f < kf; ++f)
+            fresh_panel[f + static_cast<std::size_t>(c) * kf] = panel[local_fresh[f] + static_cast<std::size_t>(c) * kc];
+        product.resize(static_cast<std::size_t>(kf) * kc);
+        blas::gemm_nt(static_cast<int>(kf), static_cast<int>(kc), static_cast<int>(nc), 1., fresh_panel.data(),
+                      static_cast<int>(kf), panel, static_cast<int>(kc), 0., product.data(), static_cast<int>(kf));
+        next.solve.product_flops += 2. * static_cast<double>(kf) * kc * nc;
+        for (Index b = 0; b < kc; ++b)
+          for (Index f = 0; f < kf; ++f)
+            next.gram[own[local_fresh[f]] + static_cast<std::size_t>(own[b]) * m] += product[f + static_cast<std::size_t>(b) * kf];
+      }
+    for (const Index i : fresh)
+      for (Index j = 0; j < m; ++j)
+        next.gram[j + static_cast<std::size_t>(i) * m] = next.gram[i + static_cast<std::size_t>(j) * m];
+    next.solve.solve_flops = solved.solve_flops;
+    columns                = std::move(next);
   }
 
   std::vector<double> compliance_by_full_solves(const SupernodalSymbolic &symbolic,

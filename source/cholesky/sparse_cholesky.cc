@@ -9,6 +9,7 @@
 #include <warpchol/cholesky/sparse_cholesky.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <iterator>
 
@@ -82,6 +83,7 @@ namespace warpchol::cholesky
   void SparseCholesky::analyze(const sparse::CSCMatrix &matrix)
   {
     const Stopwatch stopwatch;
+    mark_factor_changed();
     analyzed              = false;
     factor_valid          = false;
     matrix_holds_factored = true;
@@ -164,6 +166,7 @@ namespace warpchol::cholesky
     // Nothing to do; the factorizations would take an empty list for "everything".
     if (!plan.full && plan.columns.empty())
       return 0.;
+    mark_factor_changed();
     factor_valid = false;
     if (solver_settings.method != FactorizationMethod::supernodal &&
         static_cast<Index>(l_values.size()) != symbolic_factorization.nnz_l())
@@ -461,6 +464,7 @@ namespace warpchol::cholesky
     // changes' paths, which the partial refactorization recomputes): no copy to restore.
     ModificationSettings settings = modification_settings();
     settings.restore_on_failure   = false;
+    mark_factor_changed();
     try
       {
         const ModificationResult result = supernodal_factor.modify(supernodal_structure, form.c, form.signs, settings);
@@ -535,6 +539,7 @@ namespace warpchol::cholesky
         permuted.column_start[t + 1] = static_cast<Index>(permuted.row_index.size());
       }
     check_modification_pattern(supernodal_structure, permuted, fill_reducing_permutation);
+    mark_factor_changed();
     try
       {
         const ModificationResult result =
@@ -621,6 +626,7 @@ namespace warpchol::cholesky
   void SparseCholesky::load_numeric(BinaryReader &reader)
   {
     require(State::analyzed, "load_numeric()");
+    mark_factor_changed();
     const auto n     = reader.get<Index>();
     const auto nnz_l = reader.get<Index>();
     if (n != stats.n || nnz_l != stats.nnz_l)
@@ -757,6 +763,35 @@ namespace warpchol::cholesky
         statistics->flops              = paths.solve_flops + paths.product_flops;
       }
     return w;
+  }
+
+  void SparseCholesky::inverse_block(const std::vector<Index> &unknowns, KeptInverseColumns &columns) const
+  {
+    require(State::factorized, "inverse_block()");
+    if (solver_settings.method != FactorizationMethod::supernodal)
+      throw InputError("inverse_block() needs the supernodal method, not " + to_string(solver_settings.method));
+    std::vector<Index> rows(unknowns.size());
+    for (std::size_t i = 0; i < unknowns.size(); ++i)
+      {
+        if (unknowns[i] < 0 || unknowns[i] >= stats.n)
+          throw InputError("inverse_block(): unknown " + std::to_string(unknowns[i]) + " is not in [0, " +
+                           std::to_string(stats.n) + ")");
+        rows[i] = inverse_permutation[unknowns[i]];
+      }
+    update_inverse_columns(supernodal_structure, supernodal_factor.values(), revision, rows, columns);
+  }
+
+  std::uint64_t SparseCholesky::factor_revision() const
+  {
+    return revision;
+  }
+
+  void SparseCholesky::mark_factor_changed()
+  {
+    // One counter for the process: a copy that factors on a thread of its own (the
+    // background refresh) never takes a revision that another solver holds.
+    static std::atomic<std::uint64_t> last_revision{0};
+    revision = ++last_revision;
   }
 
   std::size_t SparseCholesky::numeric_bytes() const

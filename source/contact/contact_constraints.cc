@@ -328,6 +328,70 @@ namespace warpchol::fem
     return ht;
   }
 
+  std::vector<double> ContactConstraints::compliance_from_kept_columns(const ElasticBody     &body,
+                                                                       const ElasticityModel &model)
+  {
+    // The contacts' vertices that have unknowns, each once: S, 3 unknowns per vertex.
+    const std::vector<Matrix3> *rotations = model.solve_rotations();
+    std::unordered_map<unsigned int, Index> slot_of_vertex;
+    std::vector<Index>                      unknowns;
+    /** A contact's rows on one of its vertices: its slot in S and D = w R^T [n t_1 t_2]. */
+    struct VertexRows
+    {
+      Index   slot = 0;
+      Matrix3 rows;
+    };
+    std::vector<std::array<VertexRows, 3>> parts(step_contacts.size());
+    std::vector<unsigned int>              n_parts(step_contacts.size(), 0);
+    for (std::size_t j = 0; j < step_contacts.size(); ++j)
+      {
+        const Contact &contact = step_contacts[j];
+        Matrix3        directions;
+        directions << contact.normal, contact.tangent_1, contact.tangent_2;
+        for (unsigned int k = 0; k < contact.n_vertices; ++k)
+          {
+            const unsigned int v     = contact.vertex_of(k);
+            const Index        first = body.first_unknown(v);
+            if (first < 0)
+              continue; // a fixed vertex of a triangle: its velocity is zero
+            const auto [place, added] = slot_of_vertex.emplace(v, static_cast<Index>(unknowns.size() / 3));
+            if (added)
+              for (Index c = 0; c < 3; ++c)
+                unknowns.push_back(first + c);
+            VertexRows &part = parts[j][n_parts[j]++];
+            part.slot        = place->second;
+            part.rows = contact.weights[k] * (rotations ? Matrix3((*rotations)[v].transpose() * directions) : directions);
+          }
+      }
+    model.solver().inverse_block(unknowns, kept_columns);
+    report.kept_columns   = static_cast<unsigned int>(kept_columns.kept);
+    report.solved_columns = static_cast<unsigned int>(kept_columns.solved);
+
+    const Index         s = static_cast<Index>(unknowns.size()), m = 3 * static_cast<Index>(step_contacts.size());
+    std::vector<double> w(static_cast<std::size_t>(m) * m, 0.);
+    using Block = Eigen::Map<const Matrix3, 0, Eigen::OuterStride<>>;
+    for (std::size_t j = 0; j < step_contacts.size(); ++j)
+      for (std::size_t i = 0; i <= j; ++i)
+        {
+          Matrix3 block = Matrix3::Zero();
+          for (unsigned int a = 0; a < n_parts[i]; ++a)
+            for (unsigned int b = 0; b < n_parts[j]; ++b)
+              {
+                const VertexRows &u = parts[i][a], &v = parts[j][b];
+                const Block inverse(kept_columns.gram.data() + 3 * u.slot + 3 * v.slot * static_cast<std::size_t>(s),
+                                    Eigen::OuterStride<>(s));
+                block.noalias() += u.rows.transpose() * inverse * v.rows;
+              }
+          for (Index c = 0; c < 3; ++c)
+            for (Index r = 0; r < 3; ++r)
+              {
+                w[(3 * i + r) + (3 * j + c) * static_cast<std::size_t>(m)] = block(r, c);
+                w[(3 * j + c) + (3 * i + r) * static_cast<std::size_t>(m)] = block(r, c);
+              }
+        }
+    return w;
+  }
+
   void ContactConstraints::correct(const ElasticBody &body, ElasticityModel &model,
                                    const std::vector<Vector3> &positions, std::vector<Vector3> &velocities,
                                    const double time, const double time_step, StepStatistics &statistics)
@@ -360,8 +424,10 @@ namespace warpchol::fem
     std::vector<double> w;
     {
       StageTimer timer(statistics.stages, stage::contact_compliance);
-      w = model.solver().compliance(constraint_columns(body, step_contacts, model.solve_rotations()),
-                                    contact_settings.compliance);
+      w = contact_settings.compliance == cholesky::ComplianceMethod::paths ?
+            compliance_from_kept_columns(body, model) :
+            model.solver().compliance(constraint_columns(body, step_contacts, model.solve_rotations()),
+                                      contact_settings.compliance);
     }
 
     // u = H v_free + the targets: u_n >= 0 keeps the next position out of the obstacle,

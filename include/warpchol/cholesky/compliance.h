@@ -4,6 +4,7 @@
 #include <warpchol/cholesky/supernodal_symbolic.h>
 #include <warpchol/sparse/csc_matrix.h>
 
+#include <cstdint>
 #include <vector>
 
 /**
@@ -84,6 +85,43 @@ namespace warpchol::cholesky
 
   /** W = Y^T Y (m x m, column-major, both triangles) from the panels of @p solve. */
   std::vector<double> compliance_from_paths(const SupernodalSymbolic &symbolic, PathForwardSolve &solve);
+
+  /**
+   * The block of A^-1 among a set S of A's unknowns, kept from one call to the next as a
+   * contact step keeps it: Y = L^-1 P^T E_S (E_S the unit columns of S) on the
+   * elimination-tree paths, and G = Y^T Y, which is A^-1 on S x S when the factor is exact
+   * (the preconditioner's inverse otherwise, as SparseCholesky::compliance() takes it).
+   *
+   * While the factor does not change (SparseCholesky::factor_revision()), an unknown that
+   * stays in S keeps its column of Y and its entries of G with the others that stay: only
+   * the new unknowns' columns are solved, and only their rows of G multiplied. Unit columns
+   * rather than a contact's rows: the rows h = w R^T n (a contact's normal or tangent, its
+   * weight, the nodal rotation of a model that solves in a rotated frame) change from step
+   * to step while the vertex does not, and W = H A^-1 H^T is then formed from G by 3 x 3
+   * blocks.
+   */
+  struct KeptInverseColumns
+  {
+    /** The factor Y was solved with (SparseCholesky::factor_revision(); 0: none). */
+    std::uint64_t factor_revision = 0;
+    /** The unknowns S in the factor's numbering (rows of P^T A P), in the order of G's rows. */
+    std::vector<Index> rows;
+    /** Y, one constraint (a unit column) per unknown of S. */
+    PathForwardSolve solve;
+    /** G = Y^T Y, |S| x |S|, column-major, both triangles. */
+    std::vector<double> gram;
+    /** Of the last call: the unknowns whose column was kept, and those solved. */
+    Index kept = 0, solved = 0;
+  };
+
+  /**
+   * Bring @p columns to the unknowns @p rows (the factor's numbering, distinct) with the
+   * factor @p values of @p symbolic, whose revision is @p factor_revision: all of it
+   * anew if the revision differs from the kept one, else only the unknowns not kept.
+   */
+  void update_inverse_columns(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
+                              std::uint64_t factor_revision, const std::vector<Index> &rows,
+                              KeptInverseColumns &columns);
 
   /**
    * SOFA's way, the peer: for each column of @p ht (permuted numbering) a full-length

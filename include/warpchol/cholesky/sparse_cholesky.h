@@ -14,6 +14,7 @@
 #include <warpchol/sparse/csc_matrix.h>
 
 #include <string>
+#include <cstdint>
 #include <vector>
 
 /**
@@ -369,6 +370,23 @@ namespace warpchol::cholesky
     std::vector<double> compliance(const sparse::CSCMatrix &ht, ComplianceMethod method = ComplianceMethod::paths,
                                    ComplianceStatistics *statistics = nullptr) const;
 
+    /**
+     * The block of A^-1 among the unknowns @p unknowns (user numbering, distinct) into
+     * @p columns (KeptInverseColumns::gram, |S| x |S|, in the order of @p unknowns), from
+     * the factor as it is, as compliance() takes it: what persists from the last call with
+     * the same @p columns is kept while factor_revision() is the same. Supernodal method
+     * (InputError otherwise, and for an unknown out of range).
+     */
+    void inverse_block(const std::vector<Index> &unknowns, KeptInverseColumns &columns) const;
+
+    /**
+     * A number that changes whenever the factor's values may have (analyze(), factorize(),
+     * a refactorize() that recomputed or updated columns, update(), downdate(),
+     * load_numeric()), unique among the solvers of the process: two that share it hold the
+     * same factor (a copy's, before either changes). 0 before the first factorization.
+     */
+    std::uint64_t factor_revision() const;
+
     /** L, the factor of P^T A P (permuted numbering; a triangular matrix, full storage). */
     sparse::CSCMatrix factor() const;
 
@@ -516,6 +534,10 @@ namespace warpchol::cholesky
     bool                  matrix_holds_factored = true;
     /** The rates of the choice between update and recomputation. */
     RefactorizationCostModel refactorization_costs;
+    /** factor_revision(): set by mark_factor_changed(). */
+    std::uint64_t         revision = 0;
+    /** Give the factor a new revision: its values are about to change. */
+    void                  mark_factor_changed();
     /** Written by the calls that change the solver only: the const ones may run concurrently. */
     Statistics            stats;
   };

@@ -117,6 +117,11 @@ namespace warpchol::fem
     double work_on_body = 0;
     /** What friction dissipated (J, >= 0): -lambda_t . u_t, u_t the sliding velocity. */
     double friction_dissipation = 0;
+    /**
+     * The columns of L^-1 (one per unknown of a contact's vertex) W was built from: kept
+     * from the step before (same factor, vertex still touching) and solved anew.
+     */
+    unsigned int kept_columns = 0, solved_columns = 0;
   };
 
   /**
@@ -179,6 +184,15 @@ namespace warpchol::fem
                                                 const std::vector<Matrix3> *rotations);
 
   private:
+    /**
+     * W = H A~^-1 H^T of the step's contacts from the block of A^-1 among their vertices'
+     * unknowns (SparseCholesky::inverse_block(), which keeps the columns of the vertices
+     * that persist while the factor does not change): W's 3 x 3 block of contacts i and j
+     * is the sum over their vertices u, v of D_iu^T (A^-1)_uv D_jv, D_iu = w_iu R_u^T
+     * [n t_1 t_2] (the contact's directions, its weight on u, the nodal rotation).
+     */
+    std::vector<double> compliance_from_kept_columns(const ElasticBody &body, const ElasticityModel &model);
+
     /** surface_vertices(), recomputed when the number of cut elements changes. */
     const std::vector<unsigned int> &current_surface(const ElasticBody &body);
 
@@ -199,6 +213,8 @@ namespace warpchol::fem
     static std::uint64_t contact_key(const Contact &contact);
 
     std::vector<Contact>      step_contacts, previous_contacts;
+    /** The columns of L^-1 of the last step's contact vertices, and their block of A^-1. */
+    cholesky::KeptInverseColumns kept_columns;
     /** The impulses of the last step's contacts (3 per contact), the next one's warm start. */
     std::vector<double>       lambda;
     ContactStepReport         report;

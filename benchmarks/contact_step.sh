@@ -1,0 +1,34 @@
+#!/bin/sh
+# A contact step against the contact-free step (issue 37's goal: detection + W +
+# Gauss-Seidel + correction <= 50 % of the rest of the step), averaged over a contact
+# scene's run on one core:
+#   sh benchmarks/contact_step.sh        (liver_palpation, 3 runs, about 15 s)
+# Environment: BUILD (default build), SCENE (default liver_palpation), RUNS (default 3),
+# CORE (default 1). Per run: the contact stages' ms per step (the summary's stage table),
+# the rest of the step's, their ratio, and the rows of H per step (3 per contact, log.csv).
+set -eu
+cd "$(dirname "$0")/.."
+build=${BUILD:-build}
+scene=${SCENE:-liver_palpation}
+runs=${RUNS:-3}
+core=${CORE:-1}
+summary=$(mktemp)
+trap 'rm -f "$summary"' EXIT
+echo "$scene, one core (taskset -c $core), $runs runs"
+for run in $(seq "$runs"); do
+  OMP_THREAD_LIMIT=1 OPENBLAS_NUM_THREADS=1 taskset -c "$core" "$build/warpchol" "parameters/$scene.prm" > "$summary"
+  rows=$(awk -F, 'NR == 1 { for (k = 1; k <= NF; ++k) if ($k == "contacts") column = k; next }
+                  { sum += 3 * $column; ++steps } END { printf "%.0f", sum / steps }' "output/$scene/log.csv")
+  awk -v run="$run" -v rows="$rows" '
+    $1 == "contact" && $2 == "detection"    { detection = $4 }
+    $1 == "contact" && $2 == "compliance"   { compliance = $4 }
+    $1 == "contact" && $2 == "Gauss-Seidel" { gauss_seidel = $4 }
+    $1 == "contact" && $2 == "correction"   { correction = $4 }
+    $1 == "time" && $2 == "steps" && NF >= 5 { step = $4 }
+    END {
+      contact = detection + compliance + gauss_seidel + correction
+      free = step - contact
+      printf "run %d: %d rows per step; contact %.2f ms per step (detection %.2f, W %.2f, Gauss-Seidel %.2f, correction %.2f), contact-free %.2f ms: ratio %.2f\n",
+             run, rows, 1e3 * contact, 1e3 * detection, 1e3 * compliance, 1e3 * gauss_seidel, 1e3 * correction, 1e3 * free, contact / free
+    }' "$summary"
+done

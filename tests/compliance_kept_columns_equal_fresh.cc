@@ -1,0 +1,126 @@
+// SparseCholesky::inverse_block(): the block of A^-1 among a set of unknowns, with the
+// columns of L^-1 of the unknowns that stay in the set kept from the call before while
+// the factor does not change (a contact step's vertices from step to step). On the tests'
+// elasticity torus (METIS, supernodal): the block equals A^-1's from full solves to 1e-10
+// relative, whether its columns were solved anew or kept (and then equals the block
+// computed anew to 1e-12); an unchanged set keeps every column; a refactorize() that
+// changes nothing keeps them, a refactorize() that changes a column, an update() and a
+// full factorize() drop them all (factor_revision() changes), and the block then is the new
+// matrix's. A copy of the solver has its revision. An unknown out of range is refused.
+
+#include <warpchol/cholesky/sparse_cholesky.h>
+
+#include "tests.h"
+#include "torus_elasticity.h"
+
+#include <algorithm>
+#include <cmath>
+
+using namespace warpchol;
+
+namespace
+{
+  /** The block of A^-1 among @p unknowns, from full solves with @p solver's factor. */
+  std::vector<double> block_by_solves(const cholesky::SparseCholesky &solver, const std::vector<Index> &unknowns)
+  {
+    const Index         n = static_cast<Index>(solver.permutation().size()), m = static_cast<Index>(unknowns.size());
+    std::vector<double> x(static_cast<std::size_t>(n) * m, 0.);
+    for (Index j = 0; j < m; ++j)
+      x[unknowns[j] + static_cast<std::size_t>(j) * n] = 1.;
+    solver.solve(x.data(), x.data(), m);
+    std::vector<double> block(static_cast<std::size_t>(m) * m);
+    for (Index j = 0; j < m; ++j)
+      for (Index i = 0; i < m; ++i)
+        block[i + static_cast<std::size_t>(j) * m] = x[unknowns[i] + static_cast<std::size_t>(j) * n];
+    return block;
+  }
+
+  /** max |a - b| / max |b|. */
+  double relative_difference(const std::vector<double> &a, const std::vector<double> &b)
+  {
+    double difference = 0, scale = 0;
+    for (std::size_t k = 0; k < b.size(); ++k)
+      {
+        difference = std::max(difference, std::abs(a[k] - b[k]));
+        scale      = std::max(scale, std::abs(b[k]));
+      }
+    return difference / scale;
+  }
+
+  /** Bring @p columns to @p unknowns and check them against full solves; print what was kept. */
+  void check_block(const std::string &label, const cholesky::SparseCholesky &solver,
+                   const std::vector<Index> &unknowns, cholesky::KeptInverseColumns &columns)
+  {
+    solver.inverse_block(unknowns, columns);
+    std::cout << label << ": " << unknowns.size() << " unknowns, " << columns.kept << " kept, " << columns.solved
+              << " solved" << std::endl;
+    tests::check_below("  max |G - A^-1 block| / max |A^-1 block|",
+                       relative_difference(columns.gram, block_by_solves(solver, unknowns)), 1e-10);
+    cholesky::KeptInverseColumns fresh;
+    solver.inverse_block(unknowns, fresh);
+    tests::check_below("  max |G - G anew| / max |G anew|", relative_difference(columns.gram, fresh.gram), 1e-12);
+  }
+} // namespace
+
+int main()
+{
+  tests::TorusElasticity   torus;
+  sparse::CSCMatrix        matrix = torus.system->lower();
+  const Index              n      = matrix.n_cols;
+  cholesky::SparseCholesky::Settings settings;
+  settings.ordering.method = cholesky::OrderingMethod::metis;
+  settings.method          = cholesky::FactorizationMethod::supernodal;
+  cholesky::SparseCholesky solver(settings);
+  solver.factorize(matrix);
+  std::cout << "torus elasticity: n = " << n << ", " << solver.supernodal_symbolic().n_supernodes() << " supernodes"
+            << std::endl;
+
+  // 20 vertices' unknowns; then 14 of them in another order and 8 new vertices.
+  tests::Random      random(37);
+  std::vector<Index> vertices;
+  while (vertices.size() < 28)
+    if (const Index v = random.below(n / 3); std::find(vertices.begin(), vertices.end(), v) == vertices.end())
+      vertices.push_back(v);
+  const auto unknowns_of = [](const std::vector<Index> &of) {
+    std::vector<Index> unknowns;
+    for (const Index v : of)
+      for (Index c = 0; c < 3; ++c)
+        unknowns.push_back(3 * v + c);
+    return unknowns;
+  };
+  const std::vector<Index> first(vertices.begin(), vertices.begin() + 20);
+  std::vector<Index>       second(vertices.begin() + 6, vertices.end());
+  std::reverse(second.begin(), second.begin() + 14);
+
+  cholesky::KeptInverseColumns columns;
+  check_block("first set", solver, unknowns_of(first), columns);
+  check_block("14 vertices kept, 8 new", solver, unknowns_of(second), columns);
+  check_block("the same set again", solver, unknowns_of(second), columns);
+  tests::check("a copy of the solver has its factor's revision",
+               cholesky::SparseCholesky(solver).factor_revision() == solver.factor_revision());
+
+  solver.refactorize(matrix, {});
+  check_block("after a refactorize() of the same values", solver, unknowns_of(second), columns);
+
+  // A stiffer diagonal entry on the first vertex's x unknown.
+  const Index changed  = 3 * second.front();
+  double      diagonal = 0;
+  for (Index p = matrix.column_start[changed]; p < matrix.column_start[changed + 1]; ++p)
+    if (matrix.row_index[p] == changed)
+      diagonal = matrix.values[p] *= 2;
+  solver.refactorize(matrix, {changed});
+  check_block("after a refactorize() of a changed column", solver, unknowns_of(second), columns);
+
+  // A spring on the second vertex's y unknown: A + c c^T.
+  sparse::CSCMatrix spring = sparse::CSCMatrix::zero(n, 1);
+  spring.row_index         = {3 * second[1] + 1};
+  spring.values            = {std::sqrt(diagonal)};
+  spring.column_start[1]   = 1;
+  solver.update(spring);
+  check_block("after an update()", solver, unknowns_of(second), columns);
+
+  solver.factorize(matrix);
+  check_block("after a factorize()", solver, unknowns_of(second), columns);
+
+  tests::expect_error("an unknown out of range", [&] { solver.inverse_block({0, n}, columns); });
+}
