@@ -95,7 +95,11 @@ namespace warpchol::fem
     std::string  max_contacts_origin = "Contact/Max contacts";
     /** Where Gauss-Seidel's iterations are set, for the warning when it stops short. */
     std::string  max_iterations_origin = "Contact/Max iterations";
-    /** How W is built from the factor. */
+    /**
+     * How W is built from the factor: by paths, from the block of A^-1 among the contact
+     * vertices' unknowns with the columns of the vertices that persist kept
+     * (SparseCholesky::inverse_block()); by full solves, SOFA's way (the peer).
+     */
     cholesky::ComplianceMethod compliance = cholesky::ComplianceMethod::paths;
   };
 
@@ -129,7 +133,7 @@ namespace warpchol::fem
    * v_free (the implicit Euler step without contact, A~ v_free = b with
    * A~ = R A R^T): the contacts at x(t) (detect()), the compliance
    *   W = H A~^-1 H^T = (H R) A^-1 (H R)^T
-   * from the factor of A (cholesky::SparseCholesky::compliance(), the rows of H rotated by
+   * from the factor of A (compliance_from_kept_columns(), the rows of H rotated by
    * R^T, 3 unknowns per contact vertex), the impulses lambda by projected Gauss-Seidel with
    * the friction cone, and the correction v = v_free + A~^-1 H^T lambda (one solve with
    * the model). A contact's normal row asks for n . v(t+dt) >= -gap / dt, so that the next
