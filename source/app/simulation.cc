@@ -56,7 +56,7 @@ namespace warpchol::app
      * controller and its step history each written as one object. 4: in WCC's step
      * history, whether auto's last step was the exact path's and A is in its frames.
      */
-    constexpr const char *checkpoint_format = "warpchol checkpoint 5";
+    constexpr const char *checkpoint_format = "warpchol checkpoint 6";
 
     /** "Model/Type" of the entry "Model/Type = corotational". */
     std::string entry_name(const std::string &entry)

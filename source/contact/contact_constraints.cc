@@ -502,6 +502,50 @@ namespace warpchol::fem
     total_dissipation += report.friction_dissipation;
   }
 
+  void ContactConstraints::save(BinaryWriter &writer) const
+  {
+    writer.section("contact");
+    // The last step's contacts as their warm start finds them again (contact_key()), their impulses.
+    std::vector<unsigned int> vertices, obstacles, counts;
+    for (const Contact &contact : step_contacts)
+      {
+        vertices.push_back(contact.vertex);
+        obstacles.push_back(contact.obstacle);
+        counts.push_back(contact.n_vertices);
+      }
+    writer.write(vertices);
+    writer.write(obstacles);
+    writer.write(counts);
+    writer.write(lambda);
+    writer.write(total_work);
+    writer.write(total_dissipation);
+  }
+
+  void ContactConstraints::load(BinaryReader &reader)
+  {
+    reader.expect_section("contact");
+    std::vector<unsigned int> vertices, obstacles, counts;
+    reader.read(vertices);
+    reader.read(obstacles);
+    reader.read(counts);
+    reader.read(lambda);
+    if (obstacles.size() != vertices.size() || counts.size() != vertices.size() || lambda.size() != 3 * vertices.size())
+      reader.fail("holds " + std::to_string(vertices.size()) + " contacts and " + std::to_string(lambda.size()) +
+                  " impulses (3 per contact)");
+    step_contacts.assign(vertices.size(), Contact());
+    for (std::size_t j = 0; j < vertices.size(); ++j)
+      {
+        if (obstacles[j] >= obstacle_list.size())
+          reader.fail("a contact names obstacle " + std::to_string(obstacles[j] + 1) + " of " +
+                      std::to_string(obstacle_list.size()));
+        step_contacts[j].vertex     = vertices[j];
+        step_contacts[j].obstacle   = obstacles[j];
+        step_contacts[j].n_vertices = counts[j];
+      }
+    reader.read(total_work);
+    reader.read(total_dissipation);
+  }
+
   const std::vector<Obstacle> &ContactConstraints::obstacles() const
   {
     return obstacle_list;

@@ -409,6 +409,9 @@ namespace warpchol::fem
         operations.save(writer);
       }
     model.save_state(writer);
+    writer.write(contact_constraints.has_value());
+    if (contact_constraints)
+      contact_constraints->save(writer);
   }
 
   void ImplicitEuler::load_state(BinaryReader &reader)
@@ -437,5 +440,9 @@ namespace warpchol::fem
       }
     cached_elastic_step = static_cast<unsigned int>(-1);
     model.load_state(reader);
+    if (reader.get<bool>() != contact_constraints.has_value())
+      reader.fail("was written by a run " + std::string(contact_constraints ? "without" : "with") + " contact");
+    if (contact_constraints)
+      contact_constraints->load(reader);
   }
 } // namespace warpchol::fem

@@ -1,5 +1,6 @@
 #pragma once
 
+#include <warpchol/base/binary_io.h>
 #include <warpchol/cholesky/compliance.h>
 #include <warpchol/contact/friction_cone_solver.h>
 #include <warpchol/contact/obstacle.h>
@@ -182,6 +183,17 @@ namespace warpchol::fem
     const std::vector<double> &vertex_gaps() const;
     /** The contacts of the last step. */
     const std::vector<Contact> &contacts() const;
+
+    /**
+     * Write to a checkpoint what the next steps read: the last step's contacts as the warm
+     * start finds them again (vertex, obstacle, a vertex or a point in a triangle), their
+     * impulses, and the totals of the contact work and friction's dissipation. The kept
+     * columns of L^-1 are not written: the resumed run's factor is another revision, and
+     * solves them anew.
+     */
+    void save(BinaryWriter &writer) const;
+    /** Read what save() wrote; fails naming what does not fit these obstacles. */
+    void load(BinaryReader &reader);
 
     /** H^T (A's unknowns x 3 contacts) for @p contacts, rotated by @p rotations (null: identity). */
     static sparse::CSCMatrix constraint_columns(const ElasticBody &body, const std::vector<Contact> &contacts,
