@@ -54,9 +54,11 @@ namespace warpchol::app
     /**
      * 2: the body's plastic strains, the changes' energy (issue 29). 3: WCC's target-error
      * controller and its step history each written as one object. 4: in WCC's step
-     * history, whether auto's last step was the exact path's and A is in its frames.
+     * history, whether auto's last step was the exact path's and A is in its frames. 5:
+     * the fall-back's count of losing steps in its window. 6: WCC's step cost model
+     * without a flop rate of its own (it reads the solver's).
      */
-    constexpr const char *checkpoint_format = "warpchol checkpoint 5";
+    constexpr const char *checkpoint_format = "warpchol checkpoint 6";
 
     /** "Model/Type" of the entry "Model/Type = corotational". */
     std::string entry_name(const std::string &entry)

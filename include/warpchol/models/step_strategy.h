@@ -139,8 +139,6 @@ namespace warpchol::fem
   class StepCostModel
   {
   public:
-    /** A factorization of @p flops took @p seconds. */
-    void record_factorization(double flops, double seconds);
     /** A solve after @p refresh took @p iterations iterations in @p seconds. */
     void record_iterations(cholesky::Refresh refresh, unsigned int iterations, double seconds);
     /**
@@ -158,9 +156,6 @@ namespace warpchol::fem
     /** The predicted seconds of a step whose refresh @p refresh costs @p refresh_seconds, then iterates. */
     double predicted_seconds(cholesky::Refresh refresh, double refresh_seconds) const;
 
-    /** The seconds a factorization of @p flops takes at the measured rate (negative before one was measured). */
-    double factorization_seconds(double flops) const;
-
     /** The predicted seconds of an exact step (negative before one was measured). */
     double predicted_exact_seconds() const;
     /** The predicted seconds of an iterating step @p staleness steps after the exact factor (negative if unknown). */
@@ -173,8 +168,13 @@ namespace warpchol::fem
      */
     bool exact_step_is_due(unsigned int staleness) const;
 
-    /** Whether enough was measured to weigh the refreshes of an iterating step: before that, refresh all. */
-    bool calibrated() const;
+    /**
+     * Whether enough was measured to weigh the refreshes of an iterating step: before that,
+     * refresh all. The factorizations' rate is the solver's (@p factorization_rates,
+     * SparseCholesky::cost_model()), which times every factorization it runs: a second
+     * learner here, fed by the same factorizations, would only disagree with it.
+     */
+    bool calibrated(const cholesky::RefactorizationCostModel &factorization_rates) const;
 
     /** Write what was measured so far to a checkpoint. */
     void save(BinaryWriter &writer) const;
@@ -184,7 +184,6 @@ namespace warpchol::fem
     /** Staleness past this is counted as this. */
     static constexpr unsigned int longest_staleness = 64;
 
-    double flop_rate             = 0;
     double seconds_per_iteration = 0;
     double iterations_after_all  = 0;
     double iterations_after_top  = -1;
