@@ -297,7 +297,7 @@ namespace warpchol::app
     if (step.refactorized)
       {
         ++refactorizations;
-        ++factor_methods[cholesky::to_string(step.factor_method)];
+        ++factor_methods[cholesky::to_string(step.factorization.method)];
         columns_recomputed_pct += 100.0 * step.columns_recomputed / step.n_columns;
         flops_recomputed_pct += 100.0 * step.flops_recomputed / step.flops_full;
       }
