@@ -98,6 +98,16 @@ namespace warpchol::fem
       blend(iterating_overhead, std::max(seconds - iterations * seconds_per_iteration, 1e-9));
   }
 
+  void StepCostModel::record_setup_factorization(const double seconds)
+  {
+    setup_factorization = seconds;
+  }
+
+  double StepCostModel::setup_factorization_seconds() const
+  {
+    return setup_factorization;
+  }
+
   bool StepCostModel::calibrated(const cholesky::RefactorizationCostModel &factorization_rates) const
   {
     return factorization_rates.knows_factorization_rate() && seconds_per_iteration > 0;
@@ -144,7 +154,7 @@ namespace warpchol::fem
 
   void StepCostModel::save(BinaryWriter &writer) const
   {
-    for (const double value : {seconds_per_iteration, iterations_after_all,
+    for (const double value : {setup_factorization, seconds_per_iteration, iterations_after_all,
                                iterations_after_top, last_iterations, exact_seconds, iterating_overhead})
       writer.write(value);
     writer.write(iterations_at);
@@ -152,7 +162,7 @@ namespace warpchol::fem
 
   void StepCostModel::load(BinaryReader &reader)
   {
-    for (double *value : {&seconds_per_iteration, &iterations_after_all,
+    for (double *value : {&setup_factorization, &seconds_per_iteration, &iterations_after_all,
                           &iterations_after_top, &last_iterations, &exact_seconds, &iterating_overhead})
       reader.read(*value);
     reader.read(iterations_at);

@@ -132,9 +132,13 @@ namespace warpchol::fem
     // on it (all but the analysis) stands for an exact step's cost until one is measured,
     // so that auto's first step, whose factor is exact already, is not made exact again
     // (a full factorization for nothing: on a short run, a large share of it).
-    // Its flop rate needs no recording here: the solver timed the factorization itself.
+    // (Its flop rate is the solver's, which timed the factorization itself.)
     if (strategy.kind == StepStrategy::Kind::automatic)
-      cost_model.record_exact_step(setup_seconds() - cholesky_solver.statistics().analyze_seconds, 0);
+      {
+        const auto &factor_statistics = cholesky_solver.statistics();
+        cost_model.record_exact_step(setup_seconds() - factor_statistics.analyze_seconds, 0);
+        cost_model.record_setup_factorization(factor_statistics.factorize_seconds);
+      }
     solve_frame = &elastic_state.nodal_rotations;
     // At rest every frame is the identity.
     stored_frames.assign(body.n_elements(), {{Matrix3::Identity(), Matrix3::Identity(),
@@ -387,16 +391,12 @@ namespace warpchol::fem
     if (last_measures_own && background && automatic)
       placement.record_step(last_step_prepare_seconds + last_solve_seconds);
     // auto against the exact path, on whole steps too. Until an exact step of the
-    // fall-back is measured, the smaller of a full factorization at the rate measured so
-    // far (a part of it) and auto's own exact steps (which do more) stands for one.
+    // fall-back is measured, the smaller of the set-up's factorization (a part of one) and
+    // auto's own exact steps (which do more) stands for one.
     const bool may_fall_back = automatic && strategy.iterate_on == StepStrategy::Target::corotational;
     if (history.step_count > 0 && may_fall_back)
       {
-        const cholesky::RefactorizationCostModel &rates = cholesky_solver.cost_model();
-        const double factorization = rates.knows_factorization_rate() ?
-                                       rates.predicted_seconds(cholesky::RefactorizationMethod::full,
-                                                               cholesky_solver.statistics().flops) :
-                                       -1.;
+        const double factorization = cost_model.setup_factorization_seconds();
         const double own_exact     = cost_model.predicted_exact_seconds();
         fallback.set_exact_estimate(factorization > 0 && own_exact > 0 ? std::min(factorization, own_exact) :
                                                                           std::max(factorization, own_exact));

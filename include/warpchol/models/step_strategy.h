@@ -156,6 +156,18 @@ namespace warpchol::fem
     /** The predicted seconds of a step whose refresh @p refresh costs @p refresh_seconds, then iterates. */
     double predicted_seconds(cholesky::Refresh refresh, double refresh_seconds) const;
 
+    /** The set-up's factorization of the rest matrix took @p seconds (the whole factorize(), values loaded). */
+    void record_setup_factorization(double seconds);
+    /**
+     * What record_setup_factorization() recorded (negative before): the fall-back's stand-in
+     * for the exact path's step until it measures one (ExactFallback), a part of such a step.
+     * A measurement, not a rate: the solver learns the rates (SparseCholesky::cost_model()),
+     * and at its rate, which the exact steps' warm factorizations lower, a factorization
+     * without the step's assembly and solve would stand for less of the step than this and
+     * probe the exact path where auto's own steps pay.
+     */
+    double setup_factorization_seconds() const;
+
     /** The predicted seconds of an exact step (negative before one was measured). */
     double predicted_exact_seconds() const;
     /** The predicted seconds of an iterating step @p staleness steps after the exact factor (negative if unknown). */
@@ -184,6 +196,7 @@ namespace warpchol::fem
     /** Staleness past this is counted as this. */
     static constexpr unsigned int longest_staleness = 64;
 
+    double setup_factorization   = -1;
     double seconds_per_iteration = 0;
     double iterations_after_all  = 0;
     double iterations_after_top  = -1;
