@@ -235,10 +235,10 @@ namespace
               what << statistics.elements_changed << " changed ";
             row.what        = what.str();
             row.columns_pct = 100.0 * statistics.change_columns / statistics.n_columns;
-            row.chosen      = cholesky::to_string(statistics.factor_method);
-            row.predicted   = statistics.factor_method == cholesky::RefactorizationMethod::update ?
-                                statistics.predicted_update_seconds :
-                                statistics.predicted_partial_seconds;
+            row.chosen      = cholesky::to_string(statistics.factorization.method);
+            row.predicted   = statistics.factorization.method == cholesky::RefactorizationMethod::update ?
+                                statistics.factorization.predicted_update_seconds :
+                                statistics.factorization.predicted_partial_seconds;
             // Each way from a copy of the factor of the step before.
             const auto from_before = [&](const cholesky::ChangeMethod method, const bool full) {
               return best_of(repeat, [&, method, full] {

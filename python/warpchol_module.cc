@@ -22,6 +22,7 @@
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/ordering.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
+#include <warpchol/cholesky/statistics_fields.h>
 #include <warpchol/sparse/csc_matrix.h>
 #include <warpchol/sparse/pattern_subset.h>
 
@@ -35,6 +36,7 @@
 #include <numeric>
 #include <string>
 #include <utility>
+#include <variant>
 #include <vector>
 
 namespace py = pybind11;
@@ -464,6 +466,20 @@ namespace warpchol::python
     /** source[p]: the place in the user's values of csc.values[p]; empty where it is p. */
     std::vector<Index> source;
   };
+
+  /** The statistics property's documentation: each key with its meaning (cholesky::statistics_fields()). */
+  const std::string &statistics_documentation()
+  {
+    static const std::string documentation = [] {
+      std::string text = "Sizes, fill, flops and counts of the factorization (see SparseCholesky::Statistics); "
+                         "update_rank, update_flops, partial_flops and the predicted seconds: what the last "
+                         "refactorize() weighed (0 and -1 where it weighed no update). The keys:";
+      for (const auto &field : cholesky::statistics_fields())
+        text += std::string("\n- ") + field.name + ": " + field.description;
+      return text;
+    }();
+    return documentation;
+  }
 } // namespace warpchol::python
 
 PYBIND11_MODULE(_warpchol, module)
@@ -592,36 +608,13 @@ choice on any machine), "recompute" (never update) or "update" (whenever possibl
     .def_property_readonly(
       "statistics",
       [](const SciPyCholesky &self) {
-        const auto &stats = self.statistics();
-        py::dict    statistics;
-        statistics["n"]                     = stats.n;
-        statistics["nnz_a"]                 = stats.nnz_a;
-        statistics["nnz_l"]                 = stats.nnz_l;
-        statistics["fill"]                  = stats.fill();
-        statistics["flops"]                 = stats.flops;
-        statistics["exact_flops"]           = stats.exact_flops;
-        statistics["n_supernodes"]          = stats.n_supernodes;
-        statistics["columns_recomputed"]    = stats.columns_recomputed;
-        statistics["supernodes_recomputed"] = stats.supernodes_recomputed;
-        statistics["flops_recomputed"]      = stats.flops_recomputed;
-        statistics["n_factorizations"]      = stats.n_factorizations;
-        statistics["n_refactorizations"]    = stats.n_refactorizations;
-        statistics["factor_bytes"]          = stats.factor_bytes;
-        statistics["method"]                = warpchol::cholesky::to_string(stats.method);
-        statistics["update_rank"]           = stats.update_rank;
-        statistics["update_flops"]          = stats.update_flops;
-        statistics["partial_flops"]         = stats.partial_flops;
-        statistics["predicted_update_seconds"]  = stats.predicted_update_seconds;
-        statistics["predicted_partial_seconds"] = stats.predicted_partial_seconds;
-        statistics["predicted_full_seconds"]    = stats.predicted_full_seconds;
-        statistics["update_fell_back"]      = stats.update_fell_back;
-        statistics["n_updates"]             = stats.n_updates;
+        // Every reported field, as cholesky::statistics_fields() lists them.
+        py::dict statistics;
+        for (const auto &field : warpchol::cholesky::statistics_fields())
+          std::visit([&](const auto &value) { statistics[field.name] = value; }, field.value(self.statistics()));
         return statistics;
       },
-      "Sizes, fill, flops and counts of the factorization (see SparseCholesky::Statistics); method: how the last "
-      "refactorize(), update() or downdate() brought the factor up to date (\"none\", \"update\", \"partial\" "
-      "or \"full\"); update_rank, update_flops, partial_flops and the predicted seconds: what the last "
-      "refactorize() weighed (0 and -1 where it weighed no update).");
+      warpchol::python::statistics_documentation().c_str());
 
   // What help() and repr() show: the package's names, not the extension module's.
   for (const char *name : {"Error", "InputError", "MatrixError", "NotPositiveDefinite", "SparseCholesky"})

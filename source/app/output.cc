@@ -1,6 +1,7 @@
 #include <warpchol/app/output.h>
 #include <warpchol/base/atomic_file.h>
 #include <warpchol/base/exceptions.h>
+#include <warpchol/cholesky/statistics_fields.h>
 
 #include <deal.II/base/data_out_base.h>
 #include <deal.II/lac/vector.h>
@@ -21,6 +22,8 @@
 #include <unistd.h>
 #include <iomanip>
 #include <sstream>
+#include <type_traits>
+#include <variant>
 
 namespace warpchol::app
 {
@@ -486,13 +489,32 @@ namespace warpchol::app
     }
 
     /**
-     * The log's columns, each listed once: the header names them, a row writes them in this
-     * order. The trajectory error's two columns come last, with a reference run only.
+     * The column of a solver statistic (cholesky::statistics_fields()): the value after the
+     * step's last factorization, empty in a step that factored nothing or where the
+     * statistic is not set (what was weighed, when no update was).
      */
-    const std::vector<LogColumn> &log_columns()
+    LogColumn solver_column(const cholesky::StatisticsField &field)
+    {
+      return {field.log_column, [&field](std::ostream &out, const StepLogRow &row) {
+                const cholesky::SparseCholesky::Statistics &factorization = row.statistics.factorization;
+                if (!row.statistics.refactorized || !field.is_set(factorization))
+                  return;
+                std::visit(
+                  [&out](const auto &value) {
+                    if constexpr (std::is_same_v<std::decay_t<decltype(value)>, double>)
+                      out << std::setprecision(6) << value;
+                    else
+                      out << value;
+                  },
+                  field.value(factorization));
+              }};
+    }
+
+    /** The columns of the step itself, before the solver's. */
+    std::vector<LogColumn> step_columns()
     {
       using Row = StepLogRow;
-      static const std::vector<LogColumn> columns{
+      return {
         count("step", [](const Row &r) -> long long { return r.step; }),
         column("time", [](const Row &r) { return r.time; }),
         count("elements_updated", [](const Row &r) -> long long { return r.statistics.elements_updated; }),
@@ -540,23 +562,27 @@ namespace warpchol::app
         column("change_columns_pct",
                [](const Row &r) { return percent(r.statistics.change_columns, r.statistics.n_columns); }),
         column("change_flops_pct", [](const Row &r) { return percent(r.statistics.change_flops, r.statistics.flops_full); }),
-        column("t_change", [](const Row &r) { return r.statistics.stages.seconds(fem::stage::change); }),
-        // How the step's factorization took its changes, and what the solver weighed.
-        {"factor_method",
-         [](std::ostream &out, const Row &r) {
-           if (r.statistics.refactorized)
-             out << cholesky::to_string(r.statistics.factor_method);
-         }},
-        {"update_rank",
-         [](std::ostream &out, const Row &r) {
-           if (r.statistics.predicted_update_seconds >= 0)
-             out << r.statistics.update_rank;
-         }},
-        measured("t_predicted_update", [](const Row &r) { return r.statistics.predicted_update_seconds; }),
-        measured("t_predicted_partial", [](const Row &r) { return r.statistics.predicted_partial_seconds; }),
-        measured("t_predicted_full", [](const Row &r) { return r.statistics.predicted_full_seconds; }),
-        column("error_vs_corotational", [](const Row &r) { return r.error_vs_corotational; }),
-        column("rms_error_vs_corotational", [](const Row &r) { return r.rms_error_vs_corotational; })};
+        column("t_change", [](const Row &r) { return r.statistics.stages.seconds(fem::stage::change); })};
+    }
+
+    /**
+     * The log's columns, each listed once: the header names them, a row writes them in this
+     * order. The solver's (how the step's factorization took its changes, and what it
+     * weighed) are those of cholesky::statistics_fields() with a log column; the trajectory
+     * error's two columns come last, with a reference run only.
+     */
+    const std::vector<LogColumn> &log_columns()
+    {
+      static const std::vector<LogColumn> columns = [] {
+        std::vector<LogColumn> all = step_columns();
+        for (const cholesky::StatisticsField &field : cholesky::statistics_fields())
+          if (field.log_column != nullptr)
+            all.push_back(solver_column(field));
+        all.push_back(column("error_vs_corotational", [](const StepLogRow &r) { return r.error_vs_corotational; }));
+        all.push_back(
+          column("rms_error_vs_corotational", [](const StepLogRow &r) { return r.rms_error_vs_corotational; }));
+        return all;
+      }();
       return columns;
     }
 

@@ -54,7 +54,9 @@ namespace warpchol::app
     /**
      * 2: the body's plastic strains, the changes' energy (issue 29). 3: WCC's target-error
      * controller and its step history each written as one object. 4: in WCC's step
-     * history, whether auto's last step was the exact path's and A is in its frames.
+     * history, whether auto's last step was the exact path's and A is in its frames. 5:
+     * the fall-back's count of losing steps in its window. 6: WCC's step cost model
+     * without a flop rate of its own (it reads the solver's).
      */
     constexpr const char *checkpoint_format = "warpchol checkpoint 6";
 
@@ -295,7 +297,7 @@ namespace warpchol::app
     if (step.refactorized)
       {
         ++refactorizations;
-        ++factor_methods[cholesky::to_string(step.factor_method)];
+        ++factor_methods[cholesky::to_string(step.factorization.method)];
         columns_recomputed_pct += 100.0 * step.columns_recomputed / step.n_columns;
         flops_recomputed_pct += 100.0 * step.flops_recomputed / step.flops_full;
       }

@@ -56,7 +56,7 @@ namespace warpchol::cholesky
   void RefactorizationCostModel::record(const RefactorizationMethod method, const double flops, const double seconds)
   {
     // Too little work to time, or a method that computed nothing.
-    if (fixed_rates || method == RefactorizationMethod::none || !(flops > 1e5) || !(seconds > 0))
+    if (fixed_rates || method == RefactorizationMethod::none || !(flops > least_timed_flops) || !(seconds > 0))
       return;
     const double      rate = flops / seconds;
     const std::size_t k    = slot(method);
@@ -69,6 +69,11 @@ namespace warpchol::cholesky
           rates[other] = rates[k];
     if (!measured[0] && method != RefactorizationMethod::update)
       rates[0] = update_rate_ratio * rates[k];
+  }
+
+  bool RefactorizationCostModel::knows_factorization_rate() const
+  {
+    return fixed_rates || measured[slot(RefactorizationMethod::partial)] || measured[slot(RefactorizationMethod::full)];
   }
 
   void RefactorizationCostModel::save(BinaryWriter &writer) const

@@ -352,8 +352,9 @@ namespace warpchol::cholesky
     if (!matrix_holds_factored)
       factor_valid = false;
     // The factor is that of the values last marked factored: a change since can be an update.
-    const bool        exact_before = factor_valid && stale_columns.empty();
-    const RefreshPlan plan         = plan_refresh(changes, refresh);
+    const bool        exact_before    = factor_valid && stale_columns.empty();
+    const RefreshPlan plan            = plan_refresh(changes, refresh);
+    const bool        update_possible = may_update(refresh, plan);
     if (refresh == Refresh::none && !plan.full)
       pending_columns = changes;
     else
@@ -368,10 +369,7 @@ namespace warpchol::cholesky
     stats.predicted_full_seconds    = -1;
     stats.update_fell_back          = false;
     const Stopwatch numeric_stopwatch;
-    const bool      may_update = exact_before && refresh == Refresh::all && !plan.full && !plan.columns.empty() &&
-                            solver_settings.method == FactorizationMethod::supernodal &&
-                            solver_settings.change_method != ChangeMethod::recompute;
-    if (!(may_update && updated_instead(changes, plan)))
+    if (!(update_possible && updated_instead(changes, plan)))
       {
         stats.flops_recomputed = run_numeric(plan);
         stats.method           = plan.full ? RefactorizationMethod::full :
@@ -428,6 +426,34 @@ namespace warpchol::cholesky
     }
   } // namespace
 
+  bool SparseCholesky::may_update(const Refresh refresh, const RefreshPlan &plan) const
+  {
+    return factor_valid && matrix_holds_factored && stale_columns.empty() && refresh == Refresh::all &&
+           !plan.full && !plan.columns.empty() && solver_settings.method == FactorizationMethod::supernodal &&
+           solver_settings.change_method != ChangeMethod::recompute;
+  }
+
+  SparseCholesky::UpdateWeighing SparseCholesky::weigh_update(const std::vector<Index> &rows,
+                                                              const RefreshPlan        &plan) const
+  {
+    UpdateWeighing weighing;
+    if (static_cast<Index>(rows.size()) > solver_settings.max_update_rows)
+      return weighing;
+    const ModificationPlan update_plan = plan_modification(supernodal_structure, rows);
+    weighing.weighed                   = true;
+    weighing.rank                      = update_plan.rank;
+    weighing.update_flops              = update_plan.flops + low_rank_form_flops(update_plan.rank);
+    weighing.update_seconds  = refactorization_costs.predicted_seconds(RefactorizationMethod::update, weighing.update_flops);
+    weighing.partial_seconds = refactorization_costs.predicted_seconds(RefactorizationMethod::partial, plan.flops);
+    weighing.full_seconds =
+      refactorization_costs.predicted_seconds(RefactorizationMethod::full, supernodal_structure.flops);
+    // Against the recomputation that runs if the update does not: the plan's, never a full
+    // factorization in its place.
+    weighing.update = solver_settings.change_method == ChangeMethod::update ||
+                      weighing.update_seconds < weighing.partial_seconds;
+    return weighing;
+  }
+
   bool SparseCholesky::updated_instead(const std::vector<Index> &changes, const RefreshPlan &plan)
   {
     const std::vector<PermutedMatrix::Change> entries = permuted_matrix.changes_since_factored(changes);
@@ -442,20 +468,16 @@ namespace warpchol::cholesky
         last_recomputed_columns.clear();
         return true;
       }
-    if (static_cast<Index>(rows.size()) > solver_settings.max_update_rows)
+    const UpdateWeighing weighing = weigh_update(rows, plan);
+    if (!weighing.weighed)
       return false;
-    const ModificationPlan update_plan = plan_modification(supernodal_structure, rows);
-    stats.update_rank                  = update_plan.rank;
-    stats.update_flops                 = update_plan.flops + low_rank_form_flops(update_plan.rank);
-    stats.partial_flops                = plan.flops;
-    stats.predicted_update_seconds =
-      refactorization_costs.predicted_seconds(RefactorizationMethod::update, stats.update_flops);
-    stats.predicted_partial_seconds =
-      refactorization_costs.predicted_seconds(RefactorizationMethod::partial, plan.flops);
-    stats.predicted_full_seconds =
-      refactorization_costs.predicted_seconds(RefactorizationMethod::full, supernodal_structure.flops);
-    if (solver_settings.change_method != ChangeMethod::update &&
-        stats.predicted_update_seconds >= std::min(stats.predicted_partial_seconds, stats.predicted_full_seconds))
+    stats.update_rank               = weighing.rank;
+    stats.update_flops              = weighing.update_flops;
+    stats.partial_flops             = plan.flops;
+    stats.predicted_update_seconds  = weighing.update_seconds;
+    stats.predicted_partial_seconds = weighing.partial_seconds;
+    stats.predicted_full_seconds    = weighing.full_seconds;
+    if (!weighing.update)
       return false;
 
     const LowRankChange form = low_rank_form(stats.n, entries);
@@ -577,20 +599,14 @@ namespace warpchol::cholesky
     *method = plan.full ? RefactorizationMethod::full :
               plan.flops > 0 ? RefactorizationMethod::partial : RefactorizationMethod::none;
     const double recompute = refactorization_costs.predicted_seconds(*method, plan.flops);
-    const bool may_update = factor_valid && matrix_holds_factored && stale_columns.empty() &&
-                            refresh == Refresh::all && !plan.full && !changes.empty() &&
-                            solver_settings.method == FactorizationMethod::supernodal &&
-                            solver_settings.change_method != ChangeMethod::recompute &&
-                            static_cast<Index>(changes.size()) <= solver_settings.max_update_rows;
-    if (!may_update)
+    if (!may_update(refresh, plan))
       return recompute;
-    const ModificationPlan update_plan = plan_modification(supernodal_structure, changes);
-    const double           update      = refactorization_costs.predicted_seconds(
-      RefactorizationMethod::update, update_plan.flops + low_rank_form_flops(update_plan.rank));
-    if (solver_settings.change_method != ChangeMethod::update && recompute <= update)
+    // The values are not loaded yet: the changed columns stand for the rows they touch.
+    const UpdateWeighing weighing = weigh_update(changes, plan);
+    if (!weighing.update)
       return recompute;
     *method = RefactorizationMethod::update;
-    return update;
+    return weighing.update_seconds;
   }
 
   double SparseCholesky::predicted_flops(const std::vector<Index> &changed_columns, const Refresh refresh) const
@@ -860,6 +876,11 @@ namespace warpchol::cholesky
   {
     solver_settings.change_method = method;
     refactorization_costs         = RefactorizationCostModel(method == ChangeMethod::by_flops);
+  }
+
+  const RefactorizationCostModel &SparseCholesky::cost_model() const
+  {
+    return refactorization_costs;
   }
 
   void SparseCholesky::set_thread_count(const unsigned int n_threads)

@@ -384,12 +384,8 @@ namespace warpchol::fem
     statistics.refactorized       = true;
     statistics.columns_recomputed = solver_statistics.columns_recomputed;
     statistics.flops_recomputed   = solver_statistics.flops_recomputed;
-    statistics.factor_method      = solver_statistics.method;
-    // The last factorization of the step is the one that counts; what it weighed with it.
-    statistics.update_rank               = solver_statistics.update_rank;
-    statistics.predicted_update_seconds  = solver_statistics.predicted_update_seconds;
-    statistics.predicted_partial_seconds = solver_statistics.predicted_partial_seconds;
-    statistics.predicted_full_seconds    = solver_statistics.predicted_full_seconds;
+    // The last factorization of the step is the one that counts, with what it weighed.
+    statistics.factorization = solver_statistics;
     record_no_refactorization(statistics);
   }
 

@@ -57,19 +57,6 @@ namespace warpchol::fem
     }
   } // namespace
 
-  void StepCostModel::record_factorization(const double flops, const double seconds)
-  {
-    // Small refactorizations are dominated by their fixed costs: they would flatter the
-    // rate of the large ones the model must foresee.
-    if (flops > 1e6 && seconds > 0)
-      blend(flop_rate, flops / seconds);
-  }
-
-  double StepCostModel::factorization_seconds(const double flops) const
-  {
-    return flop_rate > 0 ? flops / flop_rate : -1.;
-  }
-
   void StepCostModel::record_iterations(const cholesky::Refresh refresh, const unsigned int iterations,
                                         const double seconds)
   {
@@ -111,9 +98,19 @@ namespace warpchol::fem
       blend(iterating_overhead, std::max(seconds - iterations * seconds_per_iteration, 1e-9));
   }
 
-  bool StepCostModel::calibrated() const
+  void StepCostModel::record_setup_factorization(const double seconds)
   {
-    return flop_rate > 0 && seconds_per_iteration > 0;
+    setup_factorization = seconds;
+  }
+
+  double StepCostModel::setup_factorization_seconds() const
+  {
+    return setup_factorization;
+  }
+
+  bool StepCostModel::calibrated(const cholesky::RefactorizationCostModel &factorization_rates) const
+  {
+    return factorization_rates.knows_factorization_rate() && seconds_per_iteration > 0;
   }
 
   double StepCostModel::predicted_exact_seconds() const
@@ -157,7 +154,7 @@ namespace warpchol::fem
 
   void StepCostModel::save(BinaryWriter &writer) const
   {
-    for (const double value : {flop_rate, seconds_per_iteration, iterations_after_all,
+    for (const double value : {setup_factorization, seconds_per_iteration, iterations_after_all,
                                iterations_after_top, last_iterations, exact_seconds, iterating_overhead})
       writer.write(value);
     writer.write(iterations_at);
@@ -165,7 +162,7 @@ namespace warpchol::fem
 
   void StepCostModel::load(BinaryReader &reader)
   {
-    for (double *value : {&flop_rate, &seconds_per_iteration, &iterations_after_all,
+    for (double *value : {&setup_factorization, &seconds_per_iteration, &iterations_after_all,
                           &iterations_after_top, &last_iterations, &exact_seconds, &iterating_overhead})
       reader.read(*value);
     reader.read(iterations_at);

@@ -132,11 +132,12 @@ namespace warpchol::fem
     // on it (all but the analysis) stands for an exact step's cost until one is measured,
     // so that auto's first step, whose factor is exact already, is not made exact again
     // (a full factorization for nothing: on a short run, a large share of it).
+    // (Its flop rate is the solver's, which timed the factorization itself.)
     if (strategy.kind == StepStrategy::Kind::automatic)
       {
         const auto &factor_statistics = cholesky_solver.statistics();
-        cost_model.record_factorization(factor_statistics.flops, factor_statistics.factorize_seconds);
         cost_model.record_exact_step(setup_seconds() - factor_statistics.analyze_seconds, 0);
+        cost_model.record_setup_factorization(factor_statistics.factorize_seconds);
       }
     solve_frame = &elastic_state.nodal_rotations;
     // At rest every frame is the identity.
@@ -390,12 +391,12 @@ namespace warpchol::fem
     if (last_measures_own && background && automatic)
       placement.record_step(last_step_prepare_seconds + last_solve_seconds);
     // auto against the exact path, on whole steps too. Until an exact step of the
-    // fall-back is measured, the smaller of a full factorization at the rate measured so
-    // far (a part of it) and auto's own exact steps (which do more) stands for one.
+    // fall-back is measured, the smaller of the set-up's factorization (a part of one) and
+    // auto's own exact steps (which do more) stands for one.
     const bool may_fall_back = automatic && strategy.iterate_on == StepStrategy::Target::corotational;
     if (history.step_count > 0 && may_fall_back)
       {
-        const double factorization = cost_model.factorization_seconds(cholesky_solver.statistics().flops);
+        const double factorization = cost_model.setup_factorization_seconds();
         const double own_exact     = cost_model.predicted_exact_seconds();
         fallback.set_exact_estimate(factorization > 0 && own_exact > 0 ? std::min(factorization, own_exact) :
                                                                           std::max(factorization, own_exact));
@@ -561,10 +562,6 @@ namespace warpchol::fem
     if (automatic)
       statistics.choice = iterating_choice(refresh);
     refactorize(changed_columns, statistics, refresh);
-    // The flop rate of recomputations (an update's flops go at another rate, which the
-    // solver's own choice measures).
-    if (statistics.factor_method != cholesky::RefactorizationMethod::update)
-      cost_model.record_factorization(statistics.flops_recomputed, statistics.t_factor());
   }
 
   bool WarpCancelingModel::take_background_refresh(StepStatistics &statistics)
@@ -613,7 +610,7 @@ namespace warpchol::fem
           return Refresh::below_top;
         case StepStrategy::Kind::automatic:
           {
-            if (!cost_model.calibrated())
+            if (!cost_model.calibrated(cholesky_solver.cost_model()))
               return Refresh::all;
             // Predicting the cost of each refresh walks the elimination tree three times.
             StageTimer timer(statistics.stages, stage::refresh_choice);

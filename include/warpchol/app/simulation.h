@@ -64,11 +64,11 @@ namespace warpchol::app
     /** The steps' measured velocity error against exact corotation (with a target error). */
     double       velocity_error_sum = 0;
     double       max_velocity_error = 0;
-    /** Steps per refresh of the factor: "full", "all", "below_top", "none". */
+    /** Steps per refresh of the factor (fem::StepStatistics::refresh): "full", "all", "below_top", "none", "background". */
     std::map<std::string, unsigned int> refreshes;
     /** Steps per choice of the automatic strategy ("exact", "fallback", "all", ...; fem::StepStatistics::choice). */
     std::map<std::string, unsigned int> choices;
-    /** Factorizations per way they took their changes ("update", "partial", "full"; fem::StepStatistics::factor_method). */
+    /** Factorizations per way they took their changes ("update", "partial", "full"; fem::StepStatistics::factorization). */
     std::map<std::string, unsigned int> factor_methods;
     /**
      * Cuts, grasps, material changes: elements cut and changed, vertices grasped and

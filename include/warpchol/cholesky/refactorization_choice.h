@@ -64,6 +64,12 @@ namespace warpchol::cholesky
    * carrying fewer columns per entry of L than dgemm does. Measured rates follow the run as
    * exponential moving averages. With fixed_rates (ChangeMethod::by_flops) nothing is ever
    * measured: the predictions are fixed multiples of the flops.
+   *
+   * The one learner of the solver's rates: SparseCholesky feeds it every factorization,
+   * refactorization and update it times (SparseCholesky::cost_model()), and a caller that
+   * foresees what a factorization costs (WCC's StepCostModel) reads it there rather than
+   * timing the same factorizations again, as a CHOLMOD user reads cholmod_common's
+   * statistics instead of keeping a second count.
    */
   class RefactorizationCostModel
   {
@@ -76,12 +82,24 @@ namespace warpchol::cholesky
     /** @p method spent @p flops in @p seconds. */
     void record(RefactorizationMethod method, double flops, double seconds);
 
+    /**
+     * Whether the rate of a factorization (full or partial) is known: measured, or fixed
+     * (fixed_rates). Before that, predicted_seconds() reads the default rate, a guess.
+     */
+    bool knows_factorization_rate() const;
+
     void save(BinaryWriter &writer) const;
     void load(BinaryReader &reader);
 
   private:
     /** A factorization's flop rate before any was measured, and the update's share of it. */
     static constexpr double default_rate = 2e10, update_rate_ratio = 0.5;
+    /**
+     * Work below this many flops is not timed: its fixed costs (calls, allocation, loading
+     * the values) would make the rate look lower than large factorizations reach. Per
+     * method, partial refactorizations (mostly small) do not pull down the full one's rate.
+     */
+    static constexpr double least_timed_flops = 1e5;
 
     bool                  fixed_rates;
     /** Flops per second of update, partial, full; whether each was measured. */

@@ -433,6 +433,13 @@ namespace warpchol::cholesky
     void set_change_method(ChangeMethod method);
 
     /**
+     * The flop rates learned from this solver's own factorizations, refactorizations and
+     * updates (checkpointed with save_numeric()): what a caller foreseeing the cost of a
+     * factorization reads, instead of timing the same calls again.
+     */
+    const RefactorizationCostModel &cost_model() const;
+
+    /**
      * Write the numeric state to a checkpoint: the loaded values of A, the factor as it is
      * (exact or partly refreshed), what is pending and stale. The analysis is not written:
      * analyze() of the same matrix redoes it exactly.
@@ -495,9 +502,42 @@ namespace warpchol::cholesky
     void check_modification(const std::string &caller) const;
 
     /**
-     * Weigh an update of the factor by the change of A since it was factored (columns
-     * @p changes of C) against recomputing @p plan; if the update is chosen, run it and
-     * return true (false: recompute). Sets the statistics of the choice.
+     * Whether a change whose recomputation is @p plan (for @p refresh) may be taken as an
+     * update of the factor at all: an exact factor of the copy of A (nothing stale, no
+     * update outside A's pattern), a refresh of everything, something to recompute, the
+     * supernodal method, and a Settings::change_method that updates.
+     */
+    bool may_update(Refresh refresh, const RefreshPlan &plan) const;
+
+    /** What the rule "update or recompute" weighed for one change, and its verdict. */
+    struct UpdateWeighing
+    {
+      /** Whether the update was weighed (false: too many rows, Settings::max_update_rows). */
+      bool   weighed = false;
+      /** Whether to update (else recompute @p plan). */
+      bool   update  = false;
+      /** The rank the update's plan foresees, and its flops (the low-rank form's included). */
+      Index  rank         = 0;
+      double update_flops = -1;
+      /** Predicted seconds of the update, of recomputing the plan, of a full factorization. */
+      double update_seconds  = -1;
+      double partial_seconds = -1;
+      double full_seconds    = -1;
+    };
+
+    /**
+     * The one rule "update or recompute", for refactorize() and predicted_seconds() alike:
+     * a change touching @p rows of C (permuted, sorted) is taken as an update if it touches
+     * at most Settings::max_update_rows rows and the update is predicted faster than
+     * recomputing @p plan (always, with ChangeMethod::update). predicted_seconds(), which
+     * sees no values yet, passes the changed columns for the rows.
+     */
+    UpdateWeighing weigh_update(const std::vector<Index> &rows, const RefreshPlan &plan) const;
+
+    /**
+     * Take the change of A since it was factored (columns @p changes of C) as an update
+     * if weigh_update() chooses it; if so, run it and return true (false: recompute
+     * @p plan). Sets the statistics of the choice.
      */
     bool updated_instead(const std::vector<Index> &changes, const RefreshPlan &plan);
 

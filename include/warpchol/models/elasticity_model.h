@@ -153,17 +153,14 @@ namespace warpchol::fem
      */
     std::string refresh;
     /**
-     * How the factorization of the step took its changes (cholesky::RefactorizationMethod:
-     * update, partial or full; none if nothing was computed), and what the solver weighed
-     * when it weighed an update against recomputing: the change's rank and the predicted
-     * seconds of an update, a partial and a full refactorization (negative if not weighed).
-     * The seconds spent are t_factor().
+     * The solver's statistics after the step's last factorization (default ones if it
+     * factored nothing or a peer factored): how it took its changes (method: update,
+     * partial or full) and what it weighed (update_rank, the predicted seconds; negative if
+     * it weighed no update). Copied whole, so that every reported field
+     * (cholesky::statistics_fields(), which the log's columns read) comes with it. The
+     * seconds spent are t_factor().
      */
-    cholesky::RefactorizationMethod factor_method = cholesky::RefactorizationMethod::none;
-    Index                           update_rank   = 0;
-    double predicted_update_seconds  = -1;
-    double predicted_partial_seconds = -1;
-    double predicted_full_seconds    = -1;
+    cholesky::SparseCholesky::Statistics factorization;
     /** Iterations of preconditioned CG (0 for a direct solve). */
     unsigned int cg_iterations = 0;
     /** The paths the element rotations of the step's element pass took (none without rotations). */

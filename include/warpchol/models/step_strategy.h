@@ -139,8 +139,6 @@ namespace warpchol::fem
   class StepCostModel
   {
   public:
-    /** A factorization of @p flops took @p seconds. */
-    void record_factorization(double flops, double seconds);
     /** A solve after @p refresh took @p iterations iterations in @p seconds. */
     void record_iterations(cholesky::Refresh refresh, unsigned int iterations, double seconds);
     /**
@@ -158,8 +156,17 @@ namespace warpchol::fem
     /** The predicted seconds of a step whose refresh @p refresh costs @p refresh_seconds, then iterates. */
     double predicted_seconds(cholesky::Refresh refresh, double refresh_seconds) const;
 
-    /** The seconds a factorization of @p flops takes at the measured rate (negative before one was measured). */
-    double factorization_seconds(double flops) const;
+    /** The set-up's factorization of the rest matrix took @p seconds (the whole factorize(), values loaded). */
+    void record_setup_factorization(double seconds);
+    /**
+     * What record_setup_factorization() recorded (negative before): the fall-back's stand-in
+     * for the exact path's step until it measures one (ExactFallback), a part of such a step.
+     * A measurement, not a rate: the solver learns the rates (SparseCholesky::cost_model()),
+     * and at its rate, which the exact steps' warm factorizations lower, a factorization
+     * without the step's assembly and solve would stand for less of the step than this and
+     * probe the exact path where auto's own steps pay.
+     */
+    double setup_factorization_seconds() const;
 
     /** The predicted seconds of an exact step (negative before one was measured). */
     double predicted_exact_seconds() const;
@@ -173,8 +180,13 @@ namespace warpchol::fem
      */
     bool exact_step_is_due(unsigned int staleness) const;
 
-    /** Whether enough was measured to weigh the refreshes of an iterating step: before that, refresh all. */
-    bool calibrated() const;
+    /**
+     * Whether enough was measured to weigh the refreshes of an iterating step: before that,
+     * refresh all. The factorizations' rate is the solver's (@p factorization_rates,
+     * SparseCholesky::cost_model()), which times every factorization it runs: a second
+     * learner here, fed by the same factorizations, would only disagree with it.
+     */
+    bool calibrated(const cholesky::RefactorizationCostModel &factorization_rates) const;
 
     /** Write what was measured so far to a checkpoint. */
     void save(BinaryWriter &writer) const;
@@ -184,7 +196,7 @@ namespace warpchol::fem
     /** Staleness past this is counted as this. */
     static constexpr unsigned int longest_staleness = 64;
 
-    double flop_rate             = 0;
+    double setup_factorization   = -1;
     double seconds_per_iteration = 0;
     double iterations_after_all  = 0;
     double iterations_after_top  = -1;
