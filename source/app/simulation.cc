@@ -58,7 +58,7 @@ namespace warpchol::app
      * the fall-back's count of losing steps in its window. 6: WCC's step cost model
      * without a flop rate of its own (it reads the solver's).
      */
-    constexpr const char *checkpoint_format = "warpchol checkpoint 6";
+    constexpr const char *checkpoint_format = "warpchol checkpoint 7";
 
     /** "Model/Type" of the entry "Model/Type = corotational". */
     std::string entry_name(const std::string &entry)
