@@ -247,8 +247,13 @@ namespace warpchol::app
     for (const auto &simulated : bodies)
       {
         const auto &integrator = simulated.scene->integrator();
-        snapshots.push_back({&simulated.scene->body(), simulated.offset, integrator.displacements(),
-                             integrator.velocities(), simulated.scene->model().update_record(), {}, {}});
+        BodySnapshot snapshot;
+        snapshot.body          = &simulated.scene->body();
+        snapshot.offset        = simulated.offset;
+        snapshot.displacements = integrator.displacements();
+        snapshot.velocities    = integrator.velocities();
+        snapshot.record        = simulated.scene->model().update_record();
+        snapshots.push_back(std::move(snapshot));
         const fem::Surgery &surgery = integrator.surgery();
         if (surgery.active())
           {
