@@ -1,0 +1,556 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/base/simd.h>
+
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <type_traits>
+
+#include "modify_kernel.h"
+
+// The kernel that applies the reflectors, once per SIMD target (Highway).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "cholesky/modify_kernel.cc"
+#include <hwy/foreach_target.h>
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace warpchol::cholesky::HWY_NAMESPACE
+{
+  namespace
+  {
+    /**
+     * Doubles in one vector register of this target (two on the baseline, which emulates
+     * 128 bits). Vectors no wider than a register: a wider one is split into registers the
+     * register file cannot hold beside the carried columns, and spilled.
+     */
+    constexpr Index target_lanes = HWY_MAX_BYTES / sizeof(double) < 2 ? 2 : HWY_MAX_BYTES / sizeof(double);
+    static_assert(target_lanes <= lanes, "W's padding and the tail hold at most `lanes` rows");
+
+    /** Vector registers of this target: 16 on x86-64, 32 with AVX-512. */
+    constexpr int vector_registers = HWY_MAX_BYTES >= 64 ? 32 : 16;
+
+    /**
+     * Columns of W carried in registers at a time: the registers but four (a group's row
+     * of L, its sum and the dot product's second sum, and one for the compiler).
+     */
+    constexpr Index target_chunk_columns = std::min<Index>(chunk_columns, vector_registers - 4);
+
+    using Lanes = double __attribute__((vector_size(sizeof(double) * target_lanes)));
+
+    /** How many columns ahead of the one being modified a group's rows are prefetched. */
+    constexpr Index prefetch_columns = 12;
+
+    /**
+     * How a reflector's coefficients are kept. AVX-512 multiplies by a double read from
+     * memory and broadcast by the instruction itself; the other targets would broadcast
+     * each into a register of its own, 2K + 1 of them beside the carried columns, so there
+     * each coefficient is kept as a whole vector (the same value in every lane), which a
+     * fused multiply-add reads from memory.
+     */
+    constexpr bool whole_vector_coefficients = vector_registers < 32;
+    using Coefficient                        = std::conditional_t<whole_vector_coefficients, Lanes, double>;
+
+    /** The double of a coefficient. */
+    template <typename Kept = Coefficient>
+    double scalar_of(const Kept &coefficient)
+    {
+      if constexpr (std::is_same_v<Kept, double>)
+        return coefficient;
+      else
+        return coefficient[0];
+    }
+
+    /** A coefficient of value @p value. */
+    template <typename Kept = Coefficient>
+    Kept as_coefficient(const double value)
+    {
+      if constexpr (std::is_same_v<Kept, double>)
+        return value;
+      else
+        {
+          Kept splatted;
+          for (Index k = 0; k < target_lanes; ++k)
+            splatted[k] = value;
+          return splatted;
+        }
+    }
+
+    Lanes load(const double *p)
+    {
+      Lanes v;
+      std::memcpy(&v, p, sizeof v);
+      return v;
+    }
+
+    void store(double *p, const Lanes &v)
+    {
+      std::memcpy(p, &v, sizeof v);
+    }
+
+    /** Lane k holds k: which rows of a group a reflector may change. */
+    Lanes lane_numbers()
+    {
+      Lanes numbers = {};
+      for (Index k = 0; k < target_lanes; ++k)
+        numbers[k] = static_cast<double>(k);
+      return numbers;
+    }
+
+    /**
+     * The reflectors of one chunk of K columns of C on one supernode, and how they are
+     * applied: per local column j, tau_j, v_j (K values) and S v_j (K values).
+     *
+     * Rows go a vector at a time (a group: target_lanes rows, one register per column of L
+     * and of W), from the supernode's first changing column q on. A group that meets the
+     * diagonal block first takes the reflectors of the columns before it, then makes its
+     * own from its rows one by one, each applied at once to the group's rows below it (the
+     * others masked); the groups below the diagonal block take every reflector, a few side
+     * by side; the rows past the last whole group go through a copy padded with zeros to a
+     * group. Every row is computed by the same operations in the same order, whatever its
+     * place, group or target: the same bits for any split of the rows, and on every target
+     * with fused multiply-adds.
+     */
+    template <int K>
+    struct ChunkKernel
+    {
+      /**
+       * Coefficients per reflector j: tau, v (K), S v (K), and its coupling with the
+       * reflector before it, v_{j-1} . S v_j (the look-ahead of apply_to_groups()).
+       */
+      static constexpr Index stride = 2 * K + 2;
+
+      double       *l;
+      Index         nr, nc;
+      /** The supernode's rows of W (ldw >= nr + lanes: zero rows pad the last group). */
+      double       *w;
+      Index         ldw;
+      const double *sign;
+      /** stride coefficients per local column, aligned to a vector. */
+      Coefficient  *reflectors;
+      /** Room for the last, partial group of rows: nc x lanes values. */
+      double       *tail;
+
+      /**
+       * Row groups carried side by side: each reflector is a chain of dependent operations
+       * per group (the new entry, the sum that updates w, the next dot product), and
+       * independent groups fill the gaps of one another's chains. As many as the registers
+       * hold, each group with its K columns of W, its next row of L and next dot product,
+       * two registers left for the sums, and at most eight.
+       */
+      static constexpr int groups = std::clamp((vector_registers - 2) / (K + 2), 1, 8);
+
+      /** s = l + w . S v for one reflector, in two interleaved sums (the same order everywhere). */
+      template <typename Value>
+      static Value dot(const Value &old, const Value *carried, const Coefficient *scaled)
+      {
+        Value even = old;
+        if constexpr (K == 1)
+          return even + carried[0] * scaled[0];
+        else
+          {
+            Value odd = carried[1] * scaled[1];
+            even += carried[0] * scaled[0];
+            for (int t = 2; t + 1 < K; t += 2)
+              {
+                even += carried[t] * scaled[t];
+                odd += carried[t + 1] * scaled[t + 1];
+              }
+            if constexpr (K % 2 == 1)
+              even += carried[K - 1] * scaled[K - 1];
+            return even + odd;
+          }
+      }
+
+      /**
+       * Apply the reflectors [j_begin, j_end) to G groups of rows: those of L at
+       * @p rows (column stride @p ld), those of W from row @p w_row on.
+       *
+       * Each reflector's dot product is formed before the reflector ahead of it is applied
+       * (a look-ahead): with w the carried columns before reflector j,
+       *   s_{j+1} = l_{j+1} + w . S v_{j+1} - (l_j + l_j') (v_j . S v_{j+1}),
+       * which equals l_{j+1} + w' . S v_{j+1} with w' = w - (l_j + l_j') v_j. The first part
+       * depends on w, not on reflector j's result, so it overlaps the chain of reflector j:
+       * what remains between two reflectors is two operations, not the whole dot product.
+       */
+      template <int G>
+      void apply_to_groups(double *rows, const Index ld, const Index w_row, const Index j_begin,
+                           const Index j_end) const
+      {
+        if (j_begin >= j_end)
+          return;
+        Lanes carried[G][K];
+        for (int g = 0; g < G; ++g)
+          for (int t = 0; t < K; ++t)
+            carried[g][t] = load(w + t * ldw + w_row + g * target_lanes);
+        Lanes next_old[G], next_dot[G];
+        for (int g = 0; g < G; ++g)
+          {
+            next_old[g] = load(rows + j_begin * ld + g * target_lanes);
+            next_dot[g] = dot(next_old[g], carried[g], reflectors + j_begin * stride + 1 + K);
+          }
+        for (Index j = j_begin; j < j_end; ++j)
+          {
+            // The group's entries some columns ahead: the columns of a large supernode lie
+            // pages apart, where the hardware's prefetchers do not follow.
+            if (j + prefetch_columns < j_end)
+              {
+                const double *ahead = rows + (j + prefetch_columns) * ld;
+                for (Index k = 0; k < G * target_lanes; k += 8)
+                  __builtin_prefetch(ahead + k, 1);
+                __builtin_prefetch(ahead + G * target_lanes - 1, 1);
+              }
+            const Coefficient *r = reflectors + j * stride;
+            Lanes              sum[G];
+            for (int g = 0; g < G; ++g)
+              {
+                const Lanes old     = next_old[g];
+                const Lanes changed = r[0] * next_dot[g] - old;
+                store(rows + j * ld + g * target_lanes, changed);
+                sum[g] = old + changed;
+              }
+            if (j + 1 < j_end)
+              {
+                const Coefficient *next = r + stride;
+                for (int g = 0; g < G; ++g)
+                  {
+                    next_old[g] = load(rows + (j + 1) * ld + g * target_lanes);
+                    next_dot[g] = dot(next_old[g], carried[g], next + 1 + K) - sum[g] * next[2 * K + 1];
+                  }
+              }
+            for (int g = 0; g < G; ++g)
+              for (int t = 0; t < K; ++t)
+                carried[g][t] -= sum[g] * r[1 + t];
+          }
+        for (int g = 0; g < G; ++g)
+          for (int t = 0; t < K; ++t)
+            store(w + t * ldw + w_row + g * target_lanes, carried[g][t]);
+      }
+
+      /**
+       * Rows of a block of apply_to_block(): its columns of W (K x block_rows doubles) stay
+       * in the first-level cache while every reflector passes over them.
+       */
+      static constexpr Index block_rows = 16 * target_lanes;
+
+      /**
+       * Apply the reflectors [j_begin, j_end) to the @p n_groups groups of rows from row
+       * @p w_row (those of L at @p rows, column stride @p ld), W kept in memory instead of
+       * registers (targets with 16 registers).
+       *
+       * apply_to_groups() carries a group's K columns of W in registers: on 16 registers
+       * that leaves one group, whose chain of dependent operations from one reflector to
+       * the next is longer than the reflector's work. Here reflector by reflector goes over
+       * all groups of the block, two at a time (each coefficient read once for both), so
+       * that the groups' independent chains overlap; the next reflector's dot product is
+       * formed from the columns just modified, as they are stored. The block's columns of W
+       * are copied to a buffer of fixed stride, so that every address is a constant offset.
+       */
+      void apply_to_block(double *rows, const Index ld, const Index w_row, const Index n_groups, const Index j_begin,
+                          const Index j_end) const
+      {
+        constexpr Index    most_groups = block_rows / target_lanes;
+        alignas(64) double stored[K * block_rows];
+        Lanes              dots[most_groups];
+        double *const      w_block = w + w_row;
+        const Index        n_rows = n_groups * target_lanes, w_stride = ldw;
+        const Coefficient *coefficients = reflectors;
+        for (int t = 0; t < K; ++t)
+          std::copy(w_block + t * w_stride, w_block + t * w_stride + n_rows, stored + t * block_rows);
+        for (Index g = 0; g < n_groups; ++g)
+          {
+            Lanes carried[K];
+            for (int t = 0; t < K; ++t)
+              carried[t] = load(stored + t * block_rows + g * target_lanes);
+            dots[g] = dot(load(rows + j_begin * ld + g * target_lanes), carried, coefficients + j_begin * stride + 1 + K);
+          }
+        for (Index j = j_begin; j < j_end; ++j)
+          {
+            if (j + prefetch_columns < j_end)
+              {
+                const double *ahead = rows + (j + prefetch_columns) * ld;
+                for (Index k = 0; k < n_rows; k += 8)
+                  __builtin_prefetch(ahead + k, 1);
+                __builtin_prefetch(ahead + n_rows - 1, 1);
+              }
+            const Coefficient *r      = coefficients + j * stride;
+            const Coefficient *next   = j + 1 < j_end ? r + stride : nullptr;
+            double            *column = rows + j * ld;
+            Index              g      = 0;
+            for (; g + 2 <= n_groups; g += 2)
+              apply_to_stored_groups<2>(column + g * target_lanes, ld, stored + g * target_lanes, dots + g, r, next);
+            if (g < n_groups)
+              apply_to_stored_groups<1>(column + g * target_lanes, ld, stored + g * target_lanes, dots + g, r, next);
+          }
+        for (int t = 0; t < K; ++t)
+          std::copy(stored + t * block_rows, stored + t * block_rows + n_rows, w_block + t * w_stride);
+      }
+
+      /**
+       * Reflector @p r on P groups side by side (their entries of its column at @p column,
+       * of W at @p w_rows with stride block_rows, their dot products for it in @p dots);
+       * then, if @p next, their dot products for the next reflector, in the order of dot().
+       */
+      template <int P>
+      static void apply_to_stored_groups(double *column, const Index ld, double *w_rows, Lanes *dots,
+                                         const Coefficient *r, const Coefficient *next)
+      {
+        Lanes sum[P];
+        for (int p = 0; p < P; ++p)
+          {
+            const Lanes old     = load(column + p * target_lanes);
+            const Lanes changed = r[0] * dots[p] - old;
+            store(column + p * target_lanes, changed);
+            sum[p] = old + changed;
+          }
+        if (!next)
+          {
+#pragma GCC unroll 16
+            for (int t = 0; t < K; ++t)
+              {
+                const Coefficient v = r[1 + t];
+                for (int p = 0; p < P; ++p)
+                  {
+                    double *entry = w_rows + t * block_rows + p * target_lanes;
+                    store(entry, load(entry) - sum[p] * v);
+                  }
+              }
+            return;
+          }
+        Lanes even[P], odd[P];
+        for (int p = 0; p < P; ++p)
+          even[p] = load(column + ld + p * target_lanes);
+#pragma GCC unroll 16
+        for (int t = 0; t < K; ++t)
+          {
+            const Coefficient v = r[1 + t], scaled = next[1 + K + t];
+            for (int p = 0; p < P; ++p)
+              {
+                double     *entry = w_rows + t * block_rows + p * target_lanes;
+                const Lanes moved = load(entry) - sum[p] * v;
+                store(entry, moved);
+                if (t % 2 == 0 || K == 1)
+                  even[p] += moved * scaled;
+                else if (t == 1)
+                  odd[p] = moved * scaled;
+                else
+                  odd[p] += moved * scaled;
+              }
+          }
+        for (int p = 0; p < P; ++p)
+          dots[p] = K == 1 ? even[p] : even[p] + odd[p];
+      }
+
+      /** Apply the reflectors [j_begin, j_end) to the whole groups of rows [row_begin, row_end) in place. */
+      void apply_to_rows(const Index row_begin, const Index row_end, const Index j_begin, const Index j_end) const
+      {
+        if (j_begin >= j_end)
+          return;
+        Index i = row_begin;
+        if constexpr (whole_vector_coefficients)
+          {
+            for (; i + target_lanes <= row_end; i += block_rows)
+              {
+                apply_to_block(l + i, nr, i, std::min(block_rows, row_end - i) / target_lanes, j_begin, j_end);
+              }
+            return;
+          }
+        if constexpr (groups > 1)
+          for (; i + groups * target_lanes <= row_end; i += groups * target_lanes)
+            apply_to_groups<groups>(l + i, nr, i, j_begin, j_end);
+        for (; i + target_lanes <= row_end; i += target_lanes)
+          apply_to_groups<1>(l + i, nr, i, j_begin, j_end);
+      }
+
+      /**
+       * The reflector of column j from its row (L_jj = @p alpha, w_j = @p row_w):
+       * (L_jj, w_j) -> (r, 0); returns r. Throws NotPositiveDefinite (column
+       * @p first_column + j) if r^2 falls to the tolerance.
+       */
+      double make_reflector(const Index j, const Index q, const double alpha, const double *row_w,
+                            const double tolerance, const Index first_column) const
+      {
+        double r2 = alpha * alpha, held = alpha * alpha;
+        for (int t = 0; t < K; ++t)
+          {
+            r2 += sign[t] * row_w[t] * row_w[t];
+            if (sign[t] > 0)
+              held += row_w[t] * row_w[t];
+          }
+        if (!(r2 > tolerance * held) || !std::isfinite(r2))
+          throw NotPositiveDefinite(first_column + j, r2);
+        const double r = std::sqrt(r2), denominator = alpha + r;
+        Coefficient *reflector = reflectors + j * stride;
+        reflector[0]           = as_coefficient(1. + alpha / r);
+        double       coupling  = 0;
+        for (int t = 0; t < K; ++t)
+          {
+            const double v       = row_w[t] / denominator;
+            reflector[1 + t]     = as_coefficient(v);
+            reflector[1 + K + t] = as_coefficient(sign[t] * v);
+            if (j > q)
+              coupling += scalar_of(reflector[1 + t - stride]) * (sign[t] * v);
+          }
+        reflector[2 * K + 1] = as_coefficient(coupling);
+        return r;
+      }
+
+      /**
+       * A group of rows that meets the diagonal block (rows from @p i0, those of L at
+       * @p rows with column stride @p ld), whose rows took the reflectors before @p from:
+       * the reflectors [from, i0), then those of its own rows, each made from its row and
+       * applied to the rows below it in the group. The chunk starts at column @p q.
+       */
+      void diagonal_group(double *rows, const Index ld, const Index i0, const Index from, const Index q,
+                          const double tolerance, const Index first_column) const
+      {
+        apply_to_groups<1>(rows, ld, i0, from, std::min(i0, nc));
+        const Lanes numbers = lane_numbers();
+        Lanes       carried[K];
+        for (int t = 0; t < K; ++t)
+          carried[t] = load(w + t * ldw + i0);
+        for (Index j = i0; j < std::min(i0 + target_lanes, nc); ++j)
+          {
+            const int lane = static_cast<int>(j - i0);
+            double    row_w[K];
+            for (int t = 0; t < K; ++t)
+              row_w[t] = carried[t][lane];
+            double       *column    = rows + j * ld;
+            const Lanes   old       = load(column);
+            const double  r         = make_reflector(j, q, old[lane], row_w, tolerance, first_column);
+            const Coefficient *reflector = reflectors + j * stride;
+            Lanes              changed   = reflector[0] * dot(old, carried, reflector + 1 + K) - old;
+            const Lanes   sum       = old + changed;
+            // Rows above j keep their values; row j becomes (r, 0) exactly; those below move.
+            const auto below = numbers > static_cast<double>(lane);
+            changed          = below ? changed : old;
+            changed[lane]    = r;
+            store(column, changed);
+            for (int t = 0; t < K; ++t)
+              {
+                const Lanes moved = carried[t] - sum * reflector[1 + t];
+                carried[t]        = below ? moved : carried[t];
+                carried[t][lane]  = 0.;
+              }
+          }
+        for (int t = 0; t < K; ++t)
+          store(w + t * ldw + i0, carried[t]);
+      }
+
+      /**
+       * Modify the supernode from its local column q on, the rows below the diagonal
+       * block split over threads if @p threaded.
+       */
+      void run(const Index q, const double tolerance, const Index first_column, const bool threaded) const
+      {
+        const Index     whole_end    = q + (nr - q) / target_lanes * target_lanes;
+        constexpr Index side_by_side = groups * target_lanes;
+        // The diagonal block's rows a panel at a time: the reflectors of the columns before
+        // the panel with groups side by side, then group by group those of the panel's
+        // columns (one group at a time: each group's rows make the next reflectors).
+        constexpr Index panel_rows = 4 * side_by_side;
+        Index           i0         = q;
+        while (i0 < nc && i0 < whole_end)
+          {
+            const Index panel_end = std::min(i0 + panel_rows, whole_end);
+            apply_to_rows(i0, panel_end, q, i0);
+            for (const Index panel = i0; i0 < panel_end; i0 += target_lanes)
+              diagonal_group(l + i0, nr, i0, panel, q, tolerance, first_column);
+          }
+        const Index rows_below = whole_end - i0;
+        if (threaded && rows_below > 4 * side_by_side)
+          {
+            // Each row is computed alone, the same way whatever the split: the same bits
+            // for any number of threads.
+            const Index block =
+              std::max<Index>(2 * side_by_side, (rows_below / (8 * side_by_side) + 1) * side_by_side);
+            tbb::parallel_for(Index(0), (rows_below + block - 1) / block, [&](const Index b) {
+              apply_to_rows(i0 + b * block, std::min(whole_end, i0 + (b + 1) * block), q, nc);
+            });
+          }
+        else if (rows_below > 0)
+          apply_to_rows(i0, whole_end, q, nc);
+        if (whole_end == nr)
+          return;
+        // The last rows, fewer than a group: through a copy padded with zero rows (which
+        // stay zero), its columns from q on.
+        const Index n_rows = nr - whole_end;
+        for (Index j = q; j < nc; ++j)
+          for (Index k = 0; k < target_lanes; ++k)
+            tail[j * target_lanes + k] = k < n_rows ? l[j * nr + whole_end + k] : 0.;
+        diagonal_group(tail, target_lanes, whole_end, q, q, tolerance, first_column);
+        for (Index j = q; j < nc; ++j)
+          for (Index k = 0; k < n_rows; ++k)
+            l[j * nr + whole_end + k] = tail[j * target_lanes + k];
+      }
+    };
+
+    /** ChunkKernel<K>::run for the K of @p n_columns (1 to target_chunk_columns). */
+    template <int K>
+    void run_chunk_of(const Index n_columns, const SupernodeChunk &chunk)
+    {
+      if constexpr (K < target_chunk_columns)
+        if (n_columns > K)
+          {
+            run_chunk_of<K + 1>(n_columns, chunk);
+            return;
+          }
+      // The reflectors' room aligned to a vector (it has a vector of doubles to spare).
+      constexpr std::uintptr_t alignment = alignof(Coefficient);
+      const auto               aligned   = reinterpret_cast<Coefficient *>(
+        (reinterpret_cast<std::uintptr_t>(chunk.reflectors) + alignment - 1) / alignment * alignment);
+      const ChunkKernel<K> kernel{chunk.l, chunk.nr, chunk.nc, chunk.w, chunk.ldw, chunk.sign, aligned, chunk.tail};
+      kernel.run(chunk.q, chunk.tolerance, chunk.first_column, chunk.threaded);
+    }
+
+  } // namespace
+
+  /** run_chunk() on this target. */
+  void ModifyChunk(const Index n_columns, const SupernodeChunk &chunk)
+  {
+    run_chunk_of<1>(n_columns, chunk);
+  }
+
+  /** The most columns of C this target carries at once. */
+  Index ModifyChunkColumns()
+  {
+    return target_chunk_columns;
+  }
+} // namespace warpchol::cholesky::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace warpchol::cholesky
+{
+  HWY_EXPORT(ModifyChunk);
+  HWY_EXPORT(ModifyChunkColumns);
+
+  namespace
+  {
+    /**
+     * The entry of a function's dispatch table (HWY_EXPORT) for the update family's target:
+     * the index Highway's ChosenTarget::GetIndex() gives when that target is chosen.
+     */
+    std::size_t update_dispatch_index()
+    {
+      const std::int64_t target = simd::target_bit(simd::Family::update);
+      return hwy::Num0BitsBelowLS1Bit_Nonzero64(static_cast<std::uint64_t>(
+        (HWY_CHOSEN_TARGET_SHIFT(target) | HWY_CHOSEN_TARGET_MASK_SCALAR) & HWY_CHOSEN_TARGET_MASK_TARGETS));
+    }
+
+  } // namespace
+
+  void run_chunk(const Index n_columns, const SupernodeChunk &chunk)
+  {
+    (*HWY_DISPATCH_TABLE(ModifyChunk)[update_dispatch_index()])(n_columns, chunk);
+  }
+
+  Index chunk_columns_here()
+  {
+    return (*HWY_DISPATCH_TABLE(ModifyChunkColumns)[update_dispatch_index()])();
+  }
+} // namespace warpchol::cholesky
+#endif
