@@ -1,6 +1,7 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
 #include <warpchol/models/warp_canceling_model.h>
+#include <warpchol/models/model_type.h>
 
 #include <deal.II/base/parallel.h>
 
@@ -156,7 +157,7 @@ namespace warpchol::fem
 
   std::string WarpCancelingModel::name() const
   {
-    return "warp_canceling";
+    return to_string(ModelType::warp_canceling);
   }
 
   unsigned int WarpCancelingModel::step_threads() const
