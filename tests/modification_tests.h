@@ -16,6 +16,7 @@
 
 #include <algorithm>
 #include <string>
+#include <tuple>
 #include <vector>
 
 namespace tests
@@ -139,4 +140,33 @@ namespace tests
     fresh.factorize(matrix);
     return fresh;
   }
+  /**
+   * The change steps of the tests of the update-or-recompute choice, on @p matrix: a
+   * penalty on the 9 dofs around a vertex (a grasp), then a random change of 2 vertices'
+   * block, then both taken back. Each step: its label, the new matrix, the changed columns.
+   */
+  struct GraspThenPerturbation
+  {
+    using Step = std::tuple<std::string, const CSCMatrix *, std::vector<Index>>;
+
+    explicit GraspThenPerturbation(const CSCMatrix &matrix)
+      : grasped(warpchol::sparse::local_vertex_columns(matrix, 3, 3, 2))
+      , changed_block(warpchol::sparse::local_vertex_columns(matrix, 3, 2, 8))
+      , penalized(matrix)
+    {
+      warpchol::sparse::add_outer_products(penalized, warpchol::sparse::penalty_columns(matrix, grasped, 10.), 1.);
+      perturbed = penalized;
+      warpchol::sparse::perturb_columns_spd(perturbed, changed_block, 4, 0.2);
+      std::vector<Index> both = grasped;
+      both.insert(both.end(), changed_block.begin(), changed_block.end());
+      steps = {{"a penalty on 9 dofs", &penalized, grasped},
+               {"a random change of 2 vertices' block", &perturbed, changed_block},
+               {"both removed", &matrix, both}};
+    }
+
+    std::vector<Index> grasped, changed_block;
+    CSCMatrix          penalized, perturbed;
+    std::vector<Step>  steps;
+  };
+
 } // namespace tests

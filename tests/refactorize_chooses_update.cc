@@ -21,22 +21,9 @@ int main()
   const tests::TorusElasticity torus;
   const sparse::CSCMatrix     &matrix = torus.system->csc();
 
-  const std::vector<Index> grasped = sparse::local_vertex_columns(matrix, 3, 3, 2);
-  sparse::CSCMatrix        penalized = matrix;
-  sparse::add_outer_products(penalized, sparse::penalty_columns(matrix, grasped, 10.), 1.);
-  const std::vector<Index> changed_block = sparse::local_vertex_columns(matrix, 3, 2, 8);
-  sparse::CSCMatrix        perturbed     = penalized;
-  sparse::perturb_columns_spd(perturbed, changed_block, 4, 0.2);
-
   // The steps: (label, new matrix, changed columns).
-  const std::vector<std::tuple<std::string, const sparse::CSCMatrix *, std::vector<Index>>> steps = {
-    {"a penalty on 9 dofs", &penalized, grasped},
-    {"a random change of 2 vertices' block", &perturbed, changed_block},
-    {"both removed", &matrix, [&] {
-       std::vector<Index> both = grasped;
-       both.insert(both.end(), changed_block.begin(), changed_block.end());
-       return both;
-     }()}};
+  const tests::GraspThenPerturbation change(matrix);
+  const auto                        &steps = change.steps;
 
   for (const auto change_method : {cholesky::ChangeMethod::automatic, cholesky::ChangeMethod::by_flops,
                                    cholesky::ChangeMethod::recompute, cholesky::ChangeMethod::update})
