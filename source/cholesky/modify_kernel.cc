@@ -34,6 +34,12 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     constexpr int vector_registers = HWY_MAX_BYTES >= 64 ? 32 : 16;
 
     /**
+     * Whether the rows below the diagonal block keep W in memory (ChunkKernel::apply_to_block)
+     * rather than in registers (apply_to_groups): on 16 registers, which hold one group's.
+     */
+    constexpr bool w_in_memory = vector_registers < 32;
+
+    /**
      * Columns of W carried in registers at a time: the registers but four (a group's row
      * of L, its sum and the dot product's second sum, and one for the compiler).
      */
@@ -350,7 +356,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
         if (j_begin >= j_end)
           return;
         Index i = row_begin;
-        if constexpr (whole_vector_coefficients)
+        if constexpr (w_in_memory)
           {
             for (; i + target_lanes <= row_end; i += block_rows)
               {
