@@ -13,6 +13,10 @@
 #include <string>
 #include <type_traits>
 
+#if defined(__SSE2__)
+#  include <emmintrin.h>
+#endif
+
 #include "modify_kernel.h"
 #include "subtree_tasks.h"
 
@@ -20,6 +24,26 @@ namespace warpchol::cholesky
 {
   namespace
   {
+    /**
+     * std::copy with stores that bypass the caches: a downdate's copy of what it changes is
+     * read back only if the downdate fails, and held in the caches it would push out the
+     * factor's columns that the downdate reads next.
+     */
+    void copy_past_caches(const double *begin, const double *end, double *target)
+    {
+#if defined(__SSE2__)
+      for (; begin < end && reinterpret_cast<std::uintptr_t>(target) % 16 != 0; ++begin, ++target)
+        *target = *begin;
+      for (; begin + 2 <= end; begin += 2, target += 2)
+        _mm_stream_pd(target, _mm_loadu_pd(begin));
+      for (; begin < end; ++begin, ++target)
+        *target = *begin;
+      _mm_sfence();
+#else
+      std::copy(begin, end, target);
+#endif
+    }
+
     /** Columns of C per pass over the paths: one bit each in a supernode's mask. */
     constexpr Index group_columns = 64;
     /** Supernodes whose own work exceeds this many flops split their rows over threads. */
@@ -281,7 +305,7 @@ namespace warpchol::cholesky
             const Index first = q_min * nr, kept = backup_first[s] < 0 ? nr * nc : backup_first[s];
             if (first < kept)
               {
-                std::copy(block + first, block + kept, buffers.backup.get() + backup_start[s] + first);
+                copy_past_caches(block + first, block + kept, buffers.backup.get() + backup_start[s] + first);
                 backup_first[s] = first;
               }
           }

@@ -88,8 +88,9 @@ namespace warpchol::cholesky
     /** Threads: independent paths side by side, and the rows of large supernodes split. */
     unsigned int n_threads = 1;
     /**
-     * Whether a downdate that fails puts back the values it changed (it keeps a copy of
-     * them as it goes: about a third of its time). A caller that recomputes the columns on
+     * Whether a downdate that fails puts back the values it changed. It keeps a copy of
+     * them as it goes; where the paths' columns outgrow the caches, the copy's memory
+     * traffic makes a downdate of low rank up to twice as slow as an update. A caller that recomputes the columns on
      * the paths anyway when it fails (SparseCholesky::refactorize()) does without: the
      * factor is then invalid until it does.
      */
