@@ -1,6 +1,9 @@
 #include <warpchol/base/exceptions.h>
 #include <warpchol/base/format.h>
+#include <warpchol/base/simd.h>
 #include <warpchol/cholesky/refactorization_choice.h>
+
+#include <algorithm>
 
 namespace warpchol::cholesky
 {
@@ -46,19 +49,35 @@ namespace warpchol::cholesky
     : fixed_rates(fixed_rates)
   {}
 
-  double RefactorizationCostModel::predicted_seconds(const RefactorizationMethod method, const double flops) const
+  double RefactorizationCostModel::rank_efficiency(const unsigned int rank)
+  {
+    const double k = std::max(1u, rank);
+    return k / (k + update_half_rank);
+  }
+
+  double RefactorizationCostModel::update_rate_prior()
+  {
+    const std::string target = simd::current_target(simd::Family::update);
+    return target == "avx512" ? 1. : target == "avx2" ? 0.7 : target == "sse4" ? 0.4 : 0.25;
+  }
+
+  double RefactorizationCostModel::predicted_seconds(const RefactorizationMethod method, const double flops,
+                                                     const unsigned int rank) const
   {
     if (method == RefactorizationMethod::none)
       return 0.;
-    return flops / rates[slot(method)];
+    const double efficiency = method == RefactorizationMethod::update ? rank_efficiency(rank) : 1.;
+    return flops / (rates[slot(method)] * efficiency);
   }
 
-  void RefactorizationCostModel::record(const RefactorizationMethod method, const double flops, const double seconds)
+  void RefactorizationCostModel::record(const RefactorizationMethod method, const double flops, const double seconds,
+                                        const unsigned int rank)
   {
     // Too little work to time, or a method that computed nothing.
     if (fixed_rates || method == RefactorizationMethod::none || !(flops > least_timed_flops) || !(seconds > 0))
       return;
-    const double      rate = flops / seconds;
+    const double      efficiency = method == RefactorizationMethod::update ? rank_efficiency(rank) : 1.;
+    const double      rate       = flops / seconds / efficiency;
     const std::size_t k    = slot(method);
     rates[k]               = measured[k] ? (1 - new_weight) * rates[k] + new_weight * rate : rate;
     measured[k]            = true;
@@ -68,7 +87,7 @@ namespace warpchol::cholesky
         if (!measured[other])
           rates[other] = rates[k];
     if (!measured[0] && method != RefactorizationMethod::update)
-      rates[0] = update_rate_ratio * rates[k];
+      rates[0] = update_rate_prior() * rates[k];
   }
 
   bool RefactorizationCostModel::knows_factorization_rate() const

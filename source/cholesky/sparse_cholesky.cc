@@ -377,7 +377,8 @@ namespace warpchol::cholesky
                                                         RefactorizationMethod::partial;
         last_recomputed_columns = plan.columns;
       }
-    refactorization_costs.record(stats.method, stats.flops_recomputed, numeric_stopwatch.seconds());
+    refactorization_costs.record(stats.method, stats.flops_recomputed, numeric_stopwatch.seconds(),
+                                 static_cast<unsigned int>(stats.update_rank));
     if (factor_is_exact())
       {
         if (exact_before && !plan.full)
@@ -443,7 +444,8 @@ namespace warpchol::cholesky
     weighing.weighed                   = true;
     weighing.rank                      = update_plan.rank;
     weighing.update_flops              = update_plan.flops + low_rank_form_flops(update_plan.rank);
-    weighing.update_seconds  = refactorization_costs.predicted_seconds(RefactorizationMethod::update, weighing.update_flops);
+    weighing.update_seconds  = refactorization_costs.predicted_seconds(RefactorizationMethod::update, weighing.update_flops,
+                                                                       static_cast<unsigned int>(weighing.rank));
     weighing.partial_seconds = refactorization_costs.predicted_seconds(RefactorizationMethod::partial, plan.flops);
     weighing.full_seconds =
       refactorization_costs.predicted_seconds(RefactorizationMethod::full, supernodal_structure.flops);
@@ -583,7 +585,8 @@ namespace warpchol::cholesky
     stats.method = RefactorizationMethod::update;
     ++stats.n_updates;
     stats.refactorize_seconds = stopwatch.seconds();
-    refactorization_costs.record(RefactorizationMethod::update, stats.flops_recomputed, stats.refactorize_seconds);
+    refactorization_costs.record(RefactorizationMethod::update, stats.flops_recomputed, stats.refactorize_seconds,
+                                 static_cast<unsigned int>(c.n_cols));
   }
 
   double SparseCholesky::predicted_seconds(const std::vector<Index> &changed_columns, const Refresh refresh,

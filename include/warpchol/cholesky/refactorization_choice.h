@@ -58,10 +58,17 @@ namespace warpchol::cholesky
   ChangeMethod parse_change_method(const std::string &name);
 
   /**
-   * Seconds of each method: flops / rate, with a rate per method. Until a method was
-   * measured its rate is the factorization's (the first one measured, the set-up's) times
-   * a fixed ratio: the update's kernels reach about half a factorization's flop rate,
-   * carrying fewer columns per entry of L than dgemm does. Measured rates follow the run as
+   * Seconds of each method: flops / rate, with a rate per method. An update's rate also
+   * depends on its rank k: it reads and writes each entry of L on its paths once for 4k
+   * flops, so at low rank it streams L from memory, and only past a few columns does it
+   * reach its kernels' flop rate. Its rate is modelled as r k / (k + update_half_rank),
+   * and r is what is learned.
+   *
+   * Until a method was measured its rate is the factorization's (the first one measured,
+   * the set-up's) times a prior: 1 for a recomputation; for an update, what its kernels
+   * reach on the update's SIMD target against a factorization (simd::Family::update: with
+   * 32 vector registers of 8 doubles they carry 16 columns of C per entry of L and keep
+   * pace with it; narrower targets carry fewer). Measured rates follow the run as
    * exponential moving averages. With fixed_rates (ChangeMethod::by_flops) nothing is ever
    * measured: the predictions are fixed multiples of the flops.
    *
@@ -76,11 +83,14 @@ namespace warpchol::cholesky
   public:
     explicit RefactorizationCostModel(bool fixed_rates = false);
 
-    /** The predicted seconds of @p method spending @p flops. */
-    double predicted_seconds(RefactorizationMethod method, double flops) const;
+    /**
+     * The predicted seconds of @p method spending @p flops; @p rank: an update's columns of
+     * C (ignored for the other methods).
+     */
+    double predicted_seconds(RefactorizationMethod method, double flops, unsigned int rank = 1) const;
 
-    /** @p method spent @p flops in @p seconds. */
-    void record(RefactorizationMethod method, double flops, double seconds);
+    /** @p method spent @p flops in @p seconds (@p rank as in predicted_seconds()). */
+    void record(RefactorizationMethod method, double flops, double seconds, unsigned int rank = 1);
 
     /**
      * Whether the rate of a factorization (full or partial) is known: measured, or fixed
@@ -92,18 +102,23 @@ namespace warpchol::cholesky
     void load(BinaryReader &reader);
 
   private:
-    /** A factorization's flop rate before any was measured, and the update's share of it. */
-    static constexpr double default_rate = 2e10, update_rate_ratio = 0.5;
+    /** A factorization's flop rate before any was measured. */
+    static constexpr double default_rate = 2e10;
+    /** The rank at which an update reaches half its kernels' rate. */
+    static constexpr double update_half_rank = 2.5;
     /**
      * Work below this many flops is not timed: its fixed costs (calls, allocation, loading
      * the values) would make the rate look lower than large factorizations reach. Per
      * method, partial refactorizations (mostly small) do not pull down the full one's rate.
      */
     static constexpr double least_timed_flops = 1e5;
-
+    /** The share of an update's rate at @p rank of its kernels' rate. */
+    static double rank_efficiency(unsigned int rank);
+    /** An update's kernels' rate before one was measured, against a factorization's. */
+    static double update_rate_prior();
     bool                  fixed_rates;
-    /** Flops per second of update, partial, full; whether each was measured. */
-    std::array<double, 3> rates    = {{update_rate_ratio * default_rate, default_rate, default_rate}};
+    /** Flops per second of update (its kernels' rate r), partial, full; whether each was measured. */
+    std::array<double, 3> rates    = {{update_rate_prior() * default_rate, default_rate, default_rate}};
     std::array<bool, 3>   measured = {{false, false, false}};
   };
 } // namespace warpchol::cholesky
