@@ -377,8 +377,11 @@ namespace warpchol::cholesky
                                                         RefactorizationMethod::partial;
         last_recomputed_columns = plan.columns;
       }
-    refactorization_costs.record(stats.method, stats.flops_recomputed, numeric_stopwatch.seconds(),
-                                 static_cast<unsigned int>(stats.update_rank));
+    // An update's rate in the flops its weighing predicts from (the plan's), so that what is
+    // learned predicts the next weighing.
+    refactorization_costs.record(stats.method,
+                                 stats.method == RefactorizationMethod::update ? stats.update_flops : stats.flops_recomputed,
+                                 numeric_stopwatch.seconds(), static_cast<unsigned int>(stats.update_rank));
     if (factor_is_exact())
       {
         if (exact_before && !plan.full)
@@ -434,16 +437,21 @@ namespace warpchol::cholesky
            solver_settings.change_method != ChangeMethod::recompute;
   }
 
-  SparseCholesky::UpdateWeighing SparseCholesky::weigh_update(const std::vector<Index> &rows,
-                                                              const RefreshPlan        &plan) const
+  bool SparseCholesky::may_weigh_update(const Index touched_rows) const
+  {
+    return touched_rows <= solver_settings.max_update_rows;
+  }
+
+  SparseCholesky::UpdateWeighing SparseCholesky::weigh_update(const Index             touched_rows,
+                                                              const ModificationPlan &update_plan,
+                                                              const RefreshPlan      &plan) const
   {
     UpdateWeighing weighing;
-    if (static_cast<Index>(rows.size()) > solver_settings.max_update_rows)
+    if (!may_weigh_update(touched_rows))
       return weighing;
-    const ModificationPlan update_plan = plan_modification(supernodal_structure, rows);
-    weighing.weighed                   = true;
-    weighing.rank                      = update_plan.rank;
-    weighing.update_flops              = update_plan.flops + low_rank_form_flops(update_plan.rank);
+    weighing.weighed      = true;
+    weighing.rank         = update_plan.rank;
+    weighing.update_flops = update_plan.flops + low_rank_form_flops(touched_rows);
     weighing.update_seconds  = refactorization_costs.predicted_seconds(RefactorizationMethod::update, weighing.update_flops,
                                                                        static_cast<unsigned int>(weighing.rank));
     weighing.partial_seconds = refactorization_costs.predicted_seconds(RefactorizationMethod::partial, plan.flops);
@@ -470,9 +478,13 @@ namespace warpchol::cholesky
         last_recomputed_columns.clear();
         return true;
       }
-    const UpdateWeighing weighing = weigh_update(rows, plan);
-    if (!weighing.weighed)
+    if (!may_weigh_update(static_cast<Index>(rows.size())))
       return false;
+    // The low-rank form first: its columns, not the rows, are what an update works on (a
+    // pivot raised adds a column, a row left empty drops one), and it costs little beside.
+    const LowRankChange    form        = low_rank_form(stats.n, entries);
+    const ModificationPlan update_plan = plan_modification(supernodal_structure, form.c);
+    const UpdateWeighing   weighing    = weigh_update(static_cast<Index>(rows.size()), update_plan, plan);
     stats.update_rank               = weighing.rank;
     stats.update_flops              = weighing.update_flops;
     stats.partial_flops             = plan.flops;
@@ -482,8 +494,6 @@ namespace warpchol::cholesky
     if (!weighing.update)
       return false;
 
-    const LowRankChange form = low_rank_form(stats.n, entries);
-    stats.update_rank        = form.c.n_cols;
     // If a downdate fails, the columns it changed are recomputed below (they lie on the
     // changes' paths, which the partial refactorization recomputes): no copy to restore.
     ModificationSettings settings = modification_settings();
@@ -496,7 +506,7 @@ namespace warpchol::cholesky
         stats.columns_recomputed    = result.columns;
         stats.supernodes_recomputed = result.supernodes;
         stats.method                = RefactorizationMethod::update;
-        last_recomputed_columns     = modified_columns(supernodal_structure, plan_modification(supernodal_structure, form.c));
+        last_recomputed_columns     = modified_columns(supernodal_structure, update_plan);
         ++stats.n_updates;
         return true;
       }
@@ -604,8 +614,12 @@ namespace warpchol::cholesky
     const double recompute = refactorization_costs.predicted_seconds(*method, plan.flops);
     if (!may_update(refresh, plan))
       return recompute;
-    // The values are not loaded yet: the changed columns stand for the rows they touch.
-    const UpdateWeighing weighing = weigh_update(changes, plan);
+    // The values are not loaded yet: the changed columns stand for the rows they touch,
+    // each the first row of a column of C.
+    const Index touched = static_cast<Index>(changes.size());
+    if (!may_weigh_update(touched))
+      return recompute;
+    const UpdateWeighing weighing = weigh_update(touched, plan_modification(supernodal_structure, changes), plan);
     if (!weighing.update)
       return recompute;
     *method = RefactorizationMethod::update;

@@ -525,14 +525,18 @@ namespace warpchol::cholesky
       double full_seconds    = -1;
     };
 
+    /** Whether a change touching @p touched_rows rows of A may be weighed as an update (Settings::max_update_rows). */
+    bool may_weigh_update(Index touched_rows) const;
+
     /**
      * The one rule "update or recompute", for refactorize() and predicted_seconds() alike:
-     * a change touching @p rows of C (permuted, sorted) is taken as an update if it touches
-     * at most Settings::max_update_rows rows and the update is predicted faster than
-     * recomputing @p plan (always, with ChangeMethod::update). predicted_seconds(), which
-     * sees no values yet, passes the changed columns for the rows.
+     * a change touching @p touched_rows rows of A, whose low-rank form C has the plan
+     * @p update_plan, is taken as an update if may_weigh_update() and the update is
+     * predicted faster than recomputing @p plan (always, with ChangeMethod::update).
+     * refactorize() plans C's own columns; predicted_seconds(), which sees no values yet,
+     * plans one column of C per changed column.
      */
-    UpdateWeighing weigh_update(const std::vector<Index> &rows, const RefreshPlan &plan) const;
+    UpdateWeighing weigh_update(Index touched_rows, const ModificationPlan &update_plan, const RefreshPlan &plan) const;
 
     /**
      * Take the change of A since it was factored (columns @p changes of C) as an update
