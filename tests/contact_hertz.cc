@@ -24,6 +24,7 @@
 #include <warpchol/mesh/mesh_readers.h>
 #include <warpchol/models/linear_model.h>
 
+#include "contact_tests.h"
 #include "tests.h"
 
 #include <deal.II/grid/tria.h>
@@ -137,10 +138,8 @@ int main()
 {
   dealii::Triangulation<3> triangulation;
   fem::create_triangulation(graded_block(), triangulation);
-  std::vector<bool> fixed(triangulation.n_vertices(), false);
-  for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
-    fixed[v] = triangulation.get_vertices()[v][2] == 0;
-  fem::ElasticBody body(triangulation, fem::Material{youngs_modulus, poisson_ratio, 1}, fem::MassMatrix::lumped, fixed);
+  fem::ElasticBody body(triangulation, fem::Material{youngs_modulus, poisson_ratio, 1}, fem::MassMatrix::lumped,
+                        tests::held_at_bottom(triangulation));
   std::cout << "block: " << body.n_elements() << " tetrahedra, " << body.n_vertices() << " vertices" << std::endl;
 
   const fem::Loads                   loads;

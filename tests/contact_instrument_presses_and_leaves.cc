@@ -12,6 +12,7 @@
 #include <warpchol/mesh/mesh_generators.h>
 #include <warpchol/models/corotational_model.h>
 
+#include "contact_tests.h"
 #include "tests.h"
 
 #include <deal.II/grid/tria.h>
@@ -39,10 +40,8 @@ namespace
     geometry.upper_corner = dealii::Point<3>(0.1, 0.1, 0.05);
     geometry.subdivisions = {{4, 4, 2}};
     fem::create_box(triangulation, geometry);
-    std::vector<bool> fixed(triangulation.n_vertices(), false);
-    for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
-      fixed[v] = triangulation.get_vertices()[v][2] == 0;
-    fem::ElasticBody body(triangulation, fem::Material{1e4, 0.3, 1000}, fem::MassMatrix::lumped, fixed);
+    fem::ElasticBody body(triangulation, fem::Material{1e4, 0.3, 1000}, fem::MassMatrix::lumped,
+                          tests::held_at_bottom(triangulation));
     const fem::Loads                   loads;
     cholesky::SparseCholesky::Settings solver;
     solver.method          = cholesky::FactorizationMethod::supernodal;
