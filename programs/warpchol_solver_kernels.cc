@@ -152,6 +152,81 @@ namespace
       best[k] = std::min(best[k], seconds[k]);
   }
 
+  /**
+   * Every kernel on every target and its peer in turn, R times: a slow stretch of the
+   * machine falls on all of them alike, and the ratios are of one run. Each is run once
+   * untimed first, so that each is timed with its own data in the caches, not the other's,
+   * then a few times in a row.
+   */
+  void time_on_every_target(std::vector<Measurement> &measurements, const Options &options)
+  {
+    for (Measurement &measurement : measurements)
+      measurement.best.resize(options.targets.size());
+    for (int r = 0; r < options.repeat; ++r)
+      for (Measurement &measurement : measurements)
+        {
+          if (measurement.run_peer)
+            {
+              measurement.run_peer();
+              for (int k = 0; k < runs_in_a_row; ++k)
+                keep_best(measurement.peer_best, measurement.run_peer());
+            }
+          for (std::size_t t = 0; t < options.targets.size(); ++t)
+            {
+              simd::use_target(options.targets[t]);
+              measurement.run();
+              for (int k = 0; k < runs_in_a_row; ++k)
+                keep_best(measurement.best[t], measurement.run());
+            }
+        }
+  }
+
+  /** The table: per kernel, its best milliseconds per target, default / fastest and its peer's. */
+  void print_table(const std::vector<Measurement> &measurements, const Options &options, const Index n,
+                   const std::string &default_target, const std::string &update_target)
+  {
+    const auto column_of = [&](const std::string &target) -> long {
+      const auto found = std::find(options.targets.begin(), options.targets.end(), target);
+      return found == options.targets.end() ? -1 : found - options.targets.begin();
+    };
+    std::cout << options.matrix_file << ": n " << n << ", one thread, ms (best of " << options.repeat << " x "
+              << runs_in_a_row << "); default target " << default_target << ", updates " << update_target
+              << "\n\n| kernel |";
+    for (const std::string &target : options.targets)
+      std::cout << " " << target << " |";
+    std::cout << " default / fastest | CHOLMOD | CHOLMOD / default |\n|---|";
+    for (std::size_t k = 0; k < options.targets.size(); ++k)
+      std::cout << "---:|";
+    std::cout << "---:|---:|---:|\n";
+    for (const Measurement &measurement : measurements)
+      for (std::size_t k = 0; k < measurement.kernels.size(); ++k)
+        {
+          std::cout << "| " << measurement.kernels[k] << " |";
+          double fastest = std::numeric_limits<double>::infinity();
+          for (const std::vector<double> &best : measurement.best)
+            {
+              std::cout << " " << format_number(1e3 * best[k], 3) << " |";
+              fastest = std::min(fastest, best[k]);
+            }
+          const long   default_column =
+            column_of(measurement.family == simd::Family::update ? update_target : default_target);
+          const bool   has_default     = default_column >= 0;
+          const double default_seconds = has_default ? measurement.best[default_column][k] : 0.;
+          if (has_default)
+            {
+              const double ratio = default_seconds / fastest;
+              std::cout << " " << format_number(ratio, 3) << (ratio > slow_ratio ? " slow" : "") << " |";
+            }
+          else
+            std::cout << " - |";
+          if (!measurement.peer_best.empty())
+            std::cout << " " << format_number(1e3 * measurement.peer_best[k], 3) << " | "
+                      << (has_default ? format_number(measurement.peer_best[k] / default_seconds, 3) : "-") << " |\n";
+          else
+            std::cout << " | |\n";
+        }
+  }
+
   void run(const Options &options)
   {
     simd::use_target("default");
@@ -241,70 +316,8 @@ namespace
                               {},
                               {}});
 
-    // Every kernel on every target and its peer in turn, R times: a slow stretch of the
-    // machine falls on all of them alike, and the ratios are of one run. Each is run once
-    // untimed first, so that each is timed with its own data in the caches, not the other's,
-    // then a few times in a row.
-    for (Measurement &measurement : measurements)
-      measurement.best.resize(options.targets.size());
-    for (int r = 0; r < options.repeat; ++r)
-      for (Measurement &measurement : measurements)
-        {
-          if (measurement.run_peer)
-            {
-              measurement.run_peer();
-              for (int k = 0; k < runs_in_a_row; ++k)
-                keep_best(measurement.peer_best, measurement.run_peer());
-            }
-          for (std::size_t t = 0; t < options.targets.size(); ++t)
-            {
-              simd::use_target(options.targets[t]);
-              measurement.run();
-              for (int k = 0; k < runs_in_a_row; ++k)
-                keep_best(measurement.best[t], measurement.run());
-            }
-        }
-
-    const auto column_of = [&](const std::string &target) -> long {
-      const auto found = std::find(options.targets.begin(), options.targets.end(), target);
-      return found == options.targets.end() ? -1 : found - options.targets.begin();
-    };
-    std::cout << options.matrix_file << ": n " << n << ", one thread, ms (best of " << options.repeat << " x "
-              << runs_in_a_row << "); default target " << default_target << ", updates " << update_target
-              << "\n\n| kernel |";
-    for (const std::string &target : options.targets)
-      std::cout << " " << target << " |";
-    std::cout << " default / fastest | CHOLMOD | CHOLMOD / default |\n|---|";
-    for (std::size_t k = 0; k < options.targets.size(); ++k)
-      std::cout << "---:|";
-    std::cout << "---:|---:|---:|\n";
-    for (const Measurement &measurement : measurements)
-      for (std::size_t k = 0; k < measurement.kernels.size(); ++k)
-        {
-          std::cout << "| " << measurement.kernels[k] << " |";
-          double fastest = std::numeric_limits<double>::infinity();
-          for (const std::vector<double> &best : measurement.best)
-            {
-              std::cout << " " << format_number(1e3 * best[k], 3) << " |";
-              fastest = std::min(fastest, best[k]);
-            }
-          const long   default_column =
-            column_of(measurement.family == simd::Family::update ? update_target : default_target);
-          const bool   has_default     = default_column >= 0;
-          const double default_seconds = has_default ? measurement.best[default_column][k] : 0.;
-          if (has_default)
-            {
-              const double ratio = default_seconds / fastest;
-              std::cout << " " << format_number(ratio, 3) << (ratio > slow_ratio ? " slow" : "") << " |";
-            }
-          else
-            std::cout << " - |";
-          if (!measurement.peer_best.empty())
-            std::cout << " " << format_number(1e3 * measurement.peer_best[k], 3) << " | "
-                      << (has_default ? format_number(measurement.peer_best[k] / default_seconds, 3) : "-") << " |\n";
-          else
-            std::cout << " | |\n";
-        }
+    time_on_every_target(measurements, options);
+    print_table(measurements, options, n, default_target, update_target);
   }
 } // namespace
 

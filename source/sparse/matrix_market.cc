@@ -112,111 +112,130 @@ namespace warpchol::sparse
     return read_matrix_market(stream, filename);
   }
 
-  CSCMatrix read_matrix_market(std::istream &stream, const std::string &name)
+  namespace
   {
-    std::string line;
-    long        line_number = 0;
-
-    // Banner: %%MatrixMarket matrix coordinate <field> <symmetry>
-    if (!std::getline(stream, line))
-      throw InputError(at(name, 1) + "empty file, expected a %%MatrixMarket banner");
-    ++line_number;
+    /** Where the reader is: the stream, its name in messages, the last line read and its number. */
+    struct MatrixMarketReader
     {
-      std::istringstream banner(line);
-      std::string        tag, object, format, field, symmetry;
-      banner >> tag >> object >> format >> field >> symmetry;
-      if (tag != "%%MatrixMarket")
-        throw InputError(at(name, line_number) + "expected '%%MatrixMarket' banner, found " +
-                         quote(line));
-      object   = lowercase(object);
-      format   = lowercase(format);
-      field    = lowercase(field);
-      symmetry = lowercase(symmetry);
-      if (object != "matrix")
-        throw InputError(at(name, line_number) + "object " + quote(object) +
-                         " is not supported (only 'matrix')");
-      if (format != "coordinate")
-        throw InputError(at(name, line_number) + "format " + quote(format) +
-                         " is not supported (only 'coordinate')");
-      if (field != "real" && field != "integer" && field != "double")
-        throw InputError(at(name, line_number) + "field " + quote(field) +
-                         " is not supported (only 'real' or 'integer')");
-      if (symmetry != "general" && symmetry != "symmetric")
-        throw InputError(at(name, line_number) + "symmetry " + quote(symmetry) +
-                         " is not supported (only 'general' or 'symmetric')");
-      stream.clear();
-      const bool symmetric = symmetry == "symmetric";
+      std::istream      &stream;
+      const std::string &name;
+      std::string        line;
+      long               line_number = 0;
 
-      // Size line, after comments and blank lines.
-      Index n_rows = -1, n_cols = -1, n_entries = -1;
-      while (std::getline(stream, line))
-        {
-          ++line_number;
-          if (line.empty() || line[0] == '%' || is_blank(line))
-            continue;
-          std::istringstream size_line(line);
-          std::string        rest;
-          if (!(size_line >> n_rows >> n_cols >> n_entries) || (size_line >> rest) ||
-              n_rows < 0 || n_cols < 0 || n_entries < 0)
-            throw InputError(at(name, line_number) +
-                             "expected 'ROWS COLUMNS ENTRIES' (three non-negative integers)");
-          break;
-        }
-      if (n_rows < 0)
-        throw InputError(at(name, line_number) + "missing size line");
-      if (symmetric && n_rows != n_cols)
-        throw InputError(at(name, line_number) + "a symmetric matrix must be square, got " +
-                         std::to_string(n_rows) + "x" + std::to_string(n_cols));
+      bool next_line()
+      {
+        if (!std::getline(stream, line))
+          return false;
+        ++line_number;
+        return true;
+      }
 
-      check_size_line(stream, at(name, line_number), n_cols, n_entries);
-      std::vector<Triplet> triplets;
-      triplets.reserve(n_entries);
-      while (static_cast<Index>(triplets.size()) < n_entries && std::getline(stream, line))
-        {
-          ++line_number;
-          if (line.empty() || line[0] == '%' || is_blank(line))
-            continue;
-          std::istringstream entry(line);
-          Index              i = 0, j = 0;
-          std::string        value_text, rest;
-          if (!(entry >> i >> j >> value_text) || (entry >> rest))
-            throw InputError(at(name, line_number) + "expected 'ROW COLUMN VALUE', found " +
-                             quote(line));
-          if (i < 1 || i > n_rows || j < 1 || j > n_cols)
-            throw InputError(at(name, line_number) + "entry (" + std::to_string(i) + "," +
-                             std::to_string(j) + ") outside the " + std::to_string(n_rows) +
-                             "x" + std::to_string(n_cols) + " matrix");
-          char        *end   = nullptr;
-          const double value = std::strtod(value_text.c_str(), &end);
-          if (end == value_text.c_str() || *end != '\0')
-            throw InputError(at(name, line_number) + "value " + quote(value_text) +
-                             " is not a number");
-          if (!std::isfinite(value))
-            throw InputError(at(name, line_number) + "value " + quote(value_text) + " is not finite");
-          --i;
-          --j;
-          if (symmetric && i < j)
-            std::swap(i, j); // mirror an upper entry into the lower triangle
-          triplets.push_back({i, j, value});
-        }
-      if (static_cast<Index>(triplets.size()) < n_entries)
-        throw InputError(at(name, line_number) + "file ends after " +
-                         std::to_string(triplets.size()) + " of " + std::to_string(n_entries) +
-                         " entries");
-      while (std::getline(stream, line))
-        {
-          ++line_number;
-          if (!(line.empty() || line[0] == '%' || is_blank(line)))
-            throw InputError(at(name, line_number) + "more entries than the " +
-                             std::to_string(n_entries) + " announced");
-        }
+      bool is_comment_or_blank() const
+      {
+        return line.empty() || line[0] == '%' || is_blank(line);
+      }
 
-      // Sort by (column, row) and sum repeated entries.
+      [[noreturn]] void fail(const std::string &why) const
+      {
+        throw InputError(at(name, line_number) + why);
+      }
+
+      /** The banner %%MatrixMarket matrix coordinate FIELD SYMMETRY: whether it says symmetric. */
+      bool read_banner()
+      {
+        if (!next_line())
+          throw InputError(at(name, 1) + "empty file, expected a %%MatrixMarket banner");
+        std::istringstream banner(line);
+        std::string        tag, object, format, field, symmetry;
+        banner >> tag >> object >> format >> field >> symmetry;
+        if (tag != "%%MatrixMarket")
+          fail("expected '%%MatrixMarket' banner, found " + quote(line));
+        object   = lowercase(object);
+        format   = lowercase(format);
+        field    = lowercase(field);
+        symmetry = lowercase(symmetry);
+        if (object != "matrix")
+          fail("object " + quote(object) + " is not supported (only 'matrix')");
+        if (format != "coordinate")
+          fail("format " + quote(format) + " is not supported (only 'coordinate')");
+        if (field != "real" && field != "integer" && field != "double")
+          fail("field " + quote(field) + " is not supported (only 'real' or 'integer')");
+        if (symmetry != "general" && symmetry != "symmetric")
+          fail("symmetry " + quote(symmetry) + " is not supported (only 'general' or 'symmetric')");
+        stream.clear();
+        return symmetry == "symmetric";
+      }
+
+      /** The size line ROWS COLUMNS ENTRIES, after comments and blank lines. */
+      void read_size_line(const bool symmetric, Index &n_rows, Index &n_cols, Index &n_entries)
+      {
+        n_rows = n_cols = n_entries = -1;
+        while (next_line())
+          {
+            if (is_comment_or_blank())
+              continue;
+            std::istringstream size_line(line);
+            std::string        rest;
+            if (!(size_line >> n_rows >> n_cols >> n_entries) || (size_line >> rest) || n_rows < 0 || n_cols < 0 ||
+                n_entries < 0)
+              fail("expected 'ROWS COLUMNS ENTRIES' (three non-negative integers)");
+            break;
+          }
+        if (n_rows < 0)
+          fail("missing size line");
+        if (symmetric && n_rows != n_cols)
+          fail("a symmetric matrix must be square, got " + std::to_string(n_rows) + "x" + std::to_string(n_cols));
+        check_size_line(stream, at(name, line_number), n_cols, n_entries);
+      }
+
+      /** The @p n_entries entries (0-based; a symmetric matrix's mirrored into the lower triangle), then nothing but comments. */
+      std::vector<Triplet> read_entries(const bool symmetric, const Index n_rows, const Index n_cols,
+                                        const Index n_entries)
+      {
+        std::vector<Triplet> triplets;
+        triplets.reserve(n_entries);
+        while (static_cast<Index>(triplets.size()) < n_entries && next_line())
+          {
+            if (is_comment_or_blank())
+              continue;
+            std::istringstream entry(line);
+            Index              i = 0, j = 0;
+            std::string        value_text, rest;
+            if (!(entry >> i >> j >> value_text) || (entry >> rest))
+              fail("expected 'ROW COLUMN VALUE', found " + quote(line));
+            if (i < 1 || i > n_rows || j < 1 || j > n_cols)
+              fail("entry (" + std::to_string(i) + "," + std::to_string(j) + ") outside the " +
+                   std::to_string(n_rows) + "x" + std::to_string(n_cols) + " matrix");
+            char        *end   = nullptr;
+            const double value = std::strtod(value_text.c_str(), &end);
+            if (end == value_text.c_str() || *end != '\0')
+              fail("value " + quote(value_text) + " is not a number");
+            if (!std::isfinite(value))
+              fail("value " + quote(value_text) + " is not finite");
+            --i;
+            --j;
+            if (symmetric && i < j)
+              std::swap(i, j); // mirror an upper entry into the lower triangle
+            triplets.push_back({i, j, value});
+          }
+        if (static_cast<Index>(triplets.size()) < n_entries)
+          fail("file ends after " + std::to_string(triplets.size()) + " of " + std::to_string(n_entries) +
+               " entries");
+        while (next_line())
+          if (!is_comment_or_blank())
+            fail("more entries than the " + std::to_string(n_entries) + " announced");
+        return triplets;
+      }
+    };
+
+    /** The CSC matrix of @p triplets, sorted by (column, row), repeated entries summed. */
+    CSCMatrix from_triplets(std::vector<Triplet> &triplets, const Index n_rows, const Index n_cols,
+                            const Storage storage)
+    {
       std::sort(triplets.begin(), triplets.end(), [](const Triplet &a, const Triplet &b) {
         return std::tie(a.column, a.row) < std::tie(b.column, b.row);
       });
-      CSCMatrix matrix =
-        CSCMatrix::zero(n_rows, n_cols, symmetric ? Storage::lower : Storage::full);
+      CSCMatrix matrix = CSCMatrix::zero(n_rows, n_cols, storage);
       for (std::size_t t = 0; t < triplets.size(); ++t)
         {
           const Triplet &entry = triplets[t];
@@ -233,6 +252,16 @@ namespace warpchol::sparse
         matrix.column_start[j + 1] += matrix.column_start[j];
       return matrix;
     }
+  } // namespace
+
+  CSCMatrix read_matrix_market(std::istream &stream, const std::string &name)
+  {
+    MatrixMarketReader reader{stream, name, {}, 0};
+    const bool         symmetric = reader.read_banner();
+    Index              n_rows, n_cols, n_entries;
+    reader.read_size_line(symmetric, n_rows, n_cols, n_entries);
+    std::vector<Triplet> triplets = reader.read_entries(symmetric, n_rows, n_cols, n_entries);
+    return from_triplets(triplets, n_rows, n_cols, symmetric ? Storage::lower : Storage::full);
   }
 
   CSCMatrix read_symmetric_matrix_market(const std::string &filename)
