@@ -159,6 +159,43 @@ namespace warpchol::fem
     step_arena->execute([&] { advance_step(statistics); });
   }
 
+  std::vector<Vector3> ImplicitEuler::right_hand_side(const double new_time, StepStatistics &statistics) const
+  {
+    std::vector<Vector3> tool_forces;
+    if (!loads.tool.vertices.empty())
+      {
+        StageTimer    timer(statistics.stages, stage::tool_springs);
+        const Vector3 offset = loads.tool.target_offset(new_time);
+        for (const unsigned int i : loads.tool.vertices)
+          tool_forces.push_back(loads.tool.stiffness * (body.rest_positions()[i] + offset - x[i]));
+      }
+    StageTimer           timer(statistics.stages, stage::right_hand_side);
+    std::vector<Vector3> result(body.n_vertices(), Vector3::Zero());
+    std::vector<Vector3> forces = constant_forces;
+    model.add_elastic_forces(x, forces);
+    for (std::size_t k = 0; k < tool_forces.size(); ++k)
+      forces[loads.tool.vertices[k]] += tool_forces[k];
+    operations.add_spring_forces(x, new_time, forces);
+    body.add_mass_times(v, result);
+    for (unsigned int i = 0; i < body.n_vertices(); ++i)
+      result[i] += time_step * forces[i];
+    return result;
+  }
+
+  std::vector<Vector3> ImplicitEuler::initial_guess(StepStatistics &statistics) const
+  {
+    std::vector<Vector3> guess;
+    if (model.solves_iteratively())
+      {
+        StageTimer timer(statistics.stages, stage::initial_guess);
+        guess = v;
+        if (!previous_v.empty())
+          for (unsigned int i = 0; i < body.n_vertices(); ++i)
+            guess[i] += v[i] - previous_v[i];
+      }
+    return guess;
+  }
+
   void ImplicitEuler::advance_step(StepStatistics &statistics)
   {
     const unsigned int step     = steps_done + 1;
@@ -186,43 +223,11 @@ namespace warpchol::fem
         throw MatrixError("step " + std::to_string(step) + ": " + error.what());
       }
 
-    // rhs = M v + dt (f_ext + f_el(x) + k (target(t + dt) - x)). Rayleigh damping adds
-    // nothing here: in velocity form it lies in A alone (its coefficients c_M and c_K).
-    std::vector<Vector3> tool_forces;
-    if (!loads.tool.vertices.empty())
-      {
-        StageTimer    timer(statistics.stages, stage::tool_springs);
-        const Vector3 offset = loads.tool.target_offset(new_time);
-        for (const unsigned int i : loads.tool.vertices)
-          tool_forces.push_back(loads.tool.stiffness * (body.rest_positions()[i] + offset - x[i]));
-      }
-    std::vector<Vector3> right_hand_side(body.n_vertices(), Vector3::Zero());
-    {
-      StageTimer           timer(statistics.stages, stage::right_hand_side);
-      std::vector<Vector3> forces = constant_forces;
-      model.add_elastic_forces(x, forces);
-      for (std::size_t k = 0; k < tool_forces.size(); ++k)
-        forces[loads.tool.vertices[k]] += tool_forces[k];
-      operations.add_spring_forces(x, new_time, forces);
-      body.add_mass_times(v, right_hand_side);
-      for (unsigned int i = 0; i < body.n_vertices(); ++i)
-        right_hand_side[i] += time_step * forces[i];
-    }
-
-    // The initial guess of an iterative solve: the velocities extrapolated linearly from
-    // the last two steps (the last ones in the first step). A direct solve needs none.
-    std::vector<Vector3> new_velocities;
-    if (model.solves_iteratively())
-      {
-        StageTimer timer(statistics.stages, stage::initial_guess);
-        new_velocities = v;
-        if (!previous_v.empty())
-          for (unsigned int i = 0; i < body.n_vertices(); ++i)
-            new_velocities[i] += v[i] - previous_v[i];
-      }
+    const std::vector<Vector3> rhs            = right_hand_side(new_time, statistics);
+    std::vector<Vector3>       new_velocities = initial_guess(statistics);
     try
       {
-        model.solve(right_hand_side, new_velocities, statistics);
+        model.solve(rhs, new_velocities, statistics);
         // The free motion's velocities corrected by the contacts' impulses.
         if (contact_constraints)
           contact_constraints->correct(body, model, x, new_velocities, current_time, time_step, statistics);

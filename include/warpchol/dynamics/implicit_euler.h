@@ -226,6 +226,18 @@ namespace warpchol::fem
     /** The step itself: advance() runs it on the threads the model allows. */
     void advance_step(StepStatistics &statistics);
 
+    /**
+     * The step's right-hand side M v + dt (f_ext + f_el(x) + k (target(@p new_time) - x)).
+     * Rayleigh damping adds nothing here: in velocity form it lies in A alone.
+     */
+    std::vector<Vector3> right_hand_side(double new_time, StepStatistics &statistics) const;
+
+    /**
+     * The initial guess of an iterative solve: the velocities extrapolated linearly from
+     * the last two steps (the last ones in the first step); empty for a direct solve.
+     */
+    std::vector<Vector3> initial_guess(StepStatistics &statistics) const;
+
     ElasticBody         &body;
     ElasticityModel     &model;
     const Loads          loads;
