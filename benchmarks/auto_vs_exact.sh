@@ -47,7 +47,7 @@ subsection Time stepping
 end
 subsection Model
   set Type             = warp_canceling
-  set Update threshold = 1
+  set Rerotation threshold = 1
   set Strategy         = auto
   set CG tolerance     = 1e-3
 end
@@ -153,7 +153,7 @@ include $prm
 subsection Model
   set Type             = warp_canceling
   set Strategy         = $3
-  set Update threshold = $4
+  set Rerotation threshold = $4
   set Target error     = 0
   set Iterate on       = corotational
 end

@@ -24,7 +24,7 @@ export OMP_THREAD_LIMIT=1 OPENBLAS_NUM_THREADS=1
 
 for scene in $scenes; do
   echo "== $scene"
-  # warpchol: WCC partial (direct), its preconditioned strategies with and without updates,
+  # warpchol: WCC partial (direct), its preconditioned strategies with and without re-rotations,
   # a target error of 1 %; the peers: the direct ones and the iterative ones at a tight and
   # a loose tolerance.
   "$build/warpchol-threshold-sweep" "parameters/$scene.prm" --threads 1 --thresholds 0.3,1 \

@@ -42,7 +42,7 @@ small='subsection Mesh
 end'
 wcc='subsection Model
   set Type = warp_canceling
-  set Update threshold = 0.3
+  set Rerotation threshold = 0.3
 end'
 mumps='subsection Distributed
   set Linear solver = mumps

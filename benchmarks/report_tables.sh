@@ -3,7 +3,7 @@
 # project's solver, the report's own figures beside ours:
 #   5.1  bcsstk16 and the fine torus matrix: up-, left-looking (and supernodal) factorization
 #        with the natural, AMD and METIS orderings: nnz(L), fill, time, residual, CHOLMOD;
-#   5.4  torus_pull_fine (WCC, partial strategy) per step: elements updated, columns and
+#   5.4  torus_pull_fine (WCC, partial strategy) per step: elements re-rotated, columns and
 #        flops recomputed, partial against full refactorization, cost of the error estimate.
 #
 #   sh benchmarks/report_tables.sh    # about 6 minutes on 2 cores; writes doc/report_tables/
@@ -230,7 +230,7 @@ run_scene() {
     printf 'subsection Mesh\n  set File = %s\nend\n' "$root/parameters/$torus_mesh"
     printf 'subsection Time stepping\n  set Number of steps = %s\nend\n' "$5"
     printf 'subsection Model\n  set Type = %s\n  set Strategy = partial\n' "$4"
-    [ $# -lt 6 ] || printf '  set Update threshold = %s\n' "$6"
+    [ $# -lt 6 ] || printf '  set Rerotation threshold = %s\n' "$6"
     printf 'end\nsubsection Solver\n  set Ordering = %s\n  set Method = %s\n  set Threads = 1\nend\n' "$2" "$3"
     printf 'subsection Output\n  set Directory = %s\n  set Scene = %s\n' "$work" "$1"
     printf '  set VTU interval = 0\n  set Write log = true\n  set Progress = off\nend\n'
@@ -259,7 +259,7 @@ step_log_rows() {
     }
     {
       s = field("step"); refactorized[s] = field("refactorized")
-      elements[s] = field("elements_updated_pct"); columns[s] = field("columns_recomputed_pct")
+      elements[s] = field("elements_rerotated_pct"); columns[s] = field("columns_recomputed_pct")
       flops[s] = field("flops_recomputed_pct"); partial[s] = field("t_factor")
       estimate[s] = field("t_error_estimate"); step_time[s] = field("t_step")
     }
@@ -305,7 +305,7 @@ step_log_rows() {
 
 # The scene's solver (METIS, supernodal) and the report's (AMD, column-by-column
 # left-looking), each at threshold 1 (the scene's until issue 26, which moved it to inf,
-# where WCC updates nothing) and at 0.3, where about as many elements are updated per
+# where WCC re-rotates nothing) and at 0.3, where about as many elements are re-rotated per
 # step as in the report's run (1-6 %).
 threshold=1
 solvers="metis:supernodal amd:left"
@@ -343,8 +343,8 @@ is the median of the 20 factorizations of two exact corotational runs of the sam
 and solver, 10 steps just before and 10 just after it, so that both see about the same
 load of the machine.
 
-Columns: **elements updated** the share of tets whose contribution to A was recomputed
-(\`elements_updated_pct\`); **columns** and **flops** the share of the columns of L and of
+Columns: **elements re-rotated** the share of tets whose contribution to A was recomputed
+(\`elements_rerotated_pct\`); **columns** and **flops** the share of the columns of L and of
 the flops of a full factorization that the partial refactorization recomputed
 (\`columns_recomputed_pct\`, \`flops_recomputed_pct\`); **partial** the seconds of the
 partial refactorization (\`t_factor\`) and **/ full** over a full one; **estimate** the
@@ -359,7 +359,7 @@ column. Medians are over the listed steps or over every step of ours that refact
 
 ## Summary: medians over the steps that refactorized
 
-| solver, threshold | elements updated | columns | flops | partial (s) | full (s) | partial / full | estimate (s) | estimate / step | estimate / full | step (s) | step / corotational step |
+| solver, threshold | elements re-rotated | columns | flops | partial (s) | full (s) | partial / full | estimate (s) | estimate / step | estimate / full | step (s) | step / corotational step |
 |---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|
 EOF
     for solver in $solvers; do
@@ -384,7 +384,7 @@ EOF
         echo "Full factorization: $(step_log_rows full "" "$work/corotational_${ordering}_${method}_$t.csv" \
           "$work/wcc_${ordering}_${method}_$t/log.csv")."
         echo
-        echo "| step | elements updated | columns | flops | partial (s) | / full | estimate (s) | / step | *report* elements | *report* columns | *report* partial (s) | *report* / full | *report* estimate (s) |"
+        echo "| step | elements re-rotated | columns | flops | partial (s) | / full | estimate (s) | / step | *report* elements | *report* columns | *report* partial (s) | *report* / full | *report* estimate (s) |"
         echo "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"
         step_log_rows steps "" "$work/corotational_${ordering}_${method}_$t.csv" "$work/wcc_${ordering}_${method}_$t/log.csv"
       done

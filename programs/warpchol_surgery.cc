@@ -204,7 +204,7 @@ namespace
   {
     app::AllParameters parameters      = scene_parameters;
     parameters.model.type              = fem::ModelType::warp_canceling;
-    parameters.model.update_threshold  = std::numeric_limits<double>::infinity();
+    parameters.model.rerotation_threshold  = std::numeric_limits<double>::infinity();
     parameters.model.target_error      = 0;
     parameters.model.strategy.kind     = fem::StepStrategy::Kind::partial;
     parameters.solver.backend.backend  = backends::Backend::warpchol;

@@ -1,6 +1,6 @@
 /**
  * warpchol-threshold-sweep: run a scene with warp-canceling corotation for a list of
- * update thresholds and step strategies, and compare each run with the exact corotational
+ * re-rotation thresholds and step strategies, and compare each run with the exact corotational
  * one: the trajectory error against the run time (DESIGN.md section 5), as a table, a
  * CSV file and a plot (PNG, drawn by gnuplot from a script written beside the CSV), with
  * the per-phase split of a step and the cost per element of the element kernels (ns per
@@ -200,7 +200,7 @@ namespace
     app::SweepRow row;
     row.model     = row_name(parameters);
     row.threshold = parameters.model.target_error > 0 ? parameters.model.target_error :
-                                                         parameters.model.update_threshold;
+                                                         parameters.model.rerotation_threshold;
     row.has_threshold = parameters.model.type == fem::ModelType::warp_canceling &&
                         parameters.model.strategy.kind != fem::StepStrategy::Kind::background;
     if (backends::iterates(parameters.solver.backend.backend))
@@ -224,7 +224,7 @@ namespace
           }
         row.seconds += stopwatch.seconds();
         ++row.steps;
-        row.elements_updated += 100.0 * statistics.elements_updated / scene.body().n_elements();
+        row.elements_rerotated += 100.0 * statistics.elements_rerotated / scene.body().n_elements();
         if (statistics.refactorized)
           row.flops_recomputed += 100.0 * statistics.flops_recomputed / statistics.flops_full;
         row.cg_iterations += statistics.cg_iterations;
@@ -243,7 +243,7 @@ namespace
       }
     if (row.steps > 0)
       {
-        row.elements_updated /= row.steps;
+        row.elements_rerotated /= row.steps;
         row.flops_recomputed /= row.steps;
         row.cg_iterations /= row.steps;
       }
@@ -284,7 +284,7 @@ namespace
       {
         app::AllParameters wcc     = parameters;
         wcc.model.type             = fem::ModelType::warp_canceling;
-        wcc.model.update_threshold = threshold;
+        wcc.model.rerotation_threshold = threshold;
         wcc.model.target_error     = 0; // a fixed threshold, whatever the scene says
         wcc.model.strategy.kind    = fem::StepStrategy::Kind::partial;
         runs.push_back(wcc);
@@ -294,7 +294,7 @@ namespace
         {
           app::AllParameters wcc     = parameters;
           wcc.model.type             = fem::ModelType::warp_canceling;
-          wcc.model.update_threshold = threshold;
+          wcc.model.rerotation_threshold = threshold;
           wcc.model.target_error     = 0;
           wcc.model.strategy.kind    = kind;
           wcc.model.strategy.iterate_on = fem::StepStrategy::Target::corotational;
@@ -320,7 +320,7 @@ namespace
       {
         app::AllParameters wcc     = parameters;
         wcc.model.type             = fem::ModelType::warp_canceling;
-        wcc.model.update_threshold = 0.3;
+        wcc.model.rerotation_threshold = 0.3;
         wcc.model.target_error     = target;
         wcc.model.strategy.kind    = fem::StepStrategy::Kind::partial;
         runs.push_back(wcc);

@@ -4,8 +4,8 @@
     xvfb-run -a python/render_run.py output/torus_pull/torus_pull.pvd
 
 reads the VTU files the PVD lists (written by build/warpchol: per vertex displacement,
-velocity and, in a scene with cuts or grasps, grasped; per cell updated,
-steps_since_update, error_estimate, body, removed and cut_step), draws the body in its
+velocity and, in a scene with cuts or grasps, grasped; per cell rerotated,
+steps_since_rerotation, error_estimate, body, removed and cut_step), draws the body in its
 deformed shape coloured by a field, hides the cells a cut removed, marks the grasped
 vertices, draws the obstacles of a scene with contact (part 1 of the PVD), and writes
 
@@ -142,7 +142,7 @@ def import_vtk():
 # Fields that belong to cells. deal.II's DataOut (VTU precision = float32, the default)
 # writes every cell with vertices of its own and its cell fields as values at those
 # vertices; warpchol's own float64 files write each vertex once and cell fields per cell.
-CELL_FIELDS = ("updated", "steps_since_update", "error_estimate", "body", "removed", "cut_step")
+CELL_FIELDS = ("rerotated", "steps_since_rerotation", "error_estimate", "body", "removed", "cut_step")
 
 
 class Run:
@@ -312,8 +312,8 @@ FIELD_TITLES = {
     "displacement": "displacement magnitude (m)",
     "velocity": "speed (m/s)",
     "stress": "von Mises stress (Pa)",
-    "updated": "element re-assembled by WCC in this step",
-    "steps_since_update": "steps since the element was re-assembled",
+    "rerotated": "element re-assembled by WCC in this step",
+    "steps_since_rerotation": "steps since the element was re-assembled",
     "error_estimate": "WCC error estimate of the element (relative)",
     "cut_step": "step of the cut (-1: not cut)",
     "grasped": "vertex grasped",
@@ -321,7 +321,7 @@ FIELD_TITLES = {
 }
 
 # Fields of two values, drawn in two colours with a name each.
-TWO_VALUES = {"updated": ("not updated", "updated"), "grasped": ("free", "grasped")}
+TWO_VALUES = {"rerotated": ("not re-rotated", "re-rotated"), "grasped": ("free", "grasped")}
 
 
 def field_title(field):
@@ -659,7 +659,7 @@ def arguments(argv):
     parser.add_argument("pvd", help="the run's PVD file, output/SCENE/SCENE.pvd")
     parser.add_argument("--field", default="displacement",
                         help="colour by: displacement (default), velocity, stress (von Mises, "
-                             "needs --prm), updated, steps_since_update, error_estimate, "
+                             "needs --prm), rerotated, steps_since_rerotation, error_estimate, "
                              "cut_step, or any field of the VTU files")
     parser.add_argument("--prm", help="the scene's parameter file (its Material: E and nu "
                                       "for --field stress)")

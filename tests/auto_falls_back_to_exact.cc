@@ -8,14 +8,14 @@
 // pay; over runs of 1000 and 10000 steps that lose by 30 % throughout, the steps before the
 // first fall-back and the retries cost under 1 % (2 % over 100 steps).
 //
-// Then on scenes. Where nothing pays (every element's error over the update threshold, so
-// every step updates all of them, and CG to 1e-10: no step of auto's own is cheaper than an
+// Then on scenes. Where nothing pays (every element's error over the re-rotation threshold, so
+// every step re-rotates all of them, and CG to 1e-10: no step of auto's own is cheaper than an
 // exact one, each pays the error estimate and the iterations on top) auto falls back, and
 // a step of the fall-back runs the stages of the exact path's step (the corotational
 // model's), no more: no error estimate, no initial guess of CG; the first own step after a
 // stretch (1100 steps: longer than the longest) is an exact one (it makes A WCC's again).
 // The trajectory is the exact path's to within CG's tolerance. Where its own steps pay clearly (the fine torus, 14625 tets, at
-// threshold inf: no element updated, CG on the corotational matrix, about a fifth of an
+// threshold inf: no element re-rotated, CG on the corotational matrix, about a fifth of an
 // exact step) it does not fall back. Decisions on measured seconds: the scenes are built so
 // that the margins are wide.
 
@@ -204,12 +204,12 @@ int main()
 
   const Run exact  = run("exact.prm",
                         tests::small_torus_scene("  set Type = warp_canceling\n"
-                                                 "  set Update threshold = 0\n"),
+                                                 "  set Rerotation threshold = 0\n"),
                         steps);
   const Run losing = run("losing.prm",
                          tests::small_torus_scene("  set Type = warp_canceling\n"
                                                   "  set Strategy = auto\n"
-                                                  "  set Update threshold = 1e-12\n"
+                                                  "  set Rerotation threshold = 1e-12\n"
                                                   "  set CG tolerance = 1e-10\n"),
                          steps, corotational_stages);
   tests::check("  where nothing pays, auto runs exact steps on most steps", losing.exact_choices >= steps / 2);
@@ -228,7 +228,7 @@ int main()
                          "end\n" +
                            tests::without_subsection(tests::small_torus_scene("  set Type = warp_canceling\n"
                                                                               "  set Strategy = auto\n"
-                                                                              "  set Update threshold = inf\n"),
+                                                                              "  set Rerotation threshold = inf\n"),
                                                      "Mesh"),
                          30);
   // Under the sanitizers the error estimate, the element pass and CG (the project's code,

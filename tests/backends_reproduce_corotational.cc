@@ -21,7 +21,7 @@ namespace
   }
 
   const std::string corotational = "  set Type = corotational\n";
-  const std::string wcc          = "  set Type = warp_canceling\n  set Update threshold = 0.3\n";
+  const std::string wcc          = "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n";
 } // namespace
 
 int main()

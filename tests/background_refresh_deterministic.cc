@@ -63,7 +63,7 @@ int main()
   const warpchol::app::Scene rest_scene{warpchol::app::AllParameters("corotational.prm")};
   const auto &rest = rest_scene.body().rest_positions();
   const Run stale = run("stale.prm",
-                        scene("  set Type = warp_canceling\n  set Update threshold = inf\n  set Strategy = "
+                        scene("  set Type = warp_canceling\n  set Rerotation threshold = inf\n  set Strategy = "
                               "preconditioned\n  set CG tolerance = 1e-11\n", 1),
                         steps);
 

@@ -99,8 +99,8 @@ int main()
   run_scene("energy growth limit below 1", "growth_limit.prm", scene("subsection Time stepping\n  set Energy growth limit = 0.5\nend\n"));
   run_scene("angular velocity of 2 components", "angular_velocity.prm", scene("subsection Initial state\n  set Angular velocity = 1, 2\nend\n"));
   run_scene("box grading below 1", "box_grading.prm", scene("subsection Mesh\n  set Source = box\n  set Box grading = 0.5\nend\n"));
-  run_scene("threshold not a number", "threshold_text.prm", scene("subsection Model\n  set Update threshold = often\nend\n"));
-  run_scene("negative threshold", "threshold_negative.prm", scene("subsection Model\n  set Update threshold = -1\nend\n"));
+  run_scene("threshold not a number", "threshold_text.prm", scene("subsection Model\n  set Rerotation threshold = often\nend\n"));
+  run_scene("negative threshold", "threshold_negative.prm", scene("subsection Model\n  set Rerotation threshold = -1\nend\n"));
   run_scene("unknown model", "unknown_model.prm", scene("subsection Model\n  set Type = magic\nend\n"));
   run_scene("unknown step strategy", "unknown_strategy.prm", scene("subsection Model\n  set Strategy = fastest\nend\n"));
   run_scene("unknown iteration target", "unknown_target.prm", scene("subsection Model\n  set Iterate on = linear\nend\n"));
@@ -108,22 +108,22 @@ int main()
             scene("subsection Model\n  set Strategy = delayed_top\nend\nsubsection Solver\n  set Method = left\nend\n"));
   run_scene("CG tolerance 0", "zero_tolerance.prm", scene("subsection Model\n  set CG tolerance = 0\nend\n"));
   run_scene("target error from an infinite threshold", "target_infinite.prm",
-            scene("subsection Model\n  set Update threshold = inf\n  set Target error = 0.01\nend\n"));
+            scene("subsection Model\n  set Rerotation threshold = inf\n  set Target error = 0.01\nend\n"));
   run_scene("target error with CG on the corotational matrix", "target_cg.prm",
             scene("subsection Model\n  set Strategy = preconditioned\n  set Target error = 0.01\nend\n"));
   run_scene("too few thresholds for the bodies", "bodies_thresholds.prm",
             scene("subsection Bodies\n  set Number of bodies = 3\n  set Spacing = 1, 0, 0\n"
-                  "  set Update thresholds = 0, inf\nend\n"));
+                  "  set Rerotation thresholds = 0, inf\nend\n"));
   run_scene("a body's threshold not a number", "bodies_threshold_text.prm",
             scene("subsection Bodies\n  set Number of bodies = 2\n  set Spacing = 1, 0, 0\n"
-                  "  set Update thresholds = 0, often\nend\n"));
+                  "  set Rerotation thresholds = 0, often\nend\n"));
   run_scene("an unknown model for a body", "bodies_model.prm",
             scene("subsection Bodies\n  set Number of bodies = 2\n  set Spacing = 1, 0, 0\n"
                   "  set Models = linear, magic\nend\n"));
   run_scene("a target error from a body's infinite threshold", "bodies_target.prm",
-            scene("subsection Model\n  set Update threshold = 0.3\n  set Target error = 0.01\nend\n"
+            scene("subsection Model\n  set Rerotation threshold = 0.3\n  set Target error = 0.01\nend\n"
                   "subsection Bodies\n  set Number of bodies = 2\n  set Spacing = 1, 0, 0\n"
-                  "  set Update thresholds = 0.3, inf\nend\n"));
+                  "  set Rerotation thresholds = 0.3, inf\nend\n"));
   run_scene("bodies on top of each other", "bodies_spacing.prm",
             scene("subsection Bodies\n  set Number of bodies = 2\nend\n"));
   run_scene("unknown ordering", "unknown_ordering.prm", scene("subsection Solver\n  set Ordering = random\nend\n"));

@@ -18,7 +18,7 @@ namespace
 
   std::string scene(const std::string &extra)
   {
-    std::string text = tests::small_torus_scene("  set Type = warp_canceling\n  set Update threshold = 0.3\n");
+    std::string text = tests::small_torus_scene("  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n");
     return text + "subsection Time stepping\n  set Number of steps = 10\nend\n" + output + extra;
   }
 

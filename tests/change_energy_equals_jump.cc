@@ -87,7 +87,7 @@ namespace
 int main()
 {
   for (const auto &[name, model] : std::vector<std::pair<std::string, std::string>>{
-         {"warp_canceling", "  set Type = warp_canceling\n  set Update threshold = 0.3\n"},
+         {"warp_canceling", "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n"},
          {"corotational", "  set Type = corotational\n"},
          {"linear", "  set Type = linear\n"}})
     {

@@ -5,7 +5,7 @@
 // preconditioned: CG on the exact corotational matrix, the factor of A only its
 // preconditioner) W from the factor is that of A, not of the matrix CG solves: the test
 // measures its error against the compliance of CG's solves (tolerance 1e-10) on a box
-// spinning freely (large rotations, stiffness warping's threshold: no element updated).
+// spinning freely (large rotations, stiffness warping's threshold: no element re-rotated).
 
 #include <warpchol/contact/contact_constraints.h>
 #include <warpchol/dynamics/implicit_euler.h>

@@ -86,7 +86,7 @@ int main()
 {
   const unsigned int cut_steps = 8, later_steps = 12;
   for (const std::string model : {"  set Type = linear\n",
-                                  "  set Type = warp_canceling\n  set Update threshold = inf\n",
+                                  "  set Type = warp_canceling\n  set Rerotation threshold = inf\n",
                                   "  set Type = corotational\n"})
     {
       std::cout << model.substr(model.find('=') + 2, model.find('\n') - model.find('=') - 2)

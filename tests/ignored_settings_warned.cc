@@ -47,7 +47,7 @@ int main()
   const std::vector<std::pair<std::string, std::string>> cases = {
     {"Mesh", "subsection Mesh\n  set Box grading = 2\n  set Refinements = 1\nend\n"},
     {"Material", "subsection Material\n  set Total mass = 1\n  set Density = 30\nend\n"},
-    {"Model, not WCC", "subsection Model\n  set Type = corotational\n  set Update threshold = 0.3\nend\n"},
+    {"Model, not WCC", "subsection Model\n  set Type = corotational\n  set Rerotation threshold = 0.3\nend\n"},
     {"Model, partial", "subsection Model\n  set Strategy = partial\n  set CG tolerance = 1e-4\n"
                        "  set Background lag = 2\nend\n"},
     {"Solver", "subsection Solver\n  set Tolerance = 1e-8\n  set Top flops fraction = 0.3\nend\n"},

@@ -37,7 +37,7 @@ namespace
 int main()
 {
   for (const std::string model : {"  set Type = linear\n",
-                                  "  set Type = warp_canceling\n  set Update threshold = inf\n"})
+                                  "  set Type = warp_canceling\n  set Rerotation threshold = inf\n"})
     {
       std::cout << model.substr(model.find('=') + 2, model.find('\n') - model.find('=') - 2) << ":" << std::endl;
       // Changed at 0.1 s, the start of step 11.

@@ -61,7 +61,7 @@ int main()
     {
       const std::string vtu = tests::read_file(directory + name);
       bool fields = true;
-      for (const std::string field : {"displacement", "velocity", "updated", "steps_since_update", "error_estimate"})
+      for (const std::string field : {"displacement", "velocity", "rerotated", "steps_since_rerotation", "error_estimate"})
         fields = fields && vtu.find("Name=\"" + field + "\"") != std::string::npos;
       tests::check(name + " is in the series and has every field",
                    pvd.find("file=\"" + name + "\"") != std::string::npos && fields);

@@ -42,7 +42,7 @@ int main()
   run("corotational_umfpack", corotational, "umfpack");
   run("corotational_warpchol", corotational, "warpchol");
   // Threshold inf updates no element: A never changes after the set-up.
-  const std::string wcc_inf = "  set Type = warp_canceling\n  set Update threshold = inf\n";
+  const std::string wcc_inf = "  set Type = warp_canceling\n  set Rerotation threshold = inf\n";
   run("wcc_inf_cholmod", wcc_inf, "cholmod");
   run("wcc_inf_warpchol", wcc_inf, "warpchol");
 }

@@ -190,9 +190,9 @@ namespace
 
 int main()
 {
-  check_scene("partial", "  set Type = warp_canceling\n  set Update threshold = 0.3\n", "", true);
+  check_scene("partial", "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n", "", true);
   check_scene("below_top",
-              "  set Type = warp_canceling\n  set Update threshold = 0.1\n  set Strategy = delayed_top\n"
+              "  set Type = warp_canceling\n  set Rerotation threshold = 0.1\n  set Strategy = delayed_top\n"
               "  set Refresh interval = 7\n",
               "subsection Solver\n  set Preconditioner precision = single\nend\n");
   // A checkpoint at step 10 while the refresh started at step 9 is in flight (taken at 12).
@@ -201,7 +201,7 @@ int main()
   // A checkpoint at step 10 between two cuts (the blade cuts from step 6 to step 15), and
   // a grasp that closes before it and opens after it.
   check_scene("cut",
-              "  set Type = warp_canceling\n  set Update threshold = 0.3\n",
+              "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n",
               "subsection Cut\n  set Blade start = 0.31, -0.2, -0.15\n  set Blade end = 0.31, 0.2, -0.15\n"
               "  set Velocity = 0, 0, 3\n  set Start time = 0.05\n  set Duration = 0.1\nend\n"
               "subsection Grasp\n  set Sphere center = -0.3, 0, 0\n  set Sphere radius = 0.1\n"
@@ -209,17 +209,17 @@ int main()
               "  set Release time = 0.25\nend\n");
   // A checkpoint at step 10 after a material change at step 6 that kept the strained
   // region's stress: the plastic strains it left go on from the checkpoint.
-  check_scene("plastic", "  set Type = warp_canceling\n  set Update threshold = 0.3\n",
+  check_scene("plastic", "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n",
               "subsection Material change\n  set Region = sphere\n  set Sphere center = 0.3, 0, 0\n"
               "  set Sphere radius = 0.12\n  set Time = 0.05\n  set Stiffness factor = 1e4\n"
               "  set Stress = continuous\nend\n"
               // Its updates are close calls: chosen at fixed rates, not by measured times.
               "subsection Solver\n  set Change method = flops\nend\n");
   check_scene("target_error",
-              "  set Type = warp_canceling\n  set Update threshold = 0.3\n  set Target error = 0.01\n", "");
+              "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n  set Target error = 0.01\n", "");
   check_scene("two_bodies", "  set Type = warp_canceling\n",
               "subsection Bodies\n  set Number of bodies = 2\n  set Spacing = 1, 0, 0\n"
-              "  set Models = warp_canceling, stiffness_warping\n  set Update thresholds = 0.3, 0\n"
+              "  set Models = warp_canceling, stiffness_warping\n  set Rerotation thresholds = 0.3, 0\n"
               "end\nsubsection Solver\n  set Backend = cholmod\nend\n");
 
   // What resume refuses, in one line each.
@@ -229,7 +229,7 @@ int main()
     std::ostringstream summary;
     simulation.run(summary);
   };
-  tests::write_file("other.prm", scene("  set Type = warp_canceling\n  set Update threshold = 0.5\n", "", 40));
+  tests::write_file("other.prm", scene("  set Type = warp_canceling\n  set Rerotation threshold = 0.5\n", "", 40));
   std::filesystem::create_directories("results/other");
   std::filesystem::copy_file("results/partial/checkpoint.bin", "results/other/checkpoint.bin",
                              std::filesystem::copy_options::overwrite_existing);
@@ -237,7 +237,7 @@ int main()
   tests::write_file("none.prm", scene("  set Type = linear\n", "", 40));
   std::filesystem::remove_all("results/none");
   tests::expect_error("no checkpoint", [&]() { resume("none.prm"); });
-  tests::write_file("partial.prm", scene("  set Type = warp_canceling\n  set Update threshold = 0.3\n", "", 40, true));
+  tests::write_file("partial.prm", scene("  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n", "", 40, true));
   // Where a checkpoint cut short is caught depends on its layout: the message says so.
   std::filesystem::resize_file("results/partial/checkpoint.bin", 5000);
   std::string cut_short_message;

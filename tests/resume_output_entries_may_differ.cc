@@ -13,7 +13,7 @@ namespace
 {
   std::string scene(const unsigned int n_steps, const std::string &directory, const std::string &output)
   {
-    return tests::small_torus_scene("  set Type = warp_canceling\n  set Update threshold = 0.3\n") +
+    return tests::small_torus_scene("  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n") +
            "subsection Time stepping\n  set Number of steps = " + std::to_string(n_steps) + "\nend\n"
            "subsection Output\n  set Directory = " + directory + "\n  set Write log = true\n"
            "  set Checkpoint interval = 10\n" + output + "end\n";

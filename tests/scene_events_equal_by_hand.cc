@@ -20,7 +20,7 @@ namespace
   std::string scene(const std::string &events)
   {
     return tests::without_subsection(
-             tests::small_torus_scene("  set Type = warp_canceling\n  set Update threshold = 0.3\n"), "Tool") +
+             tests::small_torus_scene("  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n"), "Tool") +
            "subsection Solver\n  set Ordering = metis\n  set Change method = flops\nend\n"
            "subsection Time stepping\n  set Number of steps = 25\nend\n" + events;
   }

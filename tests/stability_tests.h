@@ -40,12 +40,12 @@ namespace tests
     return {{"linear", "  set Type = linear\n"},
             {"stiffness_warping", "  set Type = stiffness_warping\n"},
             {"corotational", "  set Type = corotational\n"},
-            {"wcc_0.3", "  set Type = warp_canceling\n  set Update threshold = 0.3\n"},
+            {"wcc_0.3", "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n"},
             // auto chooses by measured times, so its trajectory is the exact one only to
             // CG's tolerance: a tight one makes the rows the same on a slow (sanitized) build.
-            {"wcc_1_auto", "  set Type = warp_canceling\n  set Update threshold = 1\n"
+            {"wcc_1_auto", "  set Type = warp_canceling\n  set Rerotation threshold = 1\n"
                            "  set Strategy = auto\n  set CG tolerance = 1e-10\n"},
-            {"wcc_inf_precond", "  set Type = warp_canceling\n  set Update threshold = inf\n"
+            {"wcc_inf_precond", "  set Type = warp_canceling\n  set Rerotation threshold = inf\n"
                                 "  set Strategy = preconditioned\n"}};
   }
 

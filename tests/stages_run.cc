@@ -72,13 +72,13 @@ namespace
 
 int main()
 {
-  const std::string wcc = "  set Type = warp_canceling\n  set Update threshold = 0.3\n";
+  const std::string wcc = "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n";
 
   print_stages("linear", {"  set Type = linear\n"});
   print_stages("stiffness warping", {"  set Type = stiffness_warping\n"});
   print_stages("WCC, threshold 0.3", {wcc});
-  print_stages("WCC, threshold 0", {"  set Type = warp_canceling\n  set Update threshold = 0\n"});
-  print_stages("WCC, threshold inf", {"  set Type = warp_canceling\n  set Update threshold = inf\n"});
+  print_stages("WCC, threshold 0", {"  set Type = warp_canceling\n  set Rerotation threshold = 0\n"});
+  print_stages("WCC, threshold inf", {"  set Type = warp_canceling\n  set Rerotation threshold = inf\n"});
   print_stages("corotational", {"  set Type = corotational\n"});
   print_stages("WCC, preconditioned CG", {wcc + "  set Strategy = preconditioned\n"});
   print_stages("WCC, no tool", {wcc, false});
@@ -97,8 +97,8 @@ int main()
     simulation.run(out);
     const auto &totals = simulation.totals();
     tests::check("WCC: a factorization in every step with an update and no other",
-                 totals.stages.runs(fem::stage::factorization) == totals.steps_with_updates);
-    tests::check("WCC: no update in the first step", totals.steps_with_updates < totals.steps);
+                 totals.stages.runs(fem::stage::factorization) == totals.steps_with_rerotations);
+    tests::check("WCC: no update in the first step", totals.steps_with_rerotations < totals.steps);
     tests::check("WCC: rotations and the solve in every step",
                  totals.stages.runs(fem::stage::rotations) == totals.steps &&
                    totals.stages.runs(fem::stage::solve) == totals.steps);

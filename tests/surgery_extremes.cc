@@ -20,7 +20,7 @@ namespace
            "  set Box subdivisions = 8, 2, 2\nend\n"
            "subsection Material\n  set Young's modulus = 1000\n  set Density = 100\nend\n"
            "subsection Time stepping\n  set Time step = 0.01\n  set Number of steps = 30\nend\n"
-           "subsection Model\n  set Type = warp_canceling\n  set Update threshold = 0.3\nend\n"
+           "subsection Model\n  set Type = warp_canceling\n  set Rerotation threshold = 0.3\nend\n"
            "subsection Fixed vertices\n  set Region = box\n  set Box lower corner = -1, -1, -1\n"
            "  set Box upper corner = 1e-6, 1, 1\nend\n"
            "subsection Gravity\n  set Acceleration = 0, 0, -9.81\nend\n"

@@ -67,9 +67,9 @@ int main()
                displacement != nullptr && velocity != nullptr &&
                  displacement->GetDataType() == VTK_DOUBLE && velocity->GetDataType() == VTK_DOUBLE &&
                  displacement->GetNumberOfComponents() == 3);
-  tests::check("float64: the cell fields updated and steps_since_update are there",
-               grid->GetCellData()->GetArray("updated") != nullptr &&
-                 grid->GetCellData()->GetArray("steps_since_update") != nullptr);
+  tests::check("float64: the cell fields rerotated and steps_since_rerotation are there",
+               grid->GetCellData()->GetArray("rerotated") != nullptr &&
+                 grid->GetCellData()->GetArray("steps_since_rerotation") != nullptr);
   bool         exact           = displacement != nullptr && velocity != nullptr;
   unsigned int beyond_float32  = 0;
   double       largest_motion  = 0;

@@ -18,7 +18,7 @@ namespace
   std::string model(const std::string &strategy, const std::string &threshold,
                     const std::string &target = "corotational", const std::string &tolerance = "1e-11")
   {
-    return "  set Type = warp_canceling\n  set Update threshold = " + threshold +
+    return "  set Type = warp_canceling\n  set Rerotation threshold = " + threshold +
            "\n  set Strategy = " + strategy + "\n  set Iterate on = " + target +
            "\n  set CG tolerance = " + tolerance + "\n  set Refresh interval = 4\n";
   }

@@ -3,7 +3,7 @@
 // error of 1 % keeps both trajectories within 2 % of exact corotation and within 3x of
 // each other, and a target of 0.3 % makes both errors smaller. The log shows the adapted
 // threshold and the measured velocity error of every step until the target gives up (on
-// these coarse tori it does, once it updates 40 % of the elements or more step after step,
+// these coarse tori it does, once it re-rotates 40 % of the elements or more step after step,
 // and the summary says at which step), none after; a fixed threshold measures nothing. (On
 // the fine meshes the contrast with a fixed threshold is large: see parameters/README.md;
 // these small meshes keep the test quick.)
@@ -88,7 +88,7 @@ namespace
 
 int main()
 {
-  const std::string fixed  = "  set Type = warp_canceling\n  set Update threshold = 0.3\n";
+  const std::string fixed  = "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n";
   const std::string target = fixed + "  set Target error = 0.01\n";
 
   const std::string tighter = fixed + "  set Target error = 0.003\n";

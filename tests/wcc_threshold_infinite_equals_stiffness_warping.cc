@@ -11,19 +11,19 @@ int main()
     "warping.prm", tests::small_torus_scene("  set Type = stiffness_warping\n"), 20);
 
   tests::write_file("wcc.prm", tests::small_torus_scene(
-                                 "  set Type = warp_canceling\n  set Update threshold = inf\n"));
+                                 "  set Type = warp_canceling\n  set Rerotation threshold = inf\n"));
   warpchol::app::Scene wcc{warpchol::app::AllParameters("wcc.prm")};
-  bool never_updated = true;
+  bool never_rerotated = true;
   for (unsigned int step = 0; step < 20; ++step)
     {
       warpchol::fem::StepStatistics statistics;
       wcc.integrator().advance(statistics);
-      never_updated = never_updated && statistics.elements_updated == 0 && !statistics.refactorized;
+      never_rerotated = never_rerotated && statistics.elements_rerotated == 0 && !statistics.refactorized;
     }
   const auto &rest = wcc.body().rest_positions();
   tests::check_below("WCC(inf) vs stiffness warping, relative",
                      tests::relative_difference(wcc.integrator().positions(), warping, rest), 1e-12);
-  tests::check("WCC(inf) updated no element and never refactorized", never_updated);
+  tests::check("WCC(inf) re-rotated no element and never refactorized", never_rerotated);
   tests::check("the factor was computed once",
                wcc.model().solver().statistics().n_factorizations == 1 &&
                  wcc.model().solver().statistics().n_refactorizations == 0);

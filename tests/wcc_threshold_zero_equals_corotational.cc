@@ -14,7 +14,7 @@ int main()
         "corotational.prm", tests::small_torus_scene("  set Type = corotational\n", mass), 20);
       const auto wcc = tests::run_scene(
         "wcc.prm",
-        tests::small_torus_scene("  set Type = warp_canceling\n  set Update threshold = 0\n", mass),
+        tests::small_torus_scene("  set Type = warp_canceling\n  set Rerotation threshold = 0\n", mass),
         20);
       const auto linear = tests::run_scene(
         "linear.prm", tests::small_torus_scene("  set Type = linear\n", mass), 20);

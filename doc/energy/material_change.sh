@@ -64,7 +64,7 @@ table() {
   echo "# A material change that stiffens a strained region: the energy logs (issue 29)"
   echo
   echo "\`parameters/torus_cut.prm\` with its cut switched off (\`Cut/Duration = 0\`), 30 steps of"
-  echo "0.01 s, WCC (\`Update threshold = inf\`, \`Strategy = auto\`), gravity; at 0.05 s (the start"
+  echo "0.01 s, WCC (\`Rerotation threshold = inf\`, \`Strategy = auto\`), gravity; at 0.05 s (the start"
   echo "of step 6) the elements in a sphere (centre 0, 0, -0.4, radius 0.1) become 1e8 times"
   echo "stiffer. \`Time stepping/Energy growth limit\` at its default, 10. Before issue 29 the run"
   echo "stopped at step 6: \`the energy of warp_canceling grew to 5.36e+05 J (start 0 J, work of"

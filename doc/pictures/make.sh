@@ -45,13 +45,13 @@ draw torus_pull --field stress --prm parameters/torus_pull.prm --steps 50 --shee
 
 # Several bodies: stiffness warping, WCC at threshold 1, exact corotation (doc/simulation.md).
 run three_tori
-draw three_tori --no-frames --field updated --azimuth 0 --elevation 30
+draw three_tori --no-frames --field rerotated --azimuth 0 --elevation 30
 
-# Where WCC updates: SOFA's raptor and the plate (doc/strategies.md).
+# Where WCC re-rotates: SOFA's raptor and the plate (doc/strategies.md).
 run raptor
-draw raptor --no-frames --field updated
+draw raptor --no-frames --field rerotated
 run plate
-draw plate --no-frames --field updated
+draw plate --no-frames --field rerotated
 
 # Cuts, grasps and material changes (doc/surgery.md).
 for scene in liver_cut torus_cut grasp_release torus_cauterize flap_incision; do

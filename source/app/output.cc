@@ -105,12 +105,12 @@ namespace warpchol::app
           }
       const auto            &record  = snapshot.record;
       const unsigned int     n_cells = body.n_elements();
-      dealii::Vector<double> updated(n_cells), steps_since_update(n_cells), error_estimate(n_cells),
+      dealii::Vector<double> rerotated(n_cells), steps_since_rerotation(n_cells), error_estimate(n_cells),
         body_index(n_cells);
       for (unsigned int e = 0; e < n_cells; ++e)
         {
-          updated[e]            = record.updated[e];
-          steps_since_update[e] = record.steps_since_update[e];
+          rerotated[e]              = record.rerotated[e];
+          steps_since_rerotation[e] = record.steps_since_rerotation[e];
           if (!record.error_estimate.empty())
             error_estimate[e] = record.error_estimate[e];
           body_index[e] = index;
@@ -124,8 +124,8 @@ namespace warpchol::app
                                dealii::DataOut<3>::type_dof_data, vector_field);
       data_out.add_data_vector(velocity, std::vector<std::string>(3, "velocity"),
                                dealii::DataOut<3>::type_dof_data, vector_field);
-      data_out.add_data_vector(updated, "updated", dealii::DataOut<3>::type_cell_data);
-      data_out.add_data_vector(steps_since_update, "steps_since_update",
+      data_out.add_data_vector(rerotated, "rerotated", dealii::DataOut<3>::type_cell_data);
+      data_out.add_data_vector(steps_since_rerotation, "steps_since_rerotation",
                                dealii::DataOut<3>::type_cell_data);
       if (with_error_estimate)
         data_out.add_data_vector(error_estimate, "error_estimate", dealii::DataOut<3>::type_cell_data);
@@ -221,13 +221,13 @@ namespace warpchol::app
      * write (it writes Float32): the mesh's vertices once each (rest positions, each body
      * shifted by its offset from the first one's), the tetrahedra, and the fields of
      * build_body_patches() with the same names: per vertex displacement and velocity, per
-     * cell updated, steps_since_update, error_estimate and body.
+     * cell rerotated, steps_since_rerotation, error_estimate and body.
      */
     void write_vtu_float64(std::ostream &out, const std::vector<BodySnapshot> &bodies,
                            const bool with_error_estimate)
     {
       std::vector<double>        points, displacements, velocities;
-      std::vector<double>        updated, steps_since_update, error_estimate, body_index, removed, cut_step, grasped;
+      std::vector<double>        rerotated, steps_since_rerotation, error_estimate, body_index, removed, cut_step, grasped;
       std::vector<double>        contact_forces, contact_gaps;
       const bool                 with_surgery = !bodies[0].cut_steps.empty();
       const bool                 with_contact = !bodies[0].contact_forces.empty();
@@ -263,8 +263,8 @@ namespace warpchol::app
                 connectivity.push_back(first + v);
               offsets.push_back(connectivity.size());
               types.push_back(10); // VTK_TETRA
-              updated.push_back(record.updated[e]);
-              steps_since_update.push_back(record.steps_since_update[e]);
+              rerotated.push_back(record.rerotated[e]);
+              steps_since_rerotation.push_back(record.steps_since_rerotation[e]);
               error_estimate.push_back(record.error_estimate.empty() ? 0.0 : record.error_estimate[e]);
               body_index.push_back(i);
               if (with_surgery)
@@ -300,8 +300,8 @@ namespace warpchol::app
           write_data_array(out, "type=\"Float64\" Name=\"contact_gap\"", contact_gaps);
         }
       out << "</PointData>\n<CellData>\n";
-      write_data_array(out, "type=\"Float64\" Name=\"updated\"", updated);
-      write_data_array(out, "type=\"Float64\" Name=\"steps_since_update\"", steps_since_update);
+      write_data_array(out, "type=\"Float64\" Name=\"rerotated\"", rerotated);
+      write_data_array(out, "type=\"Float64\" Name=\"steps_since_rerotation\"", steps_since_rerotation);
       if (with_error_estimate)
         write_data_array(out, "type=\"Float64\" Name=\"error_estimate\"", error_estimate);
       if (bodies.size() > 1)
@@ -517,8 +517,8 @@ namespace warpchol::app
       return {
         count("step", [](const Row &r) -> long long { return r.step; }),
         column("time", [](const Row &r) { return r.time; }),
-        count("elements_updated", [](const Row &r) -> long long { return r.statistics.elements_updated; }),
-        column("elements_updated_pct", [](const Row &r) { return percent(r.statistics.elements_updated, r.n_elements); }),
+        count("elements_rerotated", [](const Row &r) -> long long { return r.statistics.elements_rerotated; }),
+        column("elements_rerotated_pct", [](const Row &r) { return percent(r.statistics.elements_rerotated, r.n_elements); }),
         count("refactorized", [](const Row &r) -> long long { return r.statistics.refactorized ? 1 : 0; }),
         column("columns_recomputed_pct",
                [](const Row &r) { return percent(r.statistics.columns_recomputed, r.statistics.n_columns); }),
@@ -542,7 +542,7 @@ namespace warpchol::app
         column("tool_work_on_body", [](const Row &r) { return r.tool_work_on_body; }, 10),
         column("change_energy", [](const Row &r) { return r.change_energy; }, 10),
         column("energy_ratio", [](const Row &r) { return r.energy_ratio; }),
-        measured("update_threshold", [](const Row &r) { return r.statistics.update_threshold; }),
+        measured("rerotation_threshold", [](const Row &r) { return r.statistics.rerotation_threshold; }),
         measured("velocity_error", [](const Row &r) { return r.statistics.velocity_error; }),
         // The automatic strategy's choice, what it predicted and what the step then spent
         // keeping its factor and solving; the age of a background refresh's factor.

@@ -40,6 +40,14 @@ namespace warpchol::app
     parameters::Bodies::declare_parameters(prm);
     parameters::Output::declare_parameters(prm);
     parameters::Distributed::declare_parameters(prm);
+    // Not deprecated in deal.II's sense, which prints its own warning to std::cerr at the
+    // line of the text with its includes written out: ours names the file and line.
+    for (const RenamedEntry &renamed : renamed_entries)
+      {
+        prm.enter_subsection(renamed.subsection);
+        prm.declare_alias(renamed.new_name, renamed.old_name, false);
+        prm.leave_subsection();
+      }
   }
 
   void AllParameters::parse_parameters(ParameterHandler &prm)
@@ -75,14 +83,14 @@ namespace warpchol::app
     output.parse_parameters(prm, file);
     distributed.parse_parameters(prm, file);
     // What one entry allows only with another (WCC's rules, fem::wcc_setting_conflict):
-    // said at the entry that asks for it; a body's own threshold at Bodies/Update thresholds.
+    // said at the entry that asks for it; a body's own threshold at Bodies/Rerotation thresholds.
     const std::size_t n_bodies =
-      std::max<std::size_t>({1, bodies.update_thresholds.size(), bodies.model_types.size()});
+      std::max<std::size_t>({1, bodies.rerotation_thresholds.size(), bodies.model_types.size()});
     for (std::size_t i = 0; i < n_bodies; ++i)
       {
         const auto  &type      = bodies.model_types.empty() ? model.type : bodies.model_types[i];
-        const bool   own       = !bodies.update_thresholds.empty();
-        const double threshold = own ? bodies.update_thresholds[i] : model.update_threshold;
+        const bool   own       = !bodies.rerotation_thresholds.empty();
+        const double threshold = own ? bodies.rerotation_thresholds[i] : model.rerotation_threshold;
         if (type != fem::ModelType::warp_canceling)
           continue;
         const auto conflict =
@@ -92,7 +100,7 @@ namespace warpchol::app
         if (own && conflict->rule == fem::SettingConflict::Rule::target_needs_finite_threshold)
           {
             prm.enter_subsection("Bodies");
-            file.fail(prm, "Bodies", "Update thresholds",
+            file.fail(prm, "Bodies", "Rerotation thresholds",
                       "with Model/Target error each body's threshold is where its adaptation "
                       "starts: finite and > 0 (got " + format_number(threshold) + ")");
           }
@@ -109,6 +117,14 @@ namespace warpchol::app
       }
     read_paths();
     warn_about_ignored_entries(prm);
+    warn_about_old_names();
+  }
+
+  void AllParameters::warn_about_old_names()
+  {
+    for (const auto &[where, renamed] : file.old_names())
+      warnings.push_back(where + ": " + renamed.subsection + "/" + renamed.old_name + ": the old name of " +
+                         renamed.subsection + "/" + renamed.new_name + ", read as it");
   }
 
   void AllParameters::warn_about_ignored_entries(ParameterHandler &prm)
@@ -164,7 +180,7 @@ namespace warpchol::app
     for (const fem::ModelType type : bodies.model_types)
       model_list += (model_list.empty() ? "" : ", ") + fem::to_string(type);
     if (!any_wcc)
-      ignored("Model", {"Update threshold", "Target error", "Strategy", "Iterate on", "CG tolerance",
+      ignored("Model", {"Rerotation threshold", "Target error", "Strategy", "Iterate on", "CG tolerance",
                         "Max CG iterations", "Refresh interval", "Refresh iterations", "Background lag"},
               bodies.model_types.empty() ? "Type = " + fem::to_string(model.type) :
                                            "Bodies/Models = " + excerpt(model_list, 60));
@@ -397,8 +413,8 @@ namespace warpchol::app
     AllParameters one = *this;
     if (!bodies.model_types.empty())
       one.model.type = bodies.model_types.at(index);
-    if (!bodies.update_thresholds.empty())
-      one.model.update_threshold = bodies.update_thresholds.at(index);
+    if (!bodies.rerotation_thresholds.empty())
+      one.model.rerotation_threshold = bodies.rerotation_thresholds.at(index);
     one.bodies = parameters::Bodies();
     return one;
   }

@@ -67,10 +67,10 @@ namespace warpchol::app
       const auto                  report = model.strategy_report();
       out << "  model: " << model.name();
       if (report.has_strategy && report.target_error > 0)
-        out << ", target error " << figure(report.target_error) << " (update threshold from "
-            << figure(report.update_threshold) << ")";
+        out << ", target error " << figure(report.target_error) << " (re-rotation threshold from "
+            << figure(report.rerotation_threshold) << ")";
       else if (report.has_strategy)
-        out << ", update threshold " << figure(report.update_threshold);
+        out << ", re-rotation threshold " << figure(report.rerotation_threshold);
       const auto &solver  = model.solver();
       const auto &backend = scene.parameters().solver.backend;
       if (const auto *peer = model.linear_solver())
@@ -94,16 +94,16 @@ namespace warpchol::app
       out << "\n";
     }
 
-    /** Elements updated, the rotations' paths, the refactorizations and an adapted threshold. */
+    /** Elements re-rotated, the rotations' paths, the refactorizations and an adapted threshold. */
     void print_updates(std::ostream &out, const SimulatedBody &simulated, const bool timings)
     {
       const RunTotals &t          = simulated.totals;
       const double     n_elements = simulated.scene->body().n_elements();
       const auto       report     = simulated.scene->model().strategy_report();
-      out << "  elements updated per step: mean " << figure(100 * t.elements_updated / n_elements / t.steps)
-          << " %, max " << figure(100 * t.max_elements_updated / n_elements) << " %; steps with "
-          << "updates: " << t.steps_with_updates << ", without update at the end: "
-          << t.trailing_steps_without_update << "\n";
+      out << "  elements re-rotated per step: mean " << figure(100 * t.elements_rerotated / n_elements / t.steps)
+          << " %, max " << figure(100 * t.max_elements_rerotated / n_elements) << " %; steps with "
+          << "re-rotations: " << t.steps_with_rerotations << ", without re-rotation at the end: "
+          << t.trailing_steps_without_rerotation << "\n";
       // Where the batched polar decompositions left the SIMD lanes, and why.
       const fem::RotationPaths &paths = t.rotation_paths;
       if (paths.total() > 0)
@@ -124,7 +124,7 @@ namespace warpchol::app
         }
       out << "\n";
       if (report.target_error > 0 && t.steps > 0)
-        out << "  adapted update threshold: mean " << figure(t.threshold_sum / t.steps) << ", from "
+        out << "  adapted re-rotation threshold: mean " << figure(t.threshold_sum / t.steps) << ", from "
             << figure(t.min_threshold) << " to " << figure(t.max_threshold)
             << "; velocity error against exact corotation per step: mean "
             << figure(t.velocity_error_sum / t.steps, 2) << ", max " << figure(t.max_velocity_error, 2) << "\n";
@@ -174,7 +174,7 @@ namespace warpchol::app
       out << "\n";
     }
 
-    /** What the instruments did, and where the updated elements lie from the tool. */
+    /** What the instruments did, and where the re-rotated elements lie from the tool. */
     void print_surgery(std::ostream &out, const SimulatedBody &simulated)
     {
       const Scene     &scene      = *simulated.scene;
@@ -195,12 +195,12 @@ namespace warpchol::app
                 << figure(t.change_flops_pct / t.change_steps) << " % of a full factorization's flops (mean)";
           out << "\n";
         }
-      if (!scene.loads().tool.vertices.empty() && t.elements_updated > 0)
+      if (!scene.loads().tool.vertices.empty() && t.elements_rerotated > 0)
         {
           double all_distance = 0;
           for (const auto &centre : simulated.element_centres)
             all_distance += (centre - simulated.tool_centre).norm();
-          out << "  updated elements lie " << figure(t.updated_distance_to_tool / t.elements_updated, 2)
+          out << "  re-rotated elements lie " << figure(t.rerotated_distance_to_tool / t.elements_rerotated, 2)
               << " m from the tool on average (all elements: " << figure(all_distance / n_elements, 2) << " m)\n";
         }
     }

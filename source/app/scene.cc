@@ -39,7 +39,7 @@ namespace warpchol::app
           case fem::ModelType::warp_canceling:
             break;
         }
-      return std::make_unique<fem::WarpCancelingModel>(body, coefficients, solver_settings, model.update_threshold,
+      return std::make_unique<fem::WarpCancelingModel>(body, coefficients, solver_settings, model.rerotation_threshold,
                                                        model.strategy, model.target_error, std::move(peer));
     }
   } // namespace
@@ -55,7 +55,7 @@ namespace warpchol::app
         // (WCC at threshold inf), preconditions CG on the exact corotational matrix.
         parameters::Model warped      = model;
         warped.type                   = fem::ModelType::warp_canceling;
-        warped.update_threshold       = std::numeric_limits<double>::infinity();
+        warped.rerotation_threshold       = std::numeric_limits<double>::infinity();
         warped.target_error           = 0;
         warped.strategy.kind          = fem::StepStrategy::Kind::preconditioned;
         warped.strategy.iterate_on    = fem::StepStrategy::Target::corotational;

@@ -46,7 +46,7 @@ namespace warpchol::app
     {
       std::string label = "body " + std::to_string(index + 1) + " (" + fem::to_string(body_parameters.model.type);
       if (body_parameters.model.type == fem::ModelType::warp_canceling)
-        label += ", threshold " + format_number(body_parameters.model.update_threshold);
+        label += ", threshold " + format_number(body_parameters.model.rerotation_threshold);
       return label + ")";
     }
 
@@ -56,9 +56,11 @@ namespace warpchol::app
      * controller and its step history each written as one object. 4: in WCC's step
      * history, whether auto's last step was the exact path's and A is in its frames. 5:
      * the fall-back's count of losing steps in its window. 6: WCC's step cost model
-     * without a flop rate of its own (it reads the solver's).
+     * without a flop rate of its own (it reads the solver's). 8: the parameters it was
+     * written with name Model/Rerotation threshold and Bodies/Rerotation thresholds (once
+     * Update threshold(s)), which a resume compares entry by entry.
      */
-    constexpr const char *checkpoint_format = "warpchol checkpoint 7";
+    constexpr const char *checkpoint_format = "warpchol checkpoint 8";
 
     /** "Model/Type" of the entry "Model/Type = corotational". */
     std::string entry_name(const std::string &entry)
@@ -90,11 +92,11 @@ namespace warpchol::app
     void for_each_checkpointed_total(Totals &totals, const IO &io)
     {
       io(totals.steps);
-      io(totals.elements_updated);
-      io(totals.last_elements_updated);
-      io(totals.max_elements_updated);
-      io(totals.steps_with_updates);
-      io(totals.trailing_steps_without_update);
+      io(totals.elements_rerotated);
+      io(totals.last_elements_rerotated);
+      io(totals.max_elements_rerotated);
+      io(totals.steps_with_rerotations);
+      io(totals.trailing_steps_without_rerotation);
       io(totals.refactorizations);
       io(totals.columns_recomputed_pct);
       io(totals.flops_recomputed_pct);
@@ -105,7 +107,7 @@ namespace warpchol::app
       io(totals.velocity_error_sum);
       io(totals.max_velocity_error);
       io(totals.step_seconds);
-      io(totals.updated_distance_to_tool);
+      io(totals.rerotated_distance_to_tool);
       io(totals.error_vs_corotational);
       io(totals.factor_lag_sum);
       io(totals.factor_lag_steps);
@@ -252,7 +254,7 @@ namespace warpchol::app
         snapshot.offset        = simulated.offset;
         snapshot.displacements = integrator.displacements();
         snapshot.velocities    = integrator.velocities();
-        snapshot.record        = simulated.scene->model().update_record();
+        snapshot.record        = simulated.scene->model().rerotation_record();
         snapshots.push_back(std::move(snapshot));
         const fem::Surgery &surgery = integrator.surgery();
         if (surgery.active())
@@ -288,17 +290,17 @@ namespace warpchol::app
   void RunTotals::add_step(const fem::StepStatistics &step, const double step_seconds)
   {
     ++steps;
-    elements_updated += step.elements_updated;
-    last_elements_updated = step.elements_updated;
-    max_elements_updated =
-      std::max(max_elements_updated, static_cast<double>(step.elements_updated));
-    if (step.elements_updated > 0)
+    elements_rerotated += step.elements_rerotated;
+    last_elements_rerotated = step.elements_rerotated;
+    max_elements_rerotated =
+      std::max(max_elements_rerotated, static_cast<double>(step.elements_rerotated));
+    if (step.elements_rerotated > 0)
       {
-        ++steps_with_updates;
-        trailing_steps_without_update = 0;
+        ++steps_with_rerotations;
+        trailing_steps_without_rerotation = 0;
       }
     else
-      ++trailing_steps_without_update;
+      ++trailing_steps_without_rerotation;
     if (step.refactorized)
       {
         ++refactorizations;
@@ -309,11 +311,11 @@ namespace warpchol::app
     stages.add(step.stages);
     cg_iterations += step.cg_iterations;
     rotation_paths += step.rotation_paths;
-    if (step.update_threshold >= 0)
+    if (step.rerotation_threshold >= 0)
       {
-        threshold_sum += step.update_threshold;
-        min_threshold = std::min(min_threshold, step.update_threshold);
-        max_threshold = std::max(max_threshold, step.update_threshold);
+        threshold_sum += step.rerotation_threshold;
+        min_threshold = std::min(min_threshold, step.rerotation_threshold);
+        max_threshold = std::max(max_threshold, step.rerotation_threshold);
       }
     if (step.velocity_error >= 0)
       {
@@ -371,10 +373,10 @@ namespace warpchol::app
     t.add_step(statistics, step_seconds);
     if (!simulated.scene->loads().tool.vertices.empty())
       {
-        const auto &updated = model.update_record().updated;
-        for (unsigned int e = 0; e < updated.size(); ++e)
-          if (updated[e])
-            t.updated_distance_to_tool += (simulated.element_centres[e] - simulated.tool_centre).norm();
+        const auto &rerotated = model.rerotation_record().rerotated;
+        for (unsigned int e = 0; e < rerotated.size(); ++e)
+          if (rerotated[e])
+            t.rerotated_distance_to_tool += (simulated.element_centres[e] - simulated.tool_centre).norm();
       }
 
     double error_vs_corotational = -1, rms_error_vs_corotational = -1;
@@ -637,8 +639,8 @@ namespace warpchol::app
             std::cerr << "\rstep " << step << "/" << n_steps << "  t = "
                       << format_number(first.scene->integrator().time(), 4) << " s";
             if (bodies.size() == 1)
-              std::cerr << "  updated "
-                        << format_number(100.0 * first.totals.last_elements_updated /
+              std::cerr << "  re-rotated "
+                        << format_number(100.0 * first.totals.last_elements_rerotated /
                                            first.scene->body().n_elements(), 3)
                         << " %";
             std::cerr << "  " << format_number(run_stopwatch.seconds() / (step + 1 - first_step), 3)

@@ -44,7 +44,7 @@ namespace warpchol::distributed
     /** Whether WCC re-assembles the elements its error estimate picks (models/model_type.h). */
     bool reassembles_by_error_estimate(const app::parameters::Model &model)
     {
-      return fem::reassembles_by_error_estimate(model.type, model.update_threshold);
+      return fem::reassembles_by_error_estimate(model.type, model.rerotation_threshold);
     }
   } // namespace
 
@@ -74,7 +74,7 @@ namespace warpchol::distributed
              "a distributed run does not run the corotational reference alongside");
     if (parameters.model.target_error > 0)
       refuse("Model", "Target error", format_number(parameters.model.target_error),
-             "a distributed run keeps the update threshold fixed (its solver is not warpchol's factor)");
+             "a distributed run keeps the re-rotation threshold fixed (its solver is not warpchol's factor)");
     // auto chooses among warpchol's own factor's refreshes: what the distributed engine
     // has of them is the exact WCC system, solved by Distributed/Linear solver.
     if (parameters.model.type == fem::ModelType::warp_canceling &&
@@ -120,7 +120,7 @@ namespace warpchol::distributed
       {
         stored_frames.assign(body.n_elements(), identity_frames);
         last_estimate.reinit(distributed_body->triangulation().n_active_cells());
-        last_updated.reinit(distributed_body->triangulation().n_active_cells());
+        last_rerotated.reinit(distributed_body->triangulation().n_active_cells());
       }
     const std::size_t n_owned_rows = distributed_body->locally_owned_dofs().n_elements();
     rhs.assign(n_owned_rows, 0.0);
@@ -262,7 +262,7 @@ namespace warpchol::distributed
     solver->add(dofs, free, matrix, factor);
   }
 
-  std::vector<unsigned int> DistributedSimulation::elements_to_update(StageTimes &stages)
+  std::vector<unsigned int> DistributedSimulation::elements_to_rerotate(StageTimes &stages)
   {
     StageTimer              timer(stages, fem::stage::error_estimate);
     const DistributedBody  &distributed = *distributed_body;
@@ -284,17 +284,17 @@ namespace warpchol::distributed
       }
     // The impulse scale of the whole body: the same threshold means the same on every rank.
     const double scale = distributed.sum(impulse_sum) / distributed.n_global_elements();
-    std::vector<unsigned int> update;
+    std::vector<unsigned int> rerotate;
     for (std::size_t k = 0; k < owned.size(); ++k)
       {
         const unsigned int e        = owned[k];
         const double       relative = scale > 0 ? error[k] / scale : 0.0;
         last_estimate[distributed.active_cell_index(e)] = relative;
-        last_updated[distributed.active_cell_index(e)]  = 0;
-        if (error[k] > all.model.update_threshold * scale || !std::isfinite(error[k]))
-          update.push_back(e);
+        last_rerotated[distributed.active_cell_index(e)]  = 0;
+        if (error[k] > all.model.rerotation_threshold * scale || !std::isfinite(error[k]))
+          rerotate.push_back(e);
       }
-    return update;
+    return rerotate;
   }
 
   void DistributedSimulation::advance(DistributedStep &step)
@@ -307,7 +307,7 @@ namespace warpchol::distributed
                                                                                       fem::stage::rotations);
       body.evaluate(x, rotations, state);
     }
-    step.elements_updated = dealii::Utilities::MPI::sum(reassemble(step.stages), distributed_body->communicator());
+    step.elements_rerotated = dealii::Utilities::MPI::sum(reassemble(step.stages), distributed_body->communicator());
     assemble_right_hand_side(step.stages);
     set_initial_guess(step.stages);
     solve(step);
@@ -320,7 +320,7 @@ namespace warpchol::distributed
     // The matrix: in full (corotation), the elements over the threshold (WCC), or as it is.
     const DistributedBody  &distributed = *distributed_body;
     const fem::ElasticBody &body        = distributed.local_body();
-    if (fem::reassembles_every_step(all.model.type, all.model.update_threshold))
+    if (fem::reassembles_every_step(all.model.type, all.model.rerotation_threshold))
       {
         StageTimer timer(stages, fem::stage::assembly);
         reset_matrix();
@@ -338,9 +338,9 @@ namespace warpchol::distributed
       }
     if (!reassembles_by_error_estimate(all.model))
       return 0;
-    const std::vector<unsigned int> update = elements_to_update(stages);
+    const std::vector<unsigned int> rerotate = elements_to_rerotate(stages);
     StageTimer                      timer(stages, fem::stage::assembly);
-    for (const unsigned int e : update)
+    for (const unsigned int e : rerotate)
       {
         // Take the stored contribution out (its frames T_a stand for S_a^T Q with Q = I),
         // put the current one in.
@@ -349,14 +349,14 @@ namespace warpchol::distributed
           old_nodal[a] = stored_frames[e][a].transpose();
         add_element(e, old_nodal, Matrix3::Identity(), -1);
         add_element(e,
-                    fem::updated_contribution(body, coefficients, e, state.nodal_rotations, state.element_rotations[e],
+                    fem::rerotated_contribution(body, coefficients, e, state.nodal_rotations, state.element_rotations[e],
                                               stored_frames[e]),
                     1);
-        last_updated[distributed.active_cell_index(e)] = 1;
+        last_rerotated[distributed.active_cell_index(e)] = 1;
       }
-    // Collective: every rank, with or without updates of its own.
+    // Collective: every rank, with or without re-rotations of its own.
     solver->compress();
-    return update.size();
+    return rerotate.size();
   }
 
   void DistributedSimulation::assemble_right_hand_side(StageTimes &stages)
@@ -556,7 +556,7 @@ namespace warpchol::distributed
     if (last_estimate.size() > 0)
       {
         data_out.add_data_vector(last_estimate, "error_estimate", dealii::DataOut<3>::type_cell_data);
-        data_out.add_data_vector(last_updated, "updated", dealii::DataOut<3>::type_cell_data);
+        data_out.add_data_vector(last_rerotated, "rerotated", dealii::DataOut<3>::type_cell_data);
       }
     data_out.build_patches(distributed.mapping());
 
@@ -602,7 +602,7 @@ namespace warpchol::distributed
       const double potential    = potential_energy();
       const double tool         = tool_energy();
       std::ostringstream line;
-      line << std::setprecision(6) << steps_done << "," << time << "," << step.elements_updated << ","
+      line << std::setprecision(6) << steps_done << "," << time << "," << step.elements_rerotated << ","
            << step.cg_iterations << "," << t_rotations << "," << t_estimate << "," << t_assembly << ","
            << t_factor << "," << t_solve << "," << t_step << "," << std::setprecision(10) << kinetic << ","
            << elastic << "," << potential << "," << tool << "," << kinetic + elastic + potential + tool;
@@ -617,7 +617,7 @@ namespace warpchol::distributed
         advance(step);
         stage_totals.add(step.stages);
         step_seconds += step.seconds;
-        elements_updated += step.elements_updated;
+        elements_rerotated += step.elements_rerotated;
         cg_iterations += step.cg_iterations;
         if (all.output.write_log)
           {
@@ -636,7 +636,7 @@ namespace warpchol::distributed
       std::cerr << "\r" << std::string(40, ' ') << "\r" << std::flush;
     if (all.output.write_log && root)
       write_file_atomically(directory + "/log.csv", [&](std::ostream &file) {
-        file << "step,time,elements_updated,cg_iterations,t_rotations,t_error_estimate,t_assembly,t_factor,"
+        file << "step,time,elements_rerotated,cg_iterations,t_rotations,t_error_estimate,t_assembly,t_factor,"
                 "t_solve,t_step,kinetic_energy,elastic_energy,potential_energy,tool_energy,total_energy\n";
         for (const std::string &row : log_rows)
           file << row << "\n";
@@ -678,7 +678,7 @@ namespace warpchol::distributed
         << static_cast<unsigned long>(local_cells[2]) << " with ghosts\n";
     out << "  model " << fem::to_string(all.model.type);
     if (all.model.type == fem::ModelType::warp_canceling)
-      out << " (update threshold " << format_number(all.model.update_threshold) << ")";
+      out << " (re-rotation threshold " << format_number(all.model.rerotation_threshold) << ")";
     out << ", linear solver "
         << (solver->name() == "mumps" ? "MUMPS (PETSc, direct)" :
                                          "Trilinos CG + ML AMG (tolerance " + format_number(all.distributed.tolerance) + ")")
@@ -688,8 +688,8 @@ namespace warpchol::distributed
       out << ", mean CG iterations " << std::fixed << std::setprecision(1)
           << static_cast<double>(cg_iterations) / std::max(1u, steps_done) << std::defaultfloat;
     if (reassembles_by_error_estimate(all.model))
-      out << ", elements updated per step " << std::fixed << std::setprecision(2)
-          << 100.0 * elements_updated / std::max(1u, steps_done) / distributed.n_global_elements() << " %"
+      out << ", elements re-rotated per step " << std::fixed << std::setprecision(2)
+          << 100.0 * elements_rerotated / std::max(1u, steps_done) / distributed.n_global_elements() << " %"
           << std::defaultfloat;
     out << "\n";
     out << std::setprecision(8) << "  final energies: kinetic " << kinetic << ", elastic " << elastic

@@ -47,7 +47,7 @@ namespace warpchol::fem
     try
       {
         const Stopwatch stopwatch;
-        // Every element updated: T_a = S_a^T Q_e, as WarpCancelingModel stores them.
+        // Every element re-rotated: T_a = S_a^T Q_e, as WarpCancelingModel stores them.
         for (unsigned int e = 0; e < body.n_elements(); ++e)
           for (unsigned int a = 0; a < 4; ++a)
             frames[e][a] = nodal_rotations[body.element_vertices(e)[a]].transpose() * element_rotations[e];

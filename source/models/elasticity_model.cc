@@ -96,8 +96,8 @@ namespace warpchol::fem
   {
     if (body.n_unknowns() == 0)
       throw InputError("every vertex is fixed: nothing to simulate");
-    record.updated.assign(body.n_elements(), 0);
-    record.steps_since_update.assign(body.n_elements(), 0);
+    record.rerotated.assign(body.n_elements(), 0);
+    record.steps_since_rerotation.assign(body.n_elements(), 0);
   }
 
   void ElasticityModel::add_elastic_forces(const std::vector<Vector3> &,
@@ -183,8 +183,8 @@ namespace warpchol::fem
         if (!peer_solver)
           cholesky_solver.save_numeric(writer);
       }
-    writer.write(record.updated);
-    writer.write(record.steps_since_update);
+    writer.write(record.rerotated);
+    writer.write(record.steps_since_rerotation);
     writer.write(record.error_estimate);
     writer.write(last_cg_iterations);
     writer.write(last_cg_seconds);
@@ -211,11 +211,11 @@ namespace warpchol::fem
         else
           cholesky_solver.load_numeric(reader);
       }
-    reader.read(record.updated);
-    reader.read(record.steps_since_update);
+    reader.read(record.rerotated);
+    reader.read(record.steps_since_rerotation);
     reader.read(record.error_estimate);
     const std::size_t n_elements = body.n_elements();
-    if (record.updated.size() != n_elements || record.steps_since_update.size() != n_elements ||
+    if (record.rerotated.size() != n_elements || record.steps_since_rerotation.size() != n_elements ||
         (!record.error_estimate.empty() && record.error_estimate.size() != n_elements))
       reader.fail("the update record does not have one entry per element (" +
                   std::to_string(n_elements) + ")");
@@ -316,8 +316,8 @@ namespace warpchol::fem
       StageTimer timer(statistics.stages, stage::assembly);
       system.assemble(ElementFrames::rotated(elastic_state.element_rotations));
     }
-    statistics.elements_updated = body.n_elements();
-    record_updates(true);
+    statistics.elements_rerotated = body.n_elements();
+    record_rerotations(true);
     factorize(statistics);
   }
 
@@ -668,26 +668,26 @@ namespace warpchol::fem
     to_solve_frame(vertex_product, out.begin());
   }
 
-  void ElasticityModel::record_updates(const std::vector<unsigned int> &updated)
+  void ElasticityModel::record_rerotations(const std::vector<unsigned int> &rerotated)
   {
     for (unsigned int e = 0; e < body.n_elements(); ++e)
       {
-        record.updated[e] = 0;
-        ++record.steps_since_update[e];
+        record.rerotated[e] = 0;
+        ++record.steps_since_rerotation[e];
       }
-    for (const unsigned int e : updated)
+    for (const unsigned int e : rerotated)
       {
-        record.updated[e]            = 1;
-        record.steps_since_update[e] = 0;
+        record.rerotated[e]              = 1;
+        record.steps_since_rerotation[e] = 0;
       }
   }
 
-  void ElasticityModel::record_updates(const bool all)
+  void ElasticityModel::record_rerotations(const bool all)
   {
     for (unsigned int e = 0; e < body.n_elements(); ++e)
       {
-        record.updated[e]            = all ? 1 : 0;
-        record.steps_since_update[e] = all ? 0 : record.steps_since_update[e] + 1;
+        record.rerotated[e]              = all ? 1 : 0;
+        record.steps_since_rerotation[e] = all ? 0 : record.steps_since_rerotation[e] + 1;
       }
   }
 
@@ -696,7 +696,7 @@ namespace warpchol::fem
     return elastic_state.elastic_energy;
   }
 
-  const ElementUpdateRecord &ElasticityModel::update_record() const
+  const ElementRerotationRecord &ElasticityModel::rerotation_record() const
   {
     return record;
   }

@@ -25,7 +25,7 @@ namespace warpchol::fem
                                  StepStatistics &statistics)
   {
     evaluate_elastic_state(positions, rotations_of(ModelType::linear), statistics);
-    record_updates(false);
+    record_rerotations(false);
     record_no_refactorization(statistics);
   }
 

@@ -34,13 +34,13 @@ namespace warpchol::fem
     return type == ModelType::stiffness_warping || type == ModelType::warp_canceling;
   }
 
-  bool reassembles_every_step(const ModelType type, const double update_threshold)
+  bool reassembles_every_step(const ModelType type, const double rerotation_threshold)
   {
-    return type == ModelType::corotational || (type == ModelType::warp_canceling && update_threshold == 0);
+    return type == ModelType::corotational || (type == ModelType::warp_canceling && rerotation_threshold == 0);
   }
 
-  bool reassembles_by_error_estimate(const ModelType type, const double update_threshold)
+  bool reassembles_by_error_estimate(const ModelType type, const double rerotation_threshold)
   {
-    return type == ModelType::warp_canceling && update_threshold > 0 && !std::isinf(update_threshold);
+    return type == ModelType::warp_canceling && rerotation_threshold > 0 && !std::isinf(rerotation_threshold);
   }
 } // namespace warpchol::fem

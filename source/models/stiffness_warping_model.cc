@@ -22,7 +22,7 @@ namespace warpchol::fem
   {
     evaluate_elastic_state(positions, rotations_of(ModelType::stiffness_warping), statistics);
     record_no_refactorization(statistics);
-    record_updates(false);
+    record_rerotations(false);
   }
 
 } // namespace warpchol::fem

@@ -65,7 +65,7 @@ namespace warpchol::fem
     return {std::sqrt(error_squared), std::sqrt(exact_squared) + coefficients.time_step * force_norm};
   }
 
-  ElementMatrix updated_contribution(const ElasticBody &body, const SystemCoefficients &coefficients,
+  ElementMatrix rerotated_contribution(const ElasticBody &body, const SystemCoefficients &coefficients,
                                      const unsigned int e, const std::vector<Matrix3> &nodal_rotations,
                                      const Matrix3 &element_rotation, std::array<Matrix3, 4> &frames)
   {
@@ -80,27 +80,27 @@ namespace warpchol::fem
     return warped_element_matrix(body, e, coefficients, vertex_rotations, element_rotation);
   }
 
-  std::optional<SettingConflict> wcc_setting_conflict(const double update_threshold, const double target_error,
+  std::optional<SettingConflict> wcc_setting_conflict(const double rerotation_threshold, const double target_error,
                                                       const StepStrategy                 &strategy,
                                                       const cholesky::FactorizationMethod method)
   {
     using Rule = SettingConflict::Rule;
     using Kind = StepStrategy::Kind;
-    if (!(update_threshold >= 0))
-      return SettingConflict{Rule::threshold_range, "Model", "Update threshold", "must be a number >= 0 or inf"};
+    if (!(rerotation_threshold >= 0))
+      return SettingConflict{Rule::threshold_range, "Model", "Rerotation threshold", "must be a number >= 0 or inf"};
     if (!(target_error >= 0))
       return SettingConflict{Rule::target_range, "Model", "Target error", "must be >= 0"};
-    if (target_error > 0 && (!(update_threshold > 0) || std::isinf(update_threshold)))
+    if (target_error > 0 && (!(rerotation_threshold > 0) || std::isinf(rerotation_threshold)))
       return SettingConflict{Rule::target_needs_finite_threshold, "Model", "Target error",
-                             "adapts the update threshold, which must then start finite and > 0 (Update threshold = " +
-                               format_number(update_threshold) + ")"};
+                             "adapts the re-rotation threshold, which must then start finite and > 0 (Rerotation threshold = " +
+                               format_number(rerotation_threshold) + ")"};
     if (target_error > 0 && strategy.iterates() && strategy.iterate_on == StepStrategy::Target::corotational)
       return SettingConflict{Rule::target_needs_wcc_system, "Model", "Target error",
                              "needs a step that solves the WCC system (Strategy = partial, or Iterate on = "
                              "warp_canceling): CG on the corotational matrix is exact to the CG tolerance"};
     if (strategy.kind == Kind::background && strategy.iterate_on != StepStrategy::Target::corotational)
       return SettingConflict{Rule::background_iterates_on_corotational, "Model", "Iterate on",
-                             "must be corotational with Strategy = background: a refresh updates every element, "
+                             "must be corotational with Strategy = background: a refresh re-rotates every element, "
                              "which makes the WCC matrix the corotational one"};
     if ((strategy.kind == Kind::delayed_top || strategy.kind == Kind::automatic) &&
         method != cholesky::FactorizationMethod::supernodal)
@@ -113,18 +113,18 @@ namespace warpchol::fem
   WarpCancelingModel::WarpCancelingModel(const ElasticBody &body,
                                          const SystemCoefficients &coefficients,
                                          const cholesky::SparseCholesky::Settings &solver_settings,
-                                         const double update_threshold,
+                                         const double rerotation_threshold,
                                          const StepStrategy &step_strategy,
                                          const double        target_error,
                                          std::unique_ptr<backends::LinearSolver> peer)
     : ElasticityModel(body, coefficients, solver_settings, std::move(peer))
-    , threshold(update_threshold)
-    , target_control(target_error, update_threshold)
+    , threshold(rerotation_threshold)
+    , target_control(target_error, rerotation_threshold)
     , given_threads(std::max(1u, solver_settings.n_threads))
     , step_thread_count(given_threads)
   {
     strategy = step_strategy;
-    if (const auto conflict = wcc_setting_conflict(update_threshold, target_error, strategy, solver_settings.method))
+    if (const auto conflict = wcc_setting_conflict(rerotation_threshold, target_error, strategy, solver_settings.method))
       throw InputError(conflict->subsection + "/" + conflict->entry + ": " + conflict->message);
     measure_velocity_error = target_error > 0;
     // At rest every rotation is the identity: A is the rest matrix.
@@ -144,9 +144,9 @@ namespace warpchol::fem
     // At rest every frame is the identity.
     stored_frames.assign(body.n_elements(), {{Matrix3::Identity(), Matrix3::Identity(),
                                                Matrix3::Identity(), Matrix3::Identity()}});
-    // Estimates exist only between the two limits (0: all updated, inf: none); at rest
+    // Estimates exist only between the two limits (0: all re-rotated, inf: none); at rest
     // they are 0. The background refresh estimates nothing.
-    if (update_threshold > 0 && !std::isinf(update_threshold) && strategy.kind != StepStrategy::Kind::background)
+    if (rerotation_threshold > 0 && !std::isinf(rerotation_threshold) && strategy.kind != StepStrategy::Kind::background)
       record.error_estimate.assign(body.n_elements(), 0.0);
     // The background refresh: asked for, or the automatic strategy's with a thread to spare.
     if (strategy.kind == StepStrategy::Kind::background ||
@@ -182,12 +182,12 @@ namespace warpchol::fem
                           (placement.current() == RefreshPlacement::Where::beside_the_steps && !fallback.runs_exact()));
   }
 
-  double WarpCancelingModel::update_threshold() const
+  double WarpCancelingModel::rerotation_threshold() const
   {
     return threshold;
   }
 
-  double WarpCancelingModel::current_update_threshold() const
+  double WarpCancelingModel::current_rerotation_threshold() const
   {
     return target_control.threshold();
   }
@@ -206,7 +206,7 @@ namespace warpchol::fem
   {
     StrategyReport report;
     report.has_strategy            = true;
-    report.update_threshold        = threshold;
+    report.rerotation_threshold        = threshold;
     report.target_error            = target_control.target();
     report.target_note             = target_control.why_given_up();
     report.strategy                = strategy;
@@ -231,7 +231,7 @@ namespace warpchol::fem
   }
 
   std::vector<unsigned int>
-  WarpCancelingModel::elements_to_update(const std::vector<Vector3> &velocities)
+  WarpCancelingModel::elements_to_rerotate(const std::vector<Vector3> &velocities)
   {
     const unsigned int  n_elements        = body.n_elements();
     const auto         &element_rotations = elastic_state.element_rotations;
@@ -271,16 +271,16 @@ namespace warpchol::fem
       impulse_sum += value;
 
     const double scale = impulse_sum / n_elements;
-    std::vector<unsigned int> update;
+    std::vector<unsigned int> rerotate;
     for (unsigned int e = 0; e < n_elements; ++e)
       {
-        // A body at rest has scale 0 and errors 0: no update (strict inequality).
+        // A body at rest has scale 0 and errors 0: no re-rotation (strict inequality).
         const double relative_error = scale > 0 ? error[e] / scale : 0.0;
         record.error_estimate[e]    = relative_error;
         if (error[e] > target_control.threshold() * scale || !std::isfinite(error[e]))
-          update.push_back(e);
+          rerotate.push_back(e);
       }
-    return update;
+    return rerotate;
   }
 
   bool WarpCancelingModel::matrix_carries_over() const
@@ -356,7 +356,7 @@ namespace warpchol::fem
       background->load(reader);
   }
 
-  void WarpCancelingModel::update_frames(const unsigned int e)
+  void WarpCancelingModel::rerotate_frames(const unsigned int e)
   {
     const auto &vertices = body.element_vertices(e);
     for (unsigned int a = 0; a < 4; ++a)
@@ -410,17 +410,17 @@ namespace warpchol::fem
     system.set_thread_count(step_thread_count);
     last_refresh = cholesky::Refresh::none;
     // The last step's error against exact corotation steers this step's threshold
-    // (TargetErrorController), until no threshold holds the target with few updates: the
+    // (TargetErrorController), until no threshold holds the target with few re-rotations: the
     // steps then iterate on the exact corotational matrix instead (the preconditioned
     // strategy: the same updates and refactorizations, CG to its tolerance).
     if (target_control.steering() && last_velocity_error >= 0)
       {
-        const double updated =
-          static_cast<double>(std::count(record.updated.begin(), record.updated.end(), 1)) / body.n_elements();
-        if (target_control.steer(history.step_count + 1, last_velocity_error, updated))
+        const double rerotated =
+          static_cast<double>(std::count(record.rerotated.begin(), record.rerotated.end(), 1)) / body.n_elements();
+        if (target_control.steer(history.step_count + 1, last_velocity_error, rerotated))
           give_up_target();
       }
-    statistics.update_threshold = target_control.threshold();
+    statistics.rerotation_threshold = target_control.threshold();
     ++history.step_count;
     exact_this_step = false;
 
@@ -469,11 +469,11 @@ namespace warpchol::fem
     {
       StageTimer timer(statistics.stages, stage::assembly);
       for (unsigned int e = 0; e < body.n_elements(); ++e)
-        update_frames(e);
+        rerotate_frames(e);
       system.assemble(ElementFrames::warped(stored_frames));
     }
-    statistics.elements_updated = body.n_elements();
-    record_updates(true);
+    statistics.elements_rerotated = body.n_elements();
+    record_rerotations(true);
     factorize(statistics);
     history.factor_step              = history.step_count;
     history.matrix_in_element_frames = false;
@@ -490,7 +490,7 @@ namespace warpchol::fem
           {
             statistics.choice = took ? StepChoice::background : StepChoice::refresh_none;
             if (!took)
-              record_updates(false);
+              record_rerotations(false);
             return;
           }
         if (took)
@@ -504,7 +504,7 @@ namespace warpchol::fem
 
     if (threshold == 0)
       {
-        // Every element is updated: exact corotation, assembled and factored in full.
+        // Every element is re-rotated: exact corotation, assembled and factored in full.
         exact_step(statistics);
         return;
       }
@@ -533,25 +533,25 @@ namespace warpchol::fem
       }
     if (automatic)
       statistics.predicted_seconds = cost_model.predicted_iterating_seconds(staleness);
-    // Nothing is ever updated at an infinite threshold: stiffness warping, or the automatic
+    // Nothing is ever re-rotated at an infinite threshold: stiffness warping, or the automatic
     // strategy's factor between its exact steps; only changes of the system (a cut, a
     // grasp) may be pending.
-    std::vector<unsigned int> update;
+    std::vector<unsigned int> rerotate;
     if (!std::isinf(threshold))
       {
         StageTimer estimate_timer(statistics.stages, stage::error_estimate);
-        update = elements_to_update(velocities);
+        rerotate = elements_to_rerotate(velocities);
       }
-    record_updates(update);
-    statistics.elements_updated = update.size();
+    record_rerotations(rerotate);
+    statistics.elements_rerotated = rerotate.size();
 
     std::vector<Index> changed_columns;
-    if (!update.empty())
+    if (!rerotate.empty())
       {
         StageTimer timer(statistics.stages, stage::assembly);
-        for (const unsigned int e : update)
-          update_frames(e);
-        changed_columns = system.reassemble(update, ElementFrames::warped(stored_frames));
+        for (const unsigned int e : rerotate)
+          rerotate_frames(e);
+        changed_columns = system.reassemble(rerotate, ElementFrames::warped(stored_frames));
       }
     // Nothing changed and nothing is left stale: the factor is that of A.
     if (changed_columns.empty() && factor_is_exact())
@@ -581,8 +581,8 @@ namespace warpchol::fem
         history.matrix_in_element_frames = false;
         last_refresh                     = cholesky::Refresh::all;
         statistics.refresh = "background";
-        record_updates(true);
-        statistics.elements_updated = body.n_elements();
+        record_rerotations(true);
+        statistics.elements_rerotated = body.n_elements();
       }
     if (!background->in_flight() && refreshes_beside_the_steps())
       background->start(history.step_count, elastic_state.element_rotations, elastic_state.nodal_rotations);

@@ -20,7 +20,7 @@ namespace warpchol::app
         << "|x_i - x_i(corotational)| / max_i |x_i(corotational) - X_i|, RMS = sqrt(mean_i "
         << "|x_i - x_i(corotational)|^2) / the same; max and mean over the steps; phases in ms "
         << "per step\n"
-        << std::setw(24) << "model" << std::setw(10) << "threshold" << std::setw(9) << "updated%"
+        << std::setw(24) << "model" << std::setw(10) << "threshold" << std::setw(9) << "rerot%"
         << std::setw(8) << "flops%" << std::setw(7) << "CG it" << std::setw(10) << "s/step"
         << std::setw(8) << "speedup" << std::setw(9) << "rotat" << std::setw(9) << "estim"
         << std::setw(9) << "assem" << std::setw(9) << "factor" << std::setw(9) << "iterat"
@@ -39,7 +39,7 @@ namespace warpchol::app
                                                                              format_number(value, 2);
         };
         out << std::setw(24) << row.model << std::setw(10) << threshold_text(row) << std::setw(9)
-            << format_number(row.elements_updated, 3) << std::setw(8)
+            << format_number(row.elements_rerotated, 3) << std::setw(8)
             << format_number(row.flops_recomputed, 3) << std::setw(7)
             << format_number(row.cg_iterations, 2) << std::setw(10) << format_number(per_step, 3)
             << std::setw(8) << format_number(per_step > 0 ? exact_per_step / per_step : 0, 3)
@@ -87,7 +87,7 @@ namespace warpchol::app
 
   void write_sweep_csv(const std::vector<SweepRow> &rows, std::ostream &out)
   {
-    out << "model,threshold,steps,elements_updated_pct,flops_recomputed_pct,cg_iterations,seconds,"
+    out << "model,threshold,steps,elements_rerotated_pct,flops_recomputed_pct,cg_iterations,seconds,"
            "seconds_per_step,t_rotations,t_error_estimate,t_assembly,t_factor,t_iterations,t_solve,"
            "max_error_vs_corotational,mean_error_vs_corotational,max_rms_error_vs_corotational,"
            "mean_rms_error_vs_corotational,final_error_vs_corotational,factor_mib,cg_iteration_mb,cg_gbps,failure\n";
@@ -99,7 +99,7 @@ namespace warpchol::app
         const auto &p = row.phases;
         const auto &e = row.error;
         out << row.model << "," << format_number(row.threshold) << "," << row.steps << ","
-            << format_number(row.elements_updated, 4) << "," << format_number(row.flops_recomputed, 4) << ","
+            << format_number(row.elements_rerotated, 4) << "," << format_number(row.flops_recomputed, 4) << ","
             << format_number(row.cg_iterations, 3) << "," << format_number(row.seconds, 4) << ","
             << format_number(row.steps > 0 ? row.seconds / row.steps : 0, 4) << ","
             << per_step_ms(p.t_rotations()) << "," << per_step_ms(p.t_error_estimate()) << ","

@@ -119,7 +119,7 @@ int main()
     {"linear", "  set Type = linear\n"},
     {"corotational", "  set Type = corotational\n"},
     {"stiffness_warping", "  set Type = stiffness_warping\n"},
-    {"warp_canceling", "  set Type = warp_canceling\n  set Update threshold = 0.3\n"}};
+    {"warp_canceling", "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n"}};
   for (const auto &[label, model] : models)
     for (const std::string solver : {"amg_cg", "mumps"})
       {
@@ -164,7 +164,7 @@ int main()
   // Strategy = auto (the default scene's), which a distributed run does not have: it runs
   // as partial, the WCC system solved by the distributed solver, and says so in one line.
   {
-    tests::write_file("auto.prm", scene("  set Type = warp_canceling\n  set Update threshold = 0.3\n"
+    tests::write_file("auto.prm", scene("  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n"
                                         "  set Strategy = auto\n",
                                         "auto", "amg_cg"));
     const int     status = spawn(2, {"auto.prm"}, "auto.out");

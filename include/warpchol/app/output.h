@@ -39,7 +39,7 @@ namespace warpchol::app
     fem::Vector3              offset = fem::Vector3::Zero();
     std::vector<fem::Vector3> displacements;
     std::vector<fem::Vector3> velocities;
-    fem::ElementUpdateRecord  record;
+    fem::ElementRerotationRecord  record;
     /**
      * With cuts, grasps or material changes (empty otherwise): per element the step it was
      * cut at (-1: not cut), per vertex 1 while it is grasped.
@@ -58,7 +58,7 @@ namespace warpchol::app
 
   /**
    * VTU files SCENE-NNNNN.vtu with the displacement and velocity per vertex and, per cell,
-   * whether the element was updated in the step, its error estimate (WCC) and the steps
+   * whether the element was re-rotated in the step, its error estimate (WCC) and the steps
    * since its last update; SCENE.pvd lists them with their times. A scene of several
    * bodies writes them all into each file, shifted side by side, with the cell field
    * "body" (0, 1, ...) telling them apart. A scene with cuts or grasps adds the cell fields

@@ -118,5 +118,7 @@ namespace warpchol::app
     void check_backend(dealii::ParameterHandler &prm) const;
     /** Fill warnings: the entries set in the file that the choices made ignore, for every subsection. */
     void warn_about_ignored_entries(dealii::ParameterHandler &prm);
+    /** Add to warnings each entry the file sets by its old name (renamed_entries). */
+    void warn_about_old_names();
   };
 } // namespace warpchol::app

@@ -46,18 +46,18 @@ namespace warpchol::app
   struct RunTotals
   {
     unsigned int steps                  = 0;
-    double       elements_updated       = 0;
-    /** Elements updated in the last step (the progress line shows it). */
-    double       last_elements_updated  = 0;
-    double       max_elements_updated   = 0;
-    unsigned int steps_with_updates     = 0;
-    unsigned int trailing_steps_without_update = 0;
+    double       elements_rerotated       = 0;
+    /** Elements re-rotated in the last step (the progress line shows it). */
+    double       last_elements_rerotated  = 0;
+    double       max_elements_rerotated   = 0;
+    unsigned int steps_with_rerotations     = 0;
+    unsigned int trailing_steps_without_rerotation = 0;
     unsigned int refactorizations       = 0;
     double       columns_recomputed_pct = 0;
     double       flops_recomputed_pct   = 0;
     /** Iterations of preconditioned CG, summed over the steps. */
     unsigned int cg_iterations          = 0;
-    /** WCC: the update threshold of the steps (adapted to a target error, or fixed). */
+    /** WCC: the re-rotation threshold of the steps (adapted to a target error, or fixed). */
     double       threshold_sum = 0;
     double       min_threshold = std::numeric_limits<double>::infinity();
     double       max_threshold = 0;
@@ -89,7 +89,7 @@ namespace warpchol::app
     /** The whole run: steps, log, VTU files (the initial one included). */
     double       run_seconds = 0;
     /** Sum over updates of the rest distance of the element's centre to the tool's centre. */
-    double       updated_distance_to_tool = 0;
+    double       rerotated_distance_to_tool = 0;
     /** Trajectory error against the corotational run (worst vertex and RMS per step). */
     TrajectoryError error_vs_corotational;
 

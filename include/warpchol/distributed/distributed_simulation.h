@@ -26,7 +26,7 @@ namespace warpchol::distributed
   struct DistributedStep
   {
     /** Elements whose contribution to A was recomputed, over all ranks. */
-    unsigned long elements_updated = 0;
+    unsigned long elements_rerotated = 0;
     /** CG iterations (0 for MUMPS). */
     unsigned int cg_iterations = 0;
     /** This rank's seconds per stage (the names of fem::stage). */
@@ -103,7 +103,7 @@ namespace warpchol::distributed
     /** Add @p factor times the element matrix @p matrix of element @p e to A. */
     void add_element(unsigned int e, const fem::ElementMatrix &matrix, double factor);
     /** WCC: the owned elements whose error exceeds the threshold. */
-    std::vector<unsigned int> elements_to_update(StageTimes &stages);
+    std::vector<unsigned int> elements_to_rerotate(StageTimes &stages);
 
     /** One implicit Euler step: the element pass, then each of the steps below in turn. */
     void advance(DistributedStep &step);
@@ -141,9 +141,9 @@ namespace warpchol::distributed
     fem::ElasticBody::State state;
     /** WCC: per local element, the frames T_a = S_a^T Q_e its contribution was made with. */
     std::vector<std::array<fem::Matrix3, 4>> stored_frames;
-    /** WCC: per local element, the relative estimate of the last step; 1 if it was updated. */
+    /** WCC: per local element, the relative estimate of the last step; 1 if it was re-rotated. */
     dealii::Vector<float> last_estimate;
-    dealii::Vector<float> last_updated;
+    dealii::Vector<float> last_rerotated;
 
     /** Owned rows: the right-hand side and the solution in the solve frame. */
     std::vector<double> rhs;
@@ -156,7 +156,7 @@ namespace warpchol::distributed
     StageTimes                                  stage_totals;
     double                                      step_seconds  = 0;
     double                                      setup_seconds = 0;
-    unsigned long                               elements_updated = 0;
+    unsigned long                               elements_rerotated = 0;
     unsigned long                               cg_iterations    = 0;
     std::vector<std::pair<double, std::string>> pvtu_records;
     std::vector<std::string>                    log_rows;

@@ -21,7 +21,7 @@ namespace warpchol::fem
 {
   /**
    * Assembles and factors, on a thread of its own, the matrix of warp-canceling corotation
-   * with every element updated at the rotations of one step: the exact corotational matrix
+   * with every element re-rotated at the rotations of one step: the exact corotational matrix
    * in that step's nodal frames, R^T B R. While it runs, the steps go on with the factor
    * they have; when it is done, the model takes its matrix, its frames and its factor
    * (take()) at a step boundary, and starts it again on newer rotations.

@@ -78,7 +78,7 @@ namespace warpchol::fem
   {
     /** No choice made: a strategy that does not choose ("" in the log). */
     not_chosen,
-    /** Every element updated, A factored in full, a direct solve. */
+    /** Every element re-rotated, A factored in full, a direct solve. */
     exact,
     /**
      * auto's fall-back (ExactFallback): the exact path's step (the corotational model's,
@@ -111,7 +111,7 @@ namespace warpchol::fem
   struct StepStatistics
   {
     /** Elements whose contribution to A was recomputed. */
-    Index elements_updated = 0;
+    Index elements_rerotated = 0;
     /** Whether the factor changed (a full or partial factorization ran). */
     bool refactorized = false;
     /** Columns of L recomputed, and all columns. */
@@ -182,8 +182,8 @@ namespace warpchol::fem
     Index        change_columns    = 0;
     double       change_flops      = 0;
 
-    /** The WCC update threshold of the step (negative for the other models). */
-    double update_threshold = -1;
+    /** The WCC re-rotation threshold of the step (negative for the other models). */
+    double rerotation_threshold = -1;
     /**
      * Steps between the rotations the factor was made with and this step (Strategy =
      * background; negative for the others).
@@ -218,13 +218,13 @@ namespace warpchol::fem
     bool empty() const;
   };
 
-  /** Per element: how up to date its contribution to A is (for output). */
-  struct ElementUpdateRecord
+  /** Per element: how up to date its contribution to A is, its rotations' age (for output). */
+  struct ElementRerotationRecord
   {
-    /** 1 if the element's contribution was recomputed in the last step. */
-    std::vector<unsigned char> updated;
-    /** Steps since the contribution was last recomputed (0: in the last step). */
-    std::vector<unsigned int> steps_since_update;
+    /** 1 if the element was re-rotated (its contribution recomputed) in the last step. */
+    std::vector<unsigned char> rerotated;
+    /** Steps since the element was last re-rotated (0: in the last step). */
+    std::vector<unsigned int> steps_since_rerotation;
     /** The relative error estimate of the last step; empty if the model estimates none. */
     std::vector<double> error_estimate;
   };
@@ -258,14 +258,14 @@ namespace warpchol::fem
     virtual std::string name() const = 0;
 
     /**
-     * What the model reports of its update threshold and step strategy, for the run's
+     * What the model reports of its re-rotation threshold and step strategy, for the run's
      * summary: the app asks the model, never its type. Empty (has_strategy false) but for
      * WCC.
      */
     struct StrategyReport
     {
       bool         has_strategy     = false;
-      double       update_threshold = 0;
+      double       rerotation_threshold = 0;
       /** 0 when the threshold stays fixed. */
       double       target_error = 0;
       /** Why and from which step a target error gave up (empty while it steers). */
@@ -366,7 +366,7 @@ namespace warpchol::fem
     /** Bytes of the factor (warpchol's or the peer's) or of the peer's preconditioner. */
     std::size_t factor_memory_bytes() const;
 
-    const ElementUpdateRecord &update_record() const;
+    const ElementRerotationRecord &rerotation_record() const;
     const SystemMatrix        &system_matrix() const;
     const cholesky::SparseCholesky &solver() const;
     /** Seconds spent in the set-up: assembly, ordering, symbolic and first factorization. */
@@ -459,7 +459,7 @@ namespace warpchol::fem
     /**
      * The corotational model's step: the element rotations at @p positions, A assembled
      * with every vertex of element e in its frame R_e (R_e K_e R_e^T), every element
-     * recorded as updated, A factored in full. WCC's fall-back runs it too.
+     * recorded as re-rotated, A factored in full. WCC's fall-back runs it too.
      */
     void corotational_exact_step(const std::vector<Vector3> &positions, StepStatistics &statistics);
 
@@ -478,10 +478,10 @@ namespace warpchol::fem
     /** The sizes a step that does not refactorize reports (columns and full flops). */
     void record_no_refactorization(StepStatistics &statistics) const;
 
-    /** Record that @p updated (sorted) were recomputed this step, the others not. */
-    void record_updates(const std::vector<unsigned int> &updated);
-    /** Record that all or no element was recomputed this step. */
-    void record_updates(bool all);
+    /** Record that @p rerotated (sorted) were re-rotated this step, the others not. */
+    void record_rerotations(const std::vector<unsigned int> &rerotated);
+    /** Record that all or no element was re-rotated this step. */
+    void record_rerotations(bool all);
 
     /**
      * The fused element pass at @p positions (ElasticBody::evaluate): rotations as the
@@ -502,7 +502,7 @@ namespace warpchol::fem
     SystemCoefficients       coefficients;
     SystemMatrix             system;
     cholesky::SparseCholesky cholesky_solver;
-    ElementUpdateRecord      record;
+    ElementRerotationRecord      record;
     double                   setup_time = 0;
     /** Rotations, forces and energy at the positions of the last prepare_step(). */
     ElasticBody::State       elastic_state;

@@ -22,7 +22,7 @@ namespace warpchol::fem
     corotational,
     /** StiffnessWarpingModel: the rest matrix in the nodal frames, factored once. */
     stiffness_warping,
-    /** WarpCancelingModel: the elements over the update threshold re-rotated, A partially refactored. */
+    /** WarpCancelingModel: the elements over the re-rotation threshold re-rotated, A partially refactored. */
     warp_canceling
   };
 
@@ -46,13 +46,13 @@ namespace warpchol::fem
 
   /**
    * Whether A is assembled again in full every step: exact corotation, and WCC at @p
-   * update_threshold 0 (every element over it).
+   * rerotation_threshold 0 (every element over it).
    */
-  bool reassembles_every_step(ModelType type, double update_threshold);
+  bool reassembles_every_step(ModelType type, double rerotation_threshold);
 
   /**
    * Whether A is re-assembled in part, element by element, by the error estimate: WCC with
    * a threshold between 0 (reassembles_every_step()) and inf (stiffness warping).
    */
-  bool reassembles_by_error_estimate(ModelType type, double update_threshold);
+  bool reassembles_by_error_estimate(ModelType type, double rerotation_threshold);
 } // namespace warpchol::fem

@@ -48,7 +48,7 @@ namespace warpchol::fem
        * Refresh on a thread of its own (BackgroundRefresh): the matrix with every element
        * updated at one step's rotations is assembled and factored beside the steps, which
        * meanwhile solve by CG preconditioned with the last factor that finished; the new
-       * one is taken at a step boundary (background_lag). No element is updated by the
+       * one is taken at a step boundary (background_lag). No element is re-rotated by the
        * steps themselves: the threshold is not used.
        */
       background
@@ -118,7 +118,7 @@ namespace warpchol::fem
    * top are those seen after the last such refreshes, with no refresh one more than the
    * last step's (the factor only grows staler).
    *
-   * Between steps, when to make the factor exact (an exact step: every element updated,
+   * Between steps, when to make the factor exact (an exact step: every element re-rotated,
    * A assembled and factored in full, a direct solve): a refresh serves the steps after
    * it, which iterate the more the staler the factor is. With C the cost of an exact step
    * and c(s) that of a step s steps after it, a cycle of P steps costs on average

@@ -40,11 +40,11 @@ namespace warpchol::fem
 
   /**
    * A_e with the current rotations (S_a = @p nodal_rotations of its vertices, Q_e =
-   * @p element_rotation): what element @p e contributes to A once WCC updates it; @p frames
+   * @p element_rotation): what element @p e contributes to A once WCC re-rotates it; @p frames
    * receives the T_a = S_a^T Q_e it is made with, which the estimate compares against
-   * until the next update. The serial model and each rank of a distributed run call it.
+   * until the next re-rotation. The serial model and each rank of a distributed run call it.
    */
-  ElementMatrix updated_contribution(const ElasticBody &body, const SystemCoefficients &coefficients, unsigned int e,
+  ElementMatrix rerotated_contribution(const ElasticBody &body, const SystemCoefficients &coefficients, unsigned int e,
                                      const std::vector<Matrix3> &nodal_rotations, const Matrix3 &element_rotation,
                                      std::array<Matrix3, 4> &frames);
 
@@ -73,22 +73,22 @@ namespace warpchol::fem
   /**
    * The rules that tie WCC's settings together, in one place: the model's constructor
    * throws on the first broken one, the parameter file names its entry and line. Empty if
-   * @p update_threshold, @p target_error, @p strategy and the solver's @p method agree.
+   * @p rerotation_threshold, @p target_error, @p strategy and the solver's @p method agree.
    */
-  std::optional<SettingConflict> wcc_setting_conflict(double update_threshold, double target_error,
+  std::optional<SettingConflict> wcc_setting_conflict(double rerotation_threshold, double target_error,
                                                       const StepStrategy           &strategy,
                                                       cholesky::FactorizationMethod method);
 
   /**
    * Warp-canceling corotation (WCC). Every element e keeps the nodal rotations S_a of its
-   * vertices and its own rotation Q_e from the step it was last *updated* (in the
+   * vertices and its own rotation Q_e from the step it was last *re-rotated* (in the
    * contribution the SystemMatrix keeps for it), and contributes
    *   A_e = c_M diag(S_a^T) M_e diag(S_b) + c_K diag(S_a^T Q_e) K_e diag(Q_e^T S_b)
    * to A. The step solves R A R^T v = rhs with the current nodal rotations R: where an
    * element is up to date (S = R, Q_e = R_e) this is exact corotation; where it is not, the
-   * nodal rotations stand in for the missing update.
+   * nodal rotations stand in for the missing re-rotation.
    *
-   * Which elements to update. With z = R^T v_e (v_e the element's nodal velocities) the
+   * Which elements to re-rotate. With z = R^T v_e (v_e the element's nodal velocities) the
    * exact and the approximate contributions of e to the left-hand side differ by
    *   err_e = || (A_e[R, R_e] - A_e[stored S, Q]) z ||
    * (rotating by R changes no norm), an impulse (N s). The threshold is dimensionless,
@@ -96,15 +96,15 @@ namespace warpchol::fem
    *   I = mean over elements of ( || A_e[R, R_e] z || + dt || f_e || ),
    * the typical size of an element's terms in the impulse balance A v = M v + dt f: its
    * exact contribution to A v and its elastic impulse (f_e = R_e K_e (R_e^T x_e - X_e)).
-   * Element e is updated when err_e > threshold * I. A rigid translation leaves err_e / I at
+   * Element e is re-rotated when err_e > threshold * I. A rigid translation leaves err_e / I at
    * rounding level (1e-16), so any threshold above about 1e-12 treats it as no change. As a
    * loaded body comes to rest, err_e vanishes with the velocities while its elastic
-   * impulse keeps I finite: the updates die out. A body at rest and unloaded (I = 0)
-   * updates nothing.
+   * impulse keeps I finite: the re-rotations die out. A body at rest and unloaded (I = 0)
+   * re-rotates nothing.
    *
-   * Threshold 0 updates every element without estimating anything: the step is then exact
-   * corotation (assembled and factored in full). An infinite threshold never updates and
-   * estimates nothing: the step is then exactly stiffness warping. In between, the updated
+   * Threshold 0 re-rotates every element without estimating anything: the step is then exact
+   * corotation (assembled and factored in full). An infinite threshold never re-rotates and
+   * estimates nothing: the step is then exactly stiffness warping. In between, the re-rotated
    * elements' entries are re-assembled and the factor is refactorized partially, for the
    * dofs of their vertices only; nothing is refactorized in a step with no update.
    *
@@ -128,10 +128,10 @@ namespace warpchol::fem
   class WarpCancelingModel : public ElasticityModel
   {
   public:
-    /** @p update_threshold >= 0, possibly infinite; @p peer as ElasticityModel's. */
+    /** @p rerotation_threshold >= 0, possibly infinite; @p peer as ElasticityModel's. */
     WarpCancelingModel(const ElasticBody &body, const SystemCoefficients &coefficients,
                        const cholesky::SparseCholesky::Settings &solver_settings,
-                       double update_threshold, const StepStrategy &step_strategy = StepStrategy(),
+                       double rerotation_threshold, const StepStrategy &step_strategy = StepStrategy(),
                        double target_error = 0, std::unique_ptr<backends::LinearSolver> peer = nullptr);
 
     std::string name() const override;
@@ -147,9 +147,9 @@ namespace warpchol::fem
 
 
     /** The threshold the model was given (with a target error: the one it started from). */
-    double update_threshold() const;
+    double rerotation_threshold() const;
     /** The threshold of the step to come (the given one, unless a target error adapts it). */
-    double current_update_threshold() const;
+    double current_rerotation_threshold() const;
     /** The target error; 0 when the threshold stays fixed. */
     double target_error() const;
 
@@ -157,7 +157,7 @@ namespace warpchol::fem
 
     /**
      * Empty while the target error steers the threshold; once it gave up (no threshold
-     * holds the target with few updates: see prepare_step()), why and from which step.
+     * holds the target with few re-rotations: see prepare_step()), why and from which step.
      */
     const std::string &target_note() const;
 
@@ -186,9 +186,9 @@ namespace warpchol::fem
      * rotations (A is then the exact corotational matrix) and factor it in full.
      */
     bool refresh_after_failed_solve(StepStatistics &statistics) override;
-    /** After a step that updated every element: A is the exact corotational matrix. */
+    /** After a step that re-rotated every element: A is the exact corotational matrix. */
     bool factor_solves_target() const override;
-    /** Every element in the frames it was last updated with. */
+    /** Every element in the frames it was last re-rotated with. */
     ElementFrames contribution_frames() const override;
     /** The stored frames, the adapted threshold and what the strategy measured. */
     void save_model_state(BinaryWriter &writer) const override;
@@ -196,14 +196,14 @@ namespace warpchol::fem
 
   private:
     /** The elements whose error estimate exceeds the threshold, in increasing order. */
-    std::vector<unsigned int> elements_to_update(const std::vector<Vector3> &velocities);
+    std::vector<unsigned int> elements_to_rerotate(const std::vector<Vector3> &velocities);
 
     /**
-     * Update element @p e: its frames become S_a^T Q_e with the current rotations (S_a = R
+     * Re-rotate element @p e: its frames become S_a^T Q_e with the current rotations (S_a = R
      * of its vertices, Q_e = R_e), which its contribution to A is made with until its next
-     * update.
+     * re-rotation.
      */
-    void update_frames(unsigned int e);
+    void rerotate_frames(unsigned int e);
 
     const double threshold;
     /** The threshold of the next step: the given one, or adapted to the target error. */

@@ -21,7 +21,7 @@ namespace warpchol::app
     std::string         model;
     double              threshold        = 0;
     unsigned int        steps            = 0;
-    double              elements_updated = 0; // mean percentage per step
+    double              elements_rerotated = 0; // mean percentage per step
     double              flops_recomputed = 0; // mean percentage per step (0 without refactorization)
     double              cg_iterations    = 0; // mean per step
     double              seconds          = 0; // time steps only

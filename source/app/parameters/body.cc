@@ -185,9 +185,10 @@ namespace warpchol::app
       prm.declare_entry("Models", "", Patterns::Anything(),
                         "One model type per body, comma-separated (as Model/Type); empty: "
                         "Model/Type for every body");
-      prm.declare_entry("Update thresholds", "", Patterns::Anything(),
-                        "One WCC update threshold per body, comma-separated (numbers >= 0 or "
-                        "inf); empty: Model/Update threshold for every body");
+      prm.declare_entry("Rerotation thresholds", "", Patterns::Anything(),
+                        "One WCC re-rotation threshold per body, comma-separated (numbers >= 0 or "
+                        "inf); empty: Model/Rerotation threshold for every body. Read under its "
+                        "old name Update thresholds too, with a warning");
       prm.leave_subsection();
     }
 
@@ -197,7 +198,7 @@ namespace warpchol::app
       count   = prm.get_integer("Number of bodies");
       spacing = get_vector(prm, "Spacing");
       model_types.clear();
-      update_thresholds.clear();
+      rerotation_thresholds.clear();
       const auto items = [](const std::string &text) {
         std::vector<std::string> values;
         if (!trim(text).empty())
@@ -226,15 +227,15 @@ namespace warpchol::app
             }
         }
       require_one_per_body("Models", model_types.size());
-      for (const auto &text : items(prm.get("Update thresholds")))
+      for (const auto &text : items(prm.get("Rerotation thresholds")))
         {
           double threshold = 0;
           if (!parse_threshold(text, threshold))
-            file.fail(prm, "Bodies", "Update thresholds",
+            file.fail(prm, "Bodies", "Rerotation thresholds",
                       quote(text) + " is not a threshold (a number >= 0 or inf)");
-          update_thresholds.push_back(threshold);
+          rerotation_thresholds.push_back(threshold);
         }
-      require_one_per_body("Update thresholds", update_thresholds.size());
+      require_one_per_body("Rerotation thresholds", rerotation_thresholds.size());
       if (count > 1 && spacing.norm() == 0)
         file.fail(prm, "Bodies", "Spacing", "must not be zero for more than one body");
       prm.leave_subsection();

@@ -236,8 +236,15 @@ namespace warpchol::app
                 std::string path;
                 for (const auto &subsection : subsections)
                   path += subsection + "/";
-                set_lines.emplace_back(path + one_line(rest.substr(0, rest.find('='))),
-                                       static_cast<int>(line_origins.size()));
+                path += one_line(rest.substr(0, rest.find('=')));
+                const int line_index = static_cast<int>(line_origins.size());
+                for (const RenamedEntry &renamed : renamed_entries)
+                  if (path == std::string(renamed.subsection) + "/" + renamed.old_name)
+                    {
+                      old_name_lines.emplace_back(renamed, line_index);
+                      path = std::string(renamed.subsection) + "/" + renamed.new_name;
+                    }
+                set_lines.emplace_back(path, line_index);
               }
             continue;
           }
@@ -295,6 +302,14 @@ namespace warpchol::app
   {
     const std::string path = subsection + "/" + entry;
     return std::any_of(set_lines.begin(), set_lines.end(), [&](const auto &set) { return set.first == path; });
+  }
+
+  std::vector<std::pair<std::string, RenamedEntry>> ParameterFileLocator::old_names() const
+  {
+    std::vector<std::pair<std::string, RenamedEntry>> result;
+    for (const auto &[renamed, line] : old_name_lines)
+      result.emplace_back(origin(line), renamed);
+    return result;
   }
 
   std::string ParameterFileLocator::entry_at(const int line) const

@@ -55,14 +55,15 @@ namespace warpchol::app
                         "rotations, refactor every step; stiffness_warping: nodal rotations, "
                         "factor once; warp_canceling: WCC, partial refactorization of the "
                         "columns of the elements whose error estimate exceeds the threshold");
-      prm.declare_entry("Update threshold", "0.05", Patterns::Anything(),
-                        "warp_canceling: a number >= 0 or inf. An element is updated when its "
+      prm.declare_entry("Rerotation threshold", "0.05", Patterns::Anything(),
+                        "warp_canceling: a number >= 0 or inf. An element is re-rotated when its "
                         "error estimate (an impulse) exceeds this fraction of the step's impulse "
                         "scale: the mean over elements of |A_e v_e| + dt |f_e| (dimensionless). "
-                        "0 updates all (exact corotation), inf none (stiffness warping)");
+                        "0 re-rotates all (exact corotation), inf none (stiffness warping). Read "
+                        "under its old name Update threshold too, with a warning");
       prm.declare_entry("Target error", "0", Patterns::Double(0, 1),
-                        "warp_canceling: > 0 adapts the update threshold every step, from "
-                        "Update threshold, so that the trajectory error (max vertex error "
+                        "warp_canceling: > 0 adapts the re-rotation threshold every step, from "
+                        "Rerotation threshold, so that the trajectory error (max vertex error "
                         "against exact corotation over the largest displacement) stays near "
                         "this: each step measures its velocity error against exact corotation "
                         "(a matrix-free product and a solve) and the threshold follows to keep "
@@ -78,7 +79,7 @@ namespace warpchol::app
                         "interval' steps or after a solve of more than 'Refresh iterations' "
                         "iterations, CG; auto: per step the cheapest of refreshing all, below "
                         "the top or nothing, by a cost model of measured rates, CG; background: "
-                        "the matrix with every element updated is assembled and factored on a "
+                        "the matrix with every element re-rotated is assembled and factored on a "
                         "thread of its own beside the steps, which solve by CG preconditioned "
                         "with the last factor that finished (Background lag; the threshold is "
                         "not used)");
@@ -109,8 +110,8 @@ namespace warpchol::app
       prm.enter_subsection("Model");
       // Choices: ParameterHandler has checked them against their one list.
       type = fem::parse_model_type(prm.get("Type"));
-      if (!parse_threshold(prm.get("Update threshold"), update_threshold))
-        file.fail(prm, "Model", "Update threshold", "must be a number >= 0 or inf");
+      if (!parse_threshold(prm.get("Rerotation threshold"), rerotation_threshold))
+        file.fail(prm, "Model", "Rerotation threshold", "must be a number >= 0 or inf");
       // Choices: ParameterHandler has checked them against their one list.
       strategy.kind       = fem::parse_step_strategy(prm.get("Strategy"));
       strategy.iterate_on = fem::parse_iteration_target(prm.get("Iterate on"));

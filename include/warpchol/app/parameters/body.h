@@ -59,7 +59,7 @@ namespace warpchol::app
 
     /**
      * Subsection "Bodies": copies of the mesh side by side, each with its own model and
-     * update threshold, each solved on its own (the report's side-by-side stability
+     * re-rotation threshold, each solved on its own (the report's side-by-side stability
      * figures: three tori with no update, a moderate threshold and exact corotation). Every
      * copy is the same scene (regions, loads, initial state) in its own frame; copy i is
      * shown shifted by i times the spacing in the one VTU series.
@@ -70,8 +70,8 @@ namespace warpchol::app
       fem::Vector3             spacing{0, 0, 0};
       /** One model type per body; empty: Model/Type for all. */
       std::vector<fem::ModelType> model_types;
-      /** One threshold per body; empty: Model/Update threshold for all. */
-      std::vector<double>      update_thresholds;
+      /** One threshold per body; empty: Model/Rerotation threshold for all. */
+      std::vector<double>      rerotation_thresholds;
 
       static void declare_parameters(dealii::ParameterHandler &prm);
       void        parse_parameters(dealii::ParameterHandler &prm, const ParameterFileLocator &file);

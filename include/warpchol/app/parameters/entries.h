@@ -16,7 +16,7 @@
 namespace warpchol::app
 {
   /**
-   * A WCC update threshold as a parameter file or a command line writes it: a number >= 0
+   * A WCC re-rotation threshold as a parameter file or a command line writes it: a number >= 0
    * or inf (infinity). Returns false (and leaves @p threshold unspecified) for anything else.
    */
   bool parse_threshold(const std::string &text, double &threshold);

@@ -2,6 +2,7 @@
 
 #include <deal.II/base/parameter_handler.h>
 
+#include <array>
 #include <exception>
 #include <string>
 #include <utility>
@@ -28,6 +29,22 @@ namespace warpchol::app
    * binary, already being read (a cycle), or that leaves other subsections open than it
    * found.
    */
+  /** An entry of a subsection that was renamed: its old name is still read as the new one. */
+  struct RenamedEntry
+  {
+    const char *subsection;
+    const char *old_name;
+    const char *new_name;
+  };
+
+  /**
+   * Every renamed entry, the one list that AllParameters declares as deal.II aliases and the
+   * locator reads set statements by: a file that uses an old name runs as before, with a
+   * warning naming the new one.
+   */
+  inline constexpr std::array<RenamedEntry, 2> renamed_entries{
+    {{"Model", "Update threshold", "Rerotation threshold"}, {"Bodies", "Update thresholds", "Rerotation thresholds"}}};
+
   class ParameterFileLocator
   {
   public:
@@ -49,6 +66,12 @@ namespace warpchol::app
 
     /** Whether a set statement of the file (or of a file it includes) sets Subsection/Entry. */
     bool sets(const std::string &subsection, const std::string &entry) const;
+
+    /**
+     * Every set statement that names an entry by its old name (renamed_entries): its
+     * "FILE:LINE" and the entry. where() and sets() know such a statement by the new name.
+     */
+    std::vector<std::pair<std::string, RenamedEntry>> old_names() const;
 
     /** "Subsection/Entry" of the set statement at line @p line (from 1) of text(), "" if none is there. */
     std::string entry_at(int line) const;
@@ -78,8 +101,10 @@ namespace warpchol::app
     std::vector<std::string> files;
     /** Per line of expanded_text: the index of its file in files, and its line there. */
     std::vector<std::pair<unsigned int, int>> line_origins;
-    /** "Subsection/Entry" -> line of expanded_text, for every "set" statement. */
+    /** "Subsection/Entry" -> line of expanded_text, for every "set" statement (new names). */
     std::vector<std::pair<std::string, int>> set_lines;
+    /** The entry and the line of expanded_text of every set statement of an old name. */
+    std::vector<std::pair<RenamedEntry, int>> old_name_lines;
   };
 
   namespace parameters

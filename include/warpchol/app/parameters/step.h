@@ -43,7 +43,7 @@ namespace warpchol::app
     struct Model
     {
       fem::ModelType    type             = fem::ModelType::warp_canceling;
-      double            update_threshold = 0.05;
+      double            rerotation_threshold = 0.05;
       /** > 0: the threshold adapts each step to keep the trajectory error near this. */
       double            target_error = 0;
       /** How a WCC step refreshes its factor and solves. */
