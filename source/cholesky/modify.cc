@@ -127,11 +127,12 @@ namespace warpchol::cholesky
     {
     public:
       ModificationRun(const SupernodalSymbolic &symbolic, double *values, const sparse::CSCMatrix &c,
-                      const std::vector<double> &signs, const ModificationSettings &settings,
-                      ModificationWorkspace::Buffers &buffers)
+                      const ModificationPlan &plan, const std::vector<double> &signs,
+                      const ModificationSettings &settings, ModificationWorkspace::Buffers &buffers)
         : symbolic(symbolic)
         , values(values)
         , c(c)
+        , plan(plan)
         , signs(signs)
         , settings(settings)
         , path_index(buffers.path_index)
@@ -171,6 +172,8 @@ namespace warpchol::cholesky
       const SupernodalSymbolic   &symbolic;
       double                     *values;
       const sparse::CSCMatrix    &c;
+      /** plan_modification() of c: the supernodes a downdate's backup keeps. */
+      const ModificationPlan     &plan;
       const std::vector<double>  &signs;
       const ModificationSettings &settings;
 
@@ -383,8 +386,7 @@ namespace warpchol::cholesky
       {
         backup_start.assign(symbolic.n_supernodes(), -1);
         backup_first.assign(symbolic.n_supernodes(), -1);
-        const ModificationPlan plan  = plan_modification(symbolic, c);
-        Index                  total = 0;
+        Index total = 0;
         for (std::size_t k = 0; k < plan.supernodes.size(); ++k)
           {
             const Index s = plan.supernodes[k], first = plan.start_columns[k] * symbolic.n_rows(s);
@@ -512,8 +514,8 @@ namespace warpchol::cholesky
   }
 
   ModificationResult modify_supernodal(const SupernodalSymbolic &symbolic, double *values, const sparse::CSCMatrix &c,
-                                       const std::vector<double> &signs, const ModificationSettings &settings,
-                                       ModificationWorkspace &workspace)
+                                       const ModificationPlan &plan, const std::vector<double> &signs,
+                                       const ModificationSettings &settings, ModificationWorkspace &workspace)
   {
     if (static_cast<Index>(signs.size()) != c.n_cols)
       throw InputError("the modification has " + std::to_string(c.n_cols) + " columns but " +
@@ -521,7 +523,7 @@ namespace warpchol::cholesky
     for (const double sign : signs)
       if (sign != 1. && sign != -1.)
         throw InputError("a modification's signs are +1 (update) or -1 (downdate), not " + format_number(sign));
-    ModificationRun run(symbolic, values, c, signs, settings, workspace.buffers());
+    ModificationRun run(symbolic, values, c, plan, signs, settings, workspace.buffers());
     return run.run();
   }
 } // namespace warpchol::cholesky

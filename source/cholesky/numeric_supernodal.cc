@@ -849,18 +849,16 @@ namespace warpchol::cholesky
   }
 
   ModificationResult SupernodalFactor::modify(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &c,
-                                              const std::vector<double> &signs, const ModificationSettings &settings)
+                                              const ModificationPlan &plan, const std::vector<double> &signs,
+                                              const ModificationSettings &settings)
   {
     if (static_cast<Index>(implementation->values.size()) != symbolic.n_stored_values())
       throw Error("modify() called before factorize()");
-    const ModificationResult result = modify_supernodal(symbolic, implementation->values.data(), c, signs, settings,
-                                                        implementation->modification_workspace);
+    const ModificationResult result = modify_supernodal(symbolic, implementation->values.data(), c, plan, signs,
+                                                        settings, implementation->modification_workspace);
     if (implementation->copy != PreconditionerPrecision::full)
-      {
-        const ModificationPlan plan = plan_modification(symbolic, c);
-        for (std::size_t k = 0; k < plan.supernodes.size(); ++k)
-          implementation->mark_stale(plan.supernodes[k], plan.start_columns[k]);
-      }
+      for (std::size_t k = 0; k < plan.supernodes.size(); ++k)
+        implementation->mark_stale(plan.supernodes[k], plan.start_columns[k]);
     return result;
   }
 

@@ -501,7 +501,9 @@ namespace warpchol::cholesky
     mark_factor_changed();
     try
       {
-        const ModificationResult result = supernodal_factor.modify(supernodal_structure, form.c, form.signs, settings);
+        // The plan weighed is the one the modification works by: made once.
+        const ModificationResult result =
+          supernodal_factor.modify(supernodal_structure, form.c, update_plan, form.signs, settings);
         stats.flops_recomputed      = result.flops + low_rank_form_flops(static_cast<Index>(rows.size()));
         stats.columns_recomputed    = result.columns;
         stats.supernodes_recomputed = result.supernodes;
@@ -576,8 +578,9 @@ namespace warpchol::cholesky
     mark_factor_changed();
     try
       {
-        const ModificationResult result =
-          supernodal_factor.modify(supernodal_structure, permuted, signs, modification_settings());
+        const ModificationResult result = supernodal_factor.modify(
+          supernodal_structure, permuted, plan_modification(supernodal_structure, permuted), signs,
+          modification_settings());
         stats.flops_recomputed      = result.flops;
         stats.columns_recomputed    = result.columns;
         stats.supernodes_recomputed = result.supernodes;

@@ -128,7 +128,9 @@ namespace warpchol::cholesky
   /**
    * L L^T + C diag(@p signs) C^T in place on the supernodal factor values @p values of
    * @p symbolic: @p c as in plan_modification() and fitting the structure
-   * (check_modification_pattern()), one sign (+1 or -1) per column of C. The columns are
+   * (check_modification_pattern()), @p plan its plan_modification(), which the caller
+   * computes once and reads too (the columns that change), one sign (+1 or -1) per column
+   * of C. The columns are
    * taken in groups of up to 64, each group one pass over its paths. Bits do not depend on
    * the number of threads.
    *
@@ -139,6 +141,6 @@ namespace warpchol::cholesky
    * would have changed, those of plan_modification(), hold no factor).
    */
   ModificationResult modify_supernodal(const SupernodalSymbolic &symbolic, double *values, const sparse::CSCMatrix &c,
-                                       const std::vector<double> &signs, const ModificationSettings &settings,
-                                       ModificationWorkspace &workspace);
+                                       const ModificationPlan &plan, const std::vector<double> &signs,
+                                       const ModificationSettings &settings, ModificationWorkspace &workspace);
 } // namespace warpchol::cholesky

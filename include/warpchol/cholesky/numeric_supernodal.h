@@ -96,12 +96,14 @@ namespace warpchol::cholesky
                      const std::vector<Index> &start_offsets, unsigned int n_threads);
 
     /**
-     * L L^T + C diag(@p signs) C^T in place (modify_supernodal(), which says what @p c must
-     * be), the preconditioner's copy following. Throws NotPositiveDefinite, the values
-     * left as they were, if a downdate loses positive definiteness.
+     * L L^T + C diag(@p signs) C^T in place (modify_supernodal(), which says what @p c and
+     * its @p plan must be), the preconditioner's copy following. Throws
+     * NotPositiveDefinite, the values left as they were, if a downdate loses positive
+     * definiteness.
      */
     ModificationResult modify(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &c,
-                              const std::vector<double> &signs, const ModificationSettings &settings);
+                              const ModificationPlan &plan, const std::vector<double> &signs,
+                              const ModificationSettings &settings);
 
     /**
      * Round what factorize() and modify() changed into the preconditioner's copy now
