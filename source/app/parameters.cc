@@ -173,39 +173,62 @@ namespace warpchol::app
     if (material.total_mass > 0)
       ignored("Material", {"Density"}, "Total mass = " + format_number(material.total_mass));
 
-    // Model: WCC's entries, unless some body is WCC; then each strategy's own.
+    // A distributed run ignores Solver as a whole (said at the end), each entry once.
+    const bool serial = run == RunKind::serial;
+
+    // Model: WCC's entries, unless some body is WCC; then each strategy's own. A body's
+    // own model and threshold (Bodies) stand for Model's.
     const std::vector<fem::ModelType> types = model_types();
     const bool any_wcc = std::find(types.begin(), types.end(), fem::ModelType::warp_canceling) != types.end();
     std::string model_list;
     for (const fem::ModelType type : bodies.model_types)
       model_list += (model_list.empty() ? "" : ", ") + fem::to_string(type);
+    const std::string models = "Bodies/Models = " + excerpt(model_list, 60);
+    if (!bodies.model_types.empty())
+      ignored("Model", {"Type"}, models);
     if (!any_wcc)
-      ignored("Model", {"Rerotation threshold", "Target error", "Strategy", "Iterate on", "CG tolerance",
-                        "Max CG iterations", "Refresh interval", "Refresh iterations", "Background lag"},
-              bodies.model_types.empty() ? "Type = " + fem::to_string(model.type) :
-                                           "Bodies/Models = " + excerpt(model_list, 60));
+      {
+        const std::string choice = bodies.model_types.empty() ? "Type = " + fem::to_string(model.type) : models;
+        ignored("Model", {"Rerotation threshold", "Target error", "Strategy", "Iterate on", "CG tolerance",
+                          "Max CG iterations", "Refresh interval", "Refresh iterations", "Background lag"},
+                choice);
+        ignored("Bodies", {"Rerotation thresholds"}, (bodies.model_types.empty() ? "Model/" : "") + choice);
+      }
     else
       {
         const auto        kind     = model.strategy.kind;
         const std::string strategy = "Strategy = " + fem::to_string(kind);
+        // The background refresh re-rotates every element; the steps re-rotate none.
+        if (kind == fem::StepStrategy::Kind::background)
+          ignored("Model", {"Rerotation threshold"}, strategy);
+        else if (!bodies.rerotation_thresholds.empty())
+          ignored("Model", {"Rerotation threshold"}, "Bodies/Rerotation thresholds");
         if (!model.strategy.iterates())
           ignored("Model", {"Iterate on", "CG tolerance", "Max CG iterations"}, strategy);
         if (kind != fem::StepStrategy::Kind::delayed_top)
           ignored("Model", {"Refresh interval", "Refresh iterations"}, strategy);
         if (kind != fem::StepStrategy::Kind::background)
           ignored("Model", {"Background lag"}, strategy);
-        if (kind != fem::StepStrategy::Kind::delayed_top && kind != fem::StepStrategy::Kind::automatic)
+        if (serial && kind != fem::StepStrategy::Kind::delayed_top &&
+            kind != fem::StepStrategy::Kind::automatic)
           ignored("Solver", {"Top flops fraction"}, "Model/" + strategy);
-        if (!model.strategy.iterates())
+        if (serial && !model.strategy.iterates())
           ignored("Solver", {"Preconditioner precision"}, "Model/" + strategy);
       }
     const auto backend = solver.backend.backend;
-    if (backend != backends::Backend::trilinos_amg_cg && backend != backends::Backend::warp_preconditioned_cg)
+    if (serial && backend != backends::Backend::trilinos_amg_cg &&
+        backend != backends::Backend::warp_preconditioned_cg)
       ignored("Solver", {"Tolerance", "Max iterations"}, "Backend = " + backends::to_string(backend));
+    // Only the supernodal factor takes a change by an update (SparseCholesky::may_update()).
+    if (serial && solver.settings.method != cholesky::FactorizationMethod::supernodal)
+      ignored("Solver", {"Change method"}, "Method = " + cholesky::to_string(solver.settings.method));
 
     region(fixed_vertices.region, "Fixed vertices", {});
     region(region_force.region, "Region force", {"Total force"});
     region(tool.region, "Tool", {"Spring stiffness", "Velocity", "Duration", "Path file"});
+    // A path moves the targets for the whole run (fem::PullingTool::target_offset()).
+    if (tool.region.kind != "none" && !tool.path.file_name.empty())
+      ignored("Tool", {"Duration"}, "Path file = " + tool.path.file_name);
     for (const auto &cut : cuts)
       if (cut.duration == 0)
         ignored(cut.subsection, {"Blade start", "Blade end", "Velocity", "Start time", "Path file"},
@@ -217,15 +240,68 @@ namespace warpchol::app
         ignored(grasp.subsection, {"Sphere center", "Velocity", "Duration", "Grasp time", "Release time",
                                    "Spring stiffness", "Path file"}, "Sphere radius = 0 (no grasp)");
       else if (!grasp.path.file_name.empty())
-        ignored(grasp.subsection, {"Sphere center"}, "Path file = " + grasp.path.file_name);
+        ignored(grasp.subsection, {"Sphere center", "Duration"}, "Path file = " + grasp.path.file_name);
     for (const auto &change : material_changes)
       region(change.region, change.subsection, {"Time", "Stiffness factor", "Stress"});
     if (bodies.count == 1)
       ignored("Bodies", {"Spacing"}, "Number of bodies = 1");
+    // Obstacles: each shape reads its own entries (Obstacle::build()); contact needs one.
+    const std::vector<std::pair<std::string, std::vector<std::string>>> shape_entries = {
+      {"plane", {"Point", "Normal"}},
+      {"sphere", {"Point", "Radius"}},
+      {"capsule", {"Point", "End", "Radius"}},
+      {"box", {"Point", "Size"}},
+      {"surface", {"File"}}};
+    for (const auto &obstacle : obstacles)
+      if (!obstacle.active())
+        ignored(obstacle.subsection, {"Point", "Normal", "End", "Radius", "Size", "File", "Friction", "Path file"},
+                "Type = none");
+      else
+        for (const auto &[shape, used] : shape_entries)
+          if (shape == obstacle.type)
+            {
+              std::vector<std::string> unused;
+              for (const std::string entry : {"Point", "Normal", "End", "Radius", "Size", "File"})
+                if (std::find(used.begin(), used.end(), entry) == used.end())
+                  unused.push_back(entry);
+              ignored(obstacle.subsection, unused, "Type = " + obstacle.type);
+            }
+    if (std::none_of(obstacles.begin(), obstacles.end(), [](const auto &o) { return o.active(); }))
+      ignored("Contact", {"Alarm distance", "Contact distance", "Max iterations", "Tolerance", "Max contacts",
+                          "Compliance"}, "no obstacle (Obstacle/Type = none)");
     if (output.vtu_interval == 0)
       ignored("Output", {"VTU precision"}, "VTU interval = 0");
-    if (distributed.linear_solver == "mumps")
-      ignored("Distributed", {"Tolerance", "Max iterations"}, "Linear solver = mumps");
+    // One kind of run reads Distributed, the other Solver (DistributedSimulation solves by
+    // Distributed/Linear solver alone).
+    if (serial)
+      ignored("Distributed", {"Linear solver", "Tolerance", "Max iterations"},
+              "a serial run (distributed: mpirun -np N with N > 1, or --distributed)");
+    else
+      {
+        ignored("Solver", {"Ordering", "Method", "Threads", "Top flops fraction", "Backend", "Tolerance",
+                           "Max iterations", "Change method", "Preconditioner precision"},
+                "a distributed run (it solves by Distributed/Linear solver)");
+        // DistributedSimulation has no instruments, no contact, no reference run and
+        // writes its VTU pieces with deal.II's DataOut (float32).
+        const std::string distributed_run = "a distributed run";
+        for (const auto &cut : cuts)
+          if (cut.active())
+            ignored(cut.subsection, {"Duration"}, distributed_run + " (no cuts)");
+        for (const auto &grasp : grasps)
+          if (grasp.active())
+            ignored(grasp.subsection, {"Sphere radius"}, distributed_run + " (no grasps)");
+        for (const auto &change : material_changes)
+          if (change.region.kind != "none")
+            ignored(change.subsection, {"Region", "Stiffness factor"}, distributed_run + " (no material changes)");
+        for (const auto &obstacle : obstacles)
+          if (obstacle.active())
+            ignored(obstacle.subsection, {"Type"}, distributed_run + " (no contact)");
+        ignored("Output", {"Exact steps timed"}, distributed_run);
+        if (output.vtu_interval > 0)
+          ignored("Output", {"VTU precision"}, distributed_run + " (float32)");
+        if (distributed.linear_solver == "mumps")
+          ignored("Distributed", {"Tolerance", "Max iterations"}, "Linear solver = mumps");
+      }
   }
 
   void AllParameters::print_warnings(std::ostream &err) const
@@ -349,7 +425,8 @@ namespace warpchol::app
     entries = entry_list(prm);
   }
 
-  AllParameters::AllParameters(const std::string &filename)
+  AllParameters::AllParameters(const std::string &filename, const RunKind run_kind)
+    : run(run_kind)
   {
     check_input_file(filename, "parameter file");
     refuse_binary(filename, filename);

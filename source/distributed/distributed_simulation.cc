@@ -745,7 +745,7 @@ namespace warpchol::distributed
     std::unique_ptr<app::AllParameters> parameters;
     std::unique_ptr<app::SceneMesh>     mesh;
     int status = app::report_errors(root ? err : std::cerr, [&] {
-      parameters = std::make_unique<app::AllParameters>(parameter_file);
+      parameters = std::make_unique<app::AllParameters>(parameter_file, app::RunKind::distributed);
       DistributedSimulation::check_supported(*parameters);
       if (root)
         parameters->print_warnings(err);

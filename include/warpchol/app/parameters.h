@@ -28,6 +28,16 @@
  */
 namespace warpchol::app
 {
+  /**
+   * Which run reads the parameters: a serial run ignores the Distributed subsection, a
+   * distributed one (mpirun -np N with N > 1, or --distributed) the Solver subsection.
+   */
+  enum class RunKind
+  {
+    serial,
+    distributed
+  };
+
   /** Every subsection of a scene's parameter file. */
   struct AllParameters
   {
@@ -59,10 +69,10 @@ namespace warpchol::app
     AllParameters();
 
     /**
-     * Read @p filename. Throws InputError "FILE:LINE: ..." for a file that cannot be read,
-     * an unknown subsection or entry, a value out of range.
+     * Read @p filename for a run of kind @p run_kind. Throws InputError "FILE:LINE: ..." for a
+     * file that cannot be read, an unknown subsection or entry, a value out of range.
      */
-    explicit AllParameters(const std::string &filename);
+    explicit AllParameters(const std::string &filename, RunKind run_kind = RunKind::serial);
 
     /** Declare every subsection and entry in @p prm. */
     static void declare_parameters(dealii::ParameterHandler &prm);
@@ -73,7 +83,7 @@ namespace warpchol::app
     /** The scene's name: Output/Scene, else the parameter file's name without .prm. */
     std::string scene_name() const;
     /**
-     * The parameters of body @p index (from 0) of Bodies: Model/Type and Model/Update
+     * The parameters of body @p index (from 0) of Bodies: Model/Type and Model/Rerotation
      * threshold replaced by that body's, Bodies/Number of bodies set to 1.
      */
     AllParameters body(unsigned int index) const;
@@ -91,6 +101,8 @@ namespace warpchol::app
     std::string mesh_file_path() const;
 
     ParameterFileLocator file;
+    /** The run the parameters were read for (which subsections it ignores). */
+    RunKind run = RunKind::serial;
 
     /**
      * Every entry as "Subsection/Entry = value" (nested subsections joined by '/'), in the
