@@ -130,9 +130,8 @@ namespace warpchol::cholesky
    * @p symbolic: @p c as in plan_modification() and fitting the structure
    * (check_modification_pattern()), @p plan its plan_modification(), which the caller
    * computes once and reads too (the columns that change), one sign (+1 or -1) per column
-   * of C. The columns are
-   * taken in groups of up to 64, each group one pass over its paths. Bits do not depend on
-   * the number of threads.
+   * of C. The columns are taken in groups of up to 64, each group one pass over its paths.
+   * Bits do not depend on the number of threads.
    *
    * Throws NotPositiveDefinite with the permuted column and the would-be pivot r^2 if a
    * downdate loses positive definiteness (ModificationSettings::pivot_tolerance); the

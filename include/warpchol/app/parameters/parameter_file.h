@@ -15,20 +15,6 @@
  */
 namespace warpchol::app
 {
-  /**
-   * A parameter file as deal.II's ParameterHandler reads it, with its includes written out
-   * in place, and where each of its lines and entries comes from: so that a value rejected
-   * after parsing (a bound ParameterHandler's patterns cannot express, a missing file) is
-   * reported at its file and line, and a relative path is taken relative to the folder of
-   * the file that holds it.
-   *
-   * "include FILE" takes a relative FILE relative to the folder of the file the statement is
-   * in (deal.II would take the working directory), like every other path of a parameter
-   * file. An include that cannot be followed is an InputError naming the file and line of
-   * the statement: a file that is missing, not a regular file (a device reads forever),
-   * binary, already being read (a cycle), or that leaves other subsections open than it
-   * found.
-   */
   /** An entry of a subsection that was renamed: its old name is still read as the new one. */
   struct RenamedEntry
   {
@@ -45,6 +31,20 @@ namespace warpchol::app
   inline constexpr std::array<RenamedEntry, 2> renamed_entries{
     {{"Model", "Update threshold", "Rerotation threshold"}, {"Bodies", "Update thresholds", "Rerotation thresholds"}}};
 
+  /**
+   * A parameter file as deal.II's ParameterHandler reads it, with its includes written out
+   * in place, and where each of its lines and entries comes from: so that a value rejected
+   * after parsing (a bound ParameterHandler's patterns cannot express, a missing file) is
+   * reported at its file and line, and a relative path is taken relative to the folder of
+   * the file that holds it.
+   *
+   * "include FILE" takes a relative FILE relative to the folder of the file the statement is
+   * in (deal.II would take the working directory), like every other path of a parameter
+   * file. An include that cannot be followed is an InputError naming the file and line of
+   * the statement: a file that is missing, not a regular file (a device reads forever),
+   * binary, already being read (a cycle), or that leaves other subsections open than it
+   * found.
+   */
   class ParameterFileLocator
   {
   public:
