@@ -553,6 +553,69 @@ namespace warpchol::app
     first_step = step + 1;
   }
 
+  bool Simulation::advance_bodies(const unsigned int step)
+  {
+    bool all_at_rest = step > 1;
+    for (auto &simulated : bodies)
+      {
+        if (!simulated.stopped.empty())
+          continue;
+        try
+          {
+            advance(simulated, step);
+          }
+        catch (const SimulationError &error)
+          {
+            if (simulated.label.empty())
+              {
+                keep_what_was_written();
+                throw;
+              }
+            if (simulated.log)
+              simulated.log->flush();
+            // One body of several diverged: it stays where it was (the report's
+            // side-by-side pictures show it), the others go on.
+            simulated.stopped = error.what();
+            std::cerr << "warpchol: " << simulated.label << ": " << simulated.stopped
+                      << "; it stops there, the other bodies go on" << std::endl;
+          }
+        catch (const Error &error)
+          {
+            keep_what_was_written();
+            if (simulated.label.empty())
+              throw;
+            // The same kind of error, naming the body.
+            const std::string message = simulated.label + ": " + error.what();
+            if (dynamic_cast<const InputError *>(&error))
+              throw InputError(message);
+            if (dynamic_cast<const OutputError *>(&error))
+              throw OutputError(message);
+            if (dynamic_cast<const MatrixError *>(&error))
+              throw MatrixError(message);
+            throw Error(message);
+          }
+        all_at_rest = all_at_rest && (!simulated.stopped.empty() ||
+                                      simulated.scene->integrator().kinetic_energy() <
+                                        parameters.time_stepping.rest_kinetic_energy);
+      }
+    return all_at_rest;
+  }
+
+  void Simulation::print_progress(const unsigned int step, const double seconds_per_step) const
+  {
+    const unsigned int n_steps = parameters.time_stepping.n_steps;
+    const auto &first = bodies[0];
+    std::cerr << "\rstep " << step << "/" << n_steps << "  t = "
+              << format_number(first.scene->integrator().time(), 4) << " s";
+    if (bodies.size() == 1)
+      std::cerr << "  re-rotated "
+                << format_number(100.0 * first.totals.last_elements_rerotated /
+                                   first.scene->body().n_elements(), 3)
+                << " %";
+    std::cerr << "  " << format_number(seconds_per_step, 3)
+              << " s/step   " << std::flush;
+  }
+
   void Simulation::run(std::ostream &out)
   {
     // End to end: the initial VTU file and the log's creation count as part of the run.
@@ -581,49 +644,7 @@ namespace warpchol::app
     const unsigned int n_steps = parameters.time_stepping.n_steps;
     for (unsigned int step = first_step; step <= n_steps; ++step)
       {
-        bool all_at_rest = step > 1;
-        for (auto &simulated : bodies)
-          {
-            if (!simulated.stopped.empty())
-              continue;
-            try
-              {
-                advance(simulated, step);
-              }
-            catch (const SimulationError &error)
-              {
-                if (simulated.label.empty())
-                  {
-                    keep_what_was_written();
-                    throw;
-                  }
-                if (simulated.log)
-                  simulated.log->flush();
-                // One body of several diverged: it stays where it was (the report's
-                // side-by-side pictures show it), the others go on.
-                simulated.stopped = error.what();
-                std::cerr << "warpchol: " << simulated.label << ": " << simulated.stopped
-                          << "; it stops there, the other bodies go on" << std::endl;
-              }
-            catch (const Error &error)
-              {
-                keep_what_was_written();
-                if (simulated.label.empty())
-                  throw;
-                // The same kind of error, naming the body.
-                const std::string message = simulated.label + ": " + error.what();
-                if (dynamic_cast<const InputError *>(&error))
-                  throw InputError(message);
-                if (dynamic_cast<const OutputError *>(&error))
-                  throw OutputError(message);
-                if (dynamic_cast<const MatrixError *>(&error))
-                  throw MatrixError(message);
-                throw Error(message);
-              }
-            all_at_rest = all_at_rest && (!simulated.stopped.empty() ||
-                                          simulated.scene->integrator().kinetic_energy() <
-                                            parameters.time_stepping.rest_kinetic_energy);
-          }
+        const bool all_at_rest = advance_bodies(step);
         if (vtu_series && step % settings.vtu_interval == 0)
           write_vtu(step);
         if (settings.checkpoint_interval > 0 && step % settings.checkpoint_interval == 0)
@@ -635,16 +656,7 @@ namespace warpchol::app
           }
         if (show_progress && (since_progress.seconds() > 0.5 || step == n_steps))
           {
-            const auto &first = bodies[0];
-            std::cerr << "\rstep " << step << "/" << n_steps << "  t = "
-                      << format_number(first.scene->integrator().time(), 4) << " s";
-            if (bodies.size() == 1)
-              std::cerr << "  re-rotated "
-                        << format_number(100.0 * first.totals.last_elements_rerotated /
-                                           first.scene->body().n_elements(), 3)
-                        << " %";
-            std::cerr << "  " << format_number(run_stopwatch.seconds() / (step + 1 - first_step), 3)
-                      << " s/step   " << std::flush;
+            print_progress(step, run_stopwatch.seconds() / (step + 1 - first_step));
             since_progress.restart();
           }
         if (parameters.time_stepping.rest_kinetic_energy > 0 && all_at_rest)

@@ -169,6 +169,15 @@ namespace warpchol::app
   private:
     /** Advance @p body by one step and account for it in its totals and log. */
     void advance(SimulatedBody &body, unsigned int step);
+
+    /**
+     * Step @p step of every body still running; a body of several that diverges stops
+     * there and the others go on. Returns whether every body is at rest (none in the first step).
+     */
+    bool advance_bodies(unsigned int step);
+
+    /** The progress line on standard error: the step, the time, the last re-rotations, seconds per step. */
+    void print_progress(unsigned int step, double seconds_per_step) const;
     /** Write the VTU file of @p step, every body in it. */
     void write_vtu(unsigned int step);
     /** Account @p seconds of VTU output (@p runs files) to the bodies, in equal parts. */
