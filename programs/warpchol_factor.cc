@@ -214,6 +214,25 @@ namespace
               << " update_vs_partial=" << format_number(partial_seconds / update_seconds, 3);
   }
 
+  /** What compare_updates() prints, as a string: the fields that end the output line. */
+  std::string update_fields_of(const Options &options, const sparse::CSCMatrix &matrix,
+                               cholesky::SparseCholesky &solver)
+  {
+    std::ostringstream    fields;
+    std::streambuf *const line = std::cout.rdbuf(fields.rdbuf());
+    try
+      {
+        compare_updates(options, matrix, solver);
+      }
+    catch (...)
+      {
+        std::cout.rdbuf(line);
+        throw;
+      }
+    std::cout.rdbuf(line);
+    return fields.str();
+  }
+
   void run(const Options &options)
   {
     sparse::CSCMatrix        matrix = sparse::read_symmetric_matrix_market(options.matrix_file);
@@ -245,21 +264,7 @@ namespace
       }
     const double factor_seconds = *std::min_element(factor_times.begin(), factor_times.end());
     // The update fields go at the end of the line; measured on the unchanged matrix.
-    std::ostringstream update_fields;
-    if (options.update_rank > 0)
-      {
-        std::streambuf *const line = std::cout.rdbuf(update_fields.rdbuf());
-        try
-          {
-            compare_updates(options, matrix, solver);
-          }
-        catch (...)
-          {
-            std::cout.rdbuf(line);
-            throw;
-          }
-        std::cout.rdbuf(line);
-      }
+    const std::string update_fields = options.update_rank > 0 ? update_fields_of(options, matrix, solver) : "";
 
     // Change a random set of columns (and rows), keeping A symmetric positive definite.
     const auto n_changed = static_cast<Index>(std::llround(options.changed_fraction * matrix.n_cols));
@@ -322,7 +327,7 @@ namespace
       std::cout << " simd=" << app::simd_target() << " update_simd=" << app::simd_target(warpchol::simd::Family::update)
                 << " dgemm_gflops=" << format_number(cholesky::blas::measure_dgemm_gflops(), 3)
                 << " read_gbs=" << format_number(app::measure_read_bandwidth(), 3);
-    std::cout << update_fields.str() << "\n";
+    std::cout << update_fields << "\n";
   }
 } // namespace
 
