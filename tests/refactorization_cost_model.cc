@@ -5,7 +5,7 @@
 // seconds again, and less at rank 64 for the same flops. A recomputation's rate ignores the
 // rank. A measured factorization sets the update's prior, measured updates follow their
 // own rate, and a saved model loads to the same predictions. Fixed rates (Change method =
-// flops) learn nothing.
+// flops) learn nothing and depend on neither rank nor SIMD target.
 
 #include <warpchol/base/binary_io.h>
 #include <warpchol/cholesky/refactorization_choice.h>
@@ -96,5 +96,9 @@ int main()
     tests::check("  nothing measured changes a prediction",
                  fixed.predicted_seconds(RefactorizationMethod::update, 1e8, 3) == before);
     tests::check("  the factorization's rate is known", fixed.knows_factorization_rate());
+    tests::check("  an update's prediction depends on neither rank nor target (half the default rate)",
+                 fixed.predicted_seconds(RefactorizationMethod::update, 1e8, 1) ==
+                     fixed.predicted_seconds(RefactorizationMethod::update, 1e8, 64) &&
+                   close(fixed.predicted_seconds(RefactorizationMethod::update, 1e8, 1), 1e8 / 1e10));
   }
 }

@@ -47,7 +47,11 @@ namespace warpchol::cholesky
 
   RefactorizationCostModel::RefactorizationCostModel(const bool fixed_rates)
     : fixed_rates(fixed_rates)
-  {}
+  {
+    // Fixed rates choose alike on every machine: neither the SIMD target nor the rank moves them.
+    if (fixed_rates)
+      rates[0] = fixed_update_rate_ratio * default_rate;
+  }
 
   double RefactorizationCostModel::rank_efficiency(const unsigned int rank)
   {
@@ -66,7 +70,7 @@ namespace warpchol::cholesky
   {
     if (method == RefactorizationMethod::none)
       return 0.;
-    const double efficiency = method == RefactorizationMethod::update ? rank_efficiency(rank) : 1.;
+    const double efficiency = method == RefactorizationMethod::update && !fixed_rates ? rank_efficiency(rank) : 1.;
     return flops / (rates[slot(method)] * efficiency);
   }
 

@@ -70,7 +70,9 @@ namespace warpchol::cholesky
    * 32 vector registers of 8 doubles they carry 16 columns of C per entry of L and keep
    * pace with it; narrower targets carry fewer). Measured rates follow the run as
    * exponential moving averages. With fixed_rates (ChangeMethod::by_flops) nothing is ever
-   * measured: the predictions are fixed multiples of the flops.
+   * measured: the predictions are fixed multiples of the flops, the update's half a
+   * factorization's rate at any rank and on any target, so that the choice is the same on
+   * every machine.
    *
    * The one learner of the solver's rates: SparseCholesky feeds it every factorization,
    * refactorization and update it times (SparseCholesky::cost_model()), and a caller that
@@ -104,6 +106,8 @@ namespace warpchol::cholesky
   private:
     /** A factorization's flop rate before any was measured. */
     static constexpr double default_rate = 2e10;
+    /** With fixed rates, the update's rate against a factorization's, whatever the target and rank. */
+    static constexpr double fixed_update_rate_ratio = 0.5;
     /** The rank at which an update reaches half its kernels' rate. */
     static constexpr double update_half_rank = 2.5;
     /**
