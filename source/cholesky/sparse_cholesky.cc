@@ -447,9 +447,6 @@ namespace warpchol::cholesky
                                                               const RefreshPlan      &plan) const
   {
     UpdateWeighing weighing;
-    if (!may_weigh_update(touched_rows))
-      return weighing;
-    weighing.weighed      = true;
     weighing.rank         = update_plan.rank;
     weighing.update_flops = update_plan.flops + low_rank_form_flops(touched_rows);
     weighing.update_seconds  = refactorization_costs.predicted_seconds(RefactorizationMethod::update, weighing.update_flops,

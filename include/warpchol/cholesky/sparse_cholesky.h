@@ -512,8 +512,6 @@ namespace warpchol::cholesky
     /** What the rule "update or recompute" weighed for one change, and its verdict. */
     struct UpdateWeighing
     {
-      /** Whether the update was weighed (false: too many rows, Settings::max_update_rows). */
-      bool   weighed = false;
       /** Whether to update (else recompute @p plan). */
       bool   update  = false;
       /** The rank the update's plan foresees, and its flops (the low-rank form's included). */
@@ -531,10 +529,10 @@ namespace warpchol::cholesky
     /**
      * The one rule "update or recompute", for refactorize() and predicted_seconds() alike:
      * a change touching @p touched_rows rows of A, whose low-rank form C has the plan
-     * @p update_plan, is taken as an update if may_weigh_update() and the update is
-     * predicted faster than recomputing @p plan (always, with ChangeMethod::update).
-     * refactorize() plans C's own columns; predicted_seconds(), which sees no values yet,
-     * plans one column of C per changed column.
+     * @p update_plan, is taken as an update if it is predicted faster than recomputing
+     * @p plan (always, with ChangeMethod::update). The callers ask may_weigh_update() first,
+     * before they plan. refactorize() plans C's own columns; predicted_seconds(), which sees
+     * no values yet, plans one column of C per changed column.
      */
     UpdateWeighing weigh_update(Index touched_rows, const ModificationPlan &update_plan, const RefreshPlan &plan) const;
 
