@@ -49,8 +49,12 @@ namespace warpchol::cholesky
     : fixed_rates(fixed_rates)
   {
     // Fixed rates choose alike on every machine: neither the SIMD target nor the rank moves them.
-    if (fixed_rates)
-      rates[0] = fixed_update_rate_ratio * default_rate;
+    rates[0] = (fixed_rates ? fixed_update_rate_ratio : update_rate_prior()) * default_rate;
+  }
+
+  double RefactorizationCostModel::efficiency(const RefactorizationMethod method, const unsigned int rank) const
+  {
+    return method == RefactorizationMethod::update && !fixed_rates ? rank_efficiency(rank) : 1.;
   }
 
   double RefactorizationCostModel::rank_efficiency(const unsigned int rank)
@@ -70,8 +74,7 @@ namespace warpchol::cholesky
   {
     if (method == RefactorizationMethod::none)
       return 0.;
-    const double efficiency = method == RefactorizationMethod::update && !fixed_rates ? rank_efficiency(rank) : 1.;
-    return flops / (rates[slot(method)] * efficiency);
+    return flops / (rates[slot(method)] * efficiency(method, rank));
   }
 
   void RefactorizationCostModel::record(const RefactorizationMethod method, const double flops, const double seconds,
@@ -80,8 +83,7 @@ namespace warpchol::cholesky
     // Too little work to time, or a method that computed nothing.
     if (fixed_rates || method == RefactorizationMethod::none || !(flops > least_timed_flops) || !(seconds > 0))
       return;
-    const double      efficiency = method == RefactorizationMethod::update ? rank_efficiency(rank) : 1.;
-    const double      rate       = flops / seconds / efficiency;
+    const double      rate = flops / seconds / efficiency(method, rank);
     const std::size_t k    = slot(method);
     rates[k]               = measured[k] ? (1 - new_weight) * rates[k] + new_weight * rate : rate;
     measured[k]            = true;

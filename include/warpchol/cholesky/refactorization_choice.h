@@ -120,9 +120,11 @@ namespace warpchol::cholesky
     static double rank_efficiency(unsigned int rank);
     /** An update's kernels' rate before one was measured, against a factorization's. */
     static double update_rate_prior();
+    /** The share of @p method's rate it reaches at @p rank: rank_efficiency() for an update, unless the rates are fixed. */
+    double efficiency(RefactorizationMethod method, unsigned int rank) const;
     bool                  fixed_rates;
-    /** Flops per second of update (its kernels' rate r), partial, full; whether each was measured. */
-    std::array<double, 3> rates    = {{update_rate_prior() * default_rate, default_rate, default_rate}};
+    /** Flops per second of update (its kernels' rate r; set by the constructor), partial, full; whether each was measured. */
+    std::array<double, 3> rates    = {{0., default_rate, default_rate}};
     std::array<bool, 3>   measured = {{false, false, false}};
   };
 } // namespace warpchol::cholesky
