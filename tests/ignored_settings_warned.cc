@@ -72,6 +72,12 @@ int main()
     {"Bodies, no WCC", "subsection Model\n  set Type = linear\nend\n"
                        "subsection Bodies\n  set Rerotation thresholds = 0.2\nend\n"},
     {"Solver, method", "subsection Solver\n  set Method = left\n  set Change method = update\nend\n"},
+    {"Solver, a peer's factor", "subsection Solver\n  set Backend = cholmod\n  set Method = left\n"
+                                "  set Change method = update\n  set Preconditioner precision = half\nend\n"},
+    {"Solver, SOFA's warp preconditioner",
+     "subsection Model\n  set Type = corotational\n  set Rerotation threshold = 0.2\nend\n"
+     "subsection Solver\n  set Backend = warp_preconditioned_cg\n  set Tolerance = 1e-6\n"
+     "  set Change method = update\nend\n"},
     {"Obstacle", "subsection Obstacle\n  set Type = sphere\n  set Point = 2, 0, 0\n  set Radius = 0.1\n"
                  "  set Normal = 1, 0, 0\nend\nsubsection Obstacle 2\n  set Friction = 0.3\nend\n"},
     {"Contact", "subsection Contact\n  set Tolerance = 1e-10\nend\n"},

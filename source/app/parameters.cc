@@ -130,52 +130,72 @@ namespace warpchol::app
   void AllParameters::warn_about_ignored_entries(ParameterHandler &prm)
   {
     warnings.clear();
-    // Each entry of @p entries that the file sets: ignored, because of @p choice.
-    const auto ignored = [&](const std::string &subsection, const std::vector<std::string> &entries,
-                             const std::string &choice) {
-      for (const std::string &entry : entries)
-        if (file.sets(subsection, entry))
-          {
-            prm.enter_subsection(subsection);
-            warnings.push_back(file.where(subsection, entry) + " = " + excerpt(trim(prm.get(entry)), 60) +
-                               ": ignored with " + choice);
-            prm.leave_subsection();
-          }
-    };
-    const auto region = [&](const RegionParameters &region, const std::string &subsection,
-                            const std::vector<std::string> &what_it_moves) {
-      const std::string choice = "Region = " + region.kind;
-      if (region.kind != "box")
-        ignored(subsection, {"Box lower corner", "Box upper corner"}, choice);
-      if (region.kind != "sphere")
-        ignored(subsection, {"Sphere center", "Sphere radius"}, choice);
-      if (region.kind != "ids")
-        ignored(subsection, {"Vertex ids"}, choice);
-      if (region.kind == "none")
-        ignored(subsection, what_it_moves, choice);
-    };
+    warn_about_mesh_and_material(prm);
+    warn_about_model_and_solver(prm);
+    warn_about_instruments(prm);
+    warn_about_obstacles_and_output(prm);
+    warn_about_run_kind(prm);
+  }
 
+  void AllParameters::warn_if_set(ParameterHandler &prm, const std::string &subsection,
+                                  const std::vector<std::string> &entries, const std::string &choice)
+  {
+    for (const std::string &entry : entries)
+      if (file.sets(subsection, entry))
+        {
+          // Each entry once, with the first choice that ignores it.
+          const std::string where = file.where(subsection, entry) + " = ";
+          if (std::any_of(warnings.begin(), warnings.end(),
+                          [&](const std::string &warning) { return warning.rfind(where, 0) == 0; }))
+            continue;
+          prm.enter_subsection(subsection);
+          warnings.push_back(where + excerpt(trim(prm.get(entry)), 60) + ": ignored with " + choice);
+          prm.leave_subsection();
+        }
+  }
+
+  void AllParameters::warn_about_region(ParameterHandler &prm, const RegionParameters &region,
+                                        const std::string              &subsection,
+                                        const std::vector<std::string> &what_it_moves)
+  {
+    const std::string choice = "Region = " + region.kind;
+    if (region.kind != "box")
+      warn_if_set(prm, subsection, {"Box lower corner", "Box upper corner"}, choice);
+    if (region.kind != "sphere")
+      warn_if_set(prm, subsection, {"Sphere center", "Sphere radius"}, choice);
+    if (region.kind != "ids")
+      warn_if_set(prm, subsection, {"Vertex ids"}, choice);
+    if (region.kind == "none")
+      warn_if_set(prm, subsection, what_it_moves, choice);
+  }
+
+  void AllParameters::warn_about_mesh_and_material(ParameterHandler &prm)
+  {
     const std::string source = "Source = " + mesh.source;
-    if (mesh.source != "file")
-      ignored("Mesh", {"File", "Scale", "Refinements"}, source);
-    if (mesh.source != "torus")
-      ignored("Mesh", {"Torus major radius", "Torus minor radius", "Torus toroidal cells", "Torus refinements"},
-              source);
-    if (mesh.source != "box")
-      ignored("Mesh", {"Box lower corner", "Box upper corner", "Box subdivisions", "Box grading",
-                       "Box sliver flattening"}, source);
-    if (mesh.source != "cylinder")
-      ignored("Mesh", {"Cylinder radius", "Cylinder length", "Cylinder axial cells", "Cylinder refinements"},
-              source);
-    if (mesh.source != "tube")
-      ignored("Mesh", {"Tube inner radius", "Tube outer radius", "Tube length", "Tube circumferential cells",
-                       "Tube axial cells", "Tube refinements"}, source);
+    const std::vector<std::pair<std::string, std::vector<std::string>>> source_entries = {
+      {"file", {"File", "Scale", "Refinements"}},
+      {"torus", {"Torus major radius", "Torus minor radius", "Torus toroidal cells", "Torus refinements"}},
+      {"box", {"Box lower corner", "Box upper corner", "Box subdivisions", "Box grading", "Box sliver flattening"}},
+      {"cylinder", {"Cylinder radius", "Cylinder length", "Cylinder axial cells", "Cylinder refinements"}},
+      {"tube",
+       {"Tube inner radius", "Tube outer radius", "Tube length", "Tube circumferential cells", "Tube axial cells",
+        "Tube refinements"}}};
+    for (const auto &[other, entries] : source_entries)
+      if (mesh.source != other)
+        warn_if_set(prm, "Mesh", entries, source);
     if (material.total_mass > 0)
-      ignored("Material", {"Density"}, "Total mass = " + format_number(material.total_mass));
+      warn_if_set(prm, "Material", {"Density"}, "Total mass = " + format_number(material.total_mass));
+  }
 
-    // A distributed run ignores Solver as a whole (said at the end), each entry once.
-    const bool serial = run == RunKind::serial;
-
+  void AllParameters::warn_about_model_and_solver(ParameterHandler &prm)
+  {
+    const std::vector<std::string> wcc_entries = {"Rerotation threshold", "Target error", "Strategy",
+                                                  "Iterate on", "CG tolerance", "Max CG iterations",
+                                                  "Refresh interval", "Refresh iterations", "Background lag"};
+    // A distributed run ignores Solver as a whole (warn_about_run_kind()).
+    const bool        serial  = run == RunKind::serial;
+    const auto        backend = solver.backend.backend;
+    const std::string backend_choice = "Backend = " + backends::to_string(backend);
     // Model: WCC's entries, unless some body is WCC; then each strategy's own. A body's
     // own model and threshold (Bodies) stand for Model's.
     const std::vector<fem::ModelType> types = model_types();
@@ -185,14 +205,12 @@ namespace warpchol::app
       model_list += (model_list.empty() ? "" : ", ") + fem::to_string(type);
     const std::string models = "Bodies/Models = " + excerpt(model_list, 60);
     if (!bodies.model_types.empty())
-      ignored("Model", {"Type"}, models);
+      warn_if_set(prm, "Model", {"Type"}, models);
     if (!any_wcc)
       {
         const std::string choice = bodies.model_types.empty() ? "Type = " + fem::to_string(model.type) : models;
-        ignored("Model", {"Rerotation threshold", "Target error", "Strategy", "Iterate on", "CG tolerance",
-                          "Max CG iterations", "Refresh interval", "Refresh iterations", "Background lag"},
-                choice);
-        ignored("Bodies", {"Rerotation thresholds"}, (bodies.model_types.empty() ? "Model/" : "") + choice);
+        warn_if_set(prm, "Model", wcc_entries, choice);
+        warn_if_set(prm, "Bodies", {"Rerotation thresholds"}, (bodies.model_types.empty() ? "Model/" : "") + choice);
       }
     else
       {
@@ -200,53 +218,73 @@ namespace warpchol::app
         const std::string strategy = "Strategy = " + fem::to_string(kind);
         // The background refresh re-rotates every element; the steps re-rotate none.
         if (kind == fem::StepStrategy::Kind::background)
-          ignored("Model", {"Rerotation threshold"}, strategy);
+          warn_if_set(prm, "Model", {"Rerotation threshold"}, strategy);
         else if (!bodies.rerotation_thresholds.empty())
-          ignored("Model", {"Rerotation threshold"}, "Bodies/Rerotation thresholds");
+          warn_if_set(prm, "Model", {"Rerotation threshold"}, "Bodies/Rerotation thresholds");
         if (!model.strategy.iterates())
-          ignored("Model", {"Iterate on", "CG tolerance", "Max CG iterations"}, strategy);
+          warn_if_set(prm, "Model", {"Iterate on", "CG tolerance", "Max CG iterations"}, strategy);
         if (kind != fem::StepStrategy::Kind::delayed_top)
-          ignored("Model", {"Refresh interval", "Refresh iterations"}, strategy);
+          warn_if_set(prm, "Model", {"Refresh interval", "Refresh iterations"}, strategy);
         if (kind != fem::StepStrategy::Kind::background)
-          ignored("Model", {"Background lag"}, strategy);
+          warn_if_set(prm, "Model", {"Background lag"}, strategy);
         if (serial && kind != fem::StepStrategy::Kind::delayed_top &&
             kind != fem::StepStrategy::Kind::automatic)
-          ignored("Solver", {"Top flops fraction"}, "Model/" + strategy);
+          warn_if_set(prm, "Solver", {"Top flops fraction"}, "Model/" + strategy);
         if (serial && !model.strategy.iterates())
-          ignored("Solver", {"Preconditioner precision"}, "Model/" + strategy);
+          warn_if_set(prm, "Solver", {"Preconditioner precision"}, "Model/" + strategy);
       }
-    const auto backend = solver.backend.backend;
-    if (serial && backend != backends::Backend::trilinos_amg_cg &&
-        backend != backends::Backend::warp_preconditioned_cg)
-      ignored("Solver", {"Tolerance", "Max iterations"}, "Backend = " + backends::to_string(backend));
+    if (!serial)
+      return;
+    if (!backends::iterates(backend))
+      warn_if_set(prm, "Solver", {"Tolerance", "Max iterations"}, backend_choice);
+    // A peer factors the matrix itself, in full, whenever it changes
+    // (ElasticityModel::factorize_with_peer()); warpchol's ordering still counts the flops.
+    // SOFA's warp preconditioner keeps the rest factor in double precision, never changed
+    // (app::create_model()).
+    if (backend == backends::Backend::warp_preconditioned_cg)
+      warn_if_set(prm, "Solver", {"Change method", "Top flops fraction", "Preconditioner precision"},
+                  backend_choice + " (its rest factor, in double precision, never changes)");
+    else if (backends::replaces_factor(backend))
+      warn_if_set(prm, "Solver", {"Method", "Change method", "Preconditioner precision"},
+                  backend_choice + " (it factors the matrix itself)");
     // Only the supernodal factor takes a change by an update (SparseCholesky::may_update()).
-    if (serial && solver.settings.method != cholesky::FactorizationMethod::supernodal)
-      ignored("Solver", {"Change method"}, "Method = " + cholesky::to_string(solver.settings.method));
+    else if (solver.settings.method != cholesky::FactorizationMethod::supernodal)
+      warn_if_set(prm, "Solver", {"Change method"}, "Method = " + cholesky::to_string(solver.settings.method));
+  }
 
-    region(fixed_vertices.region, "Fixed vertices", {});
-    region(region_force.region, "Region force", {"Total force"});
-    region(tool.region, "Tool", {"Spring stiffness", "Velocity", "Duration", "Path file"});
+  void AllParameters::warn_about_instruments(ParameterHandler &prm)
+  {
+    warn_about_region(prm, fixed_vertices.region, "Fixed vertices", {});
+    warn_about_region(prm, region_force.region, "Region force", {"Total force"});
+    warn_about_region(prm, tool.region, "Tool", {"Spring stiffness", "Velocity", "Duration", "Path file"});
     // A path moves the targets for the whole run (fem::PullingTool::target_offset()).
     if (tool.region.kind != "none" && !tool.path.file_name.empty())
-      ignored("Tool", {"Duration"}, "Path file = " + tool.path.file_name);
+      warn_if_set(prm, "Tool", {"Duration"}, "Path file = " + tool.path.file_name);
     for (const auto &cut : cuts)
       if (cut.duration == 0)
-        ignored(cut.subsection, {"Blade start", "Blade end", "Velocity", "Start time", "Path file"},
-                "Duration = 0 (no cut)");
+        warn_if_set(prm, cut.subsection, {"Blade start", "Blade end", "Velocity", "Start time", "Path file"},
+                    "Duration = 0 (no cut)");
       else if (!cut.path.file_name.empty())
-        ignored(cut.subsection, {"Blade start", "Blade end"}, "Path file = " + cut.path.file_name);
+        warn_if_set(prm, cut.subsection, {"Blade start", "Blade end"}, "Path file = " + cut.path.file_name);
     for (const auto &grasp : grasps)
       if (!grasp.active())
-        ignored(grasp.subsection, {"Sphere center", "Velocity", "Duration", "Grasp time", "Release time",
-                                   "Spring stiffness", "Path file"}, "Sphere radius = 0 (no grasp)");
+        warn_if_set(prm, grasp.subsection,
+                    {"Sphere center", "Velocity", "Duration", "Grasp time", "Release time", "Spring stiffness",
+                     "Path file"},
+                    "Sphere radius = 0 (no grasp)");
       else if (!grasp.path.file_name.empty())
-        ignored(grasp.subsection, {"Sphere center", "Duration"}, "Path file = " + grasp.path.file_name);
+        warn_if_set(prm, grasp.subsection, {"Sphere center", "Duration"}, "Path file = " + grasp.path.file_name);
     for (const auto &change : material_changes)
-      region(change.region, change.subsection, {"Time", "Stiffness factor", "Stress"});
+      warn_about_region(prm, change.region, change.subsection, {"Time", "Stiffness factor", "Stress"});
     if (bodies.count == 1)
-      ignored("Bodies", {"Spacing"}, "Number of bodies = 1");
-    // Obstacles: each shape reads its own entries (Obstacle::build()); contact needs one.
-    const std::vector<std::pair<std::string, std::vector<std::string>>> shape_entries = {
+      warn_if_set(prm, "Bodies", {"Spacing"}, "Number of bodies = 1");
+  }
+
+  void AllParameters::warn_about_obstacles_and_output(ParameterHandler &prm)
+  {
+    // Each shape reads its own entries (Obstacle::build()); contact needs an obstacle.
+    const std::vector<std::string> shape_entries = {"Point", "Normal", "End", "Radius", "Size", "File"};
+    const std::vector<std::pair<std::string, std::vector<std::string>>> used_by_shape = {
       {"plane", {"Point", "Normal"}},
       {"sphere", {"Point", "Radius"}},
       {"capsule", {"Point", "End", "Radius"}},
@@ -254,54 +292,63 @@ namespace warpchol::app
       {"surface", {"File"}}};
     for (const auto &obstacle : obstacles)
       if (!obstacle.active())
-        ignored(obstacle.subsection, {"Point", "Normal", "End", "Radius", "Size", "File", "Friction", "Path file"},
-                "Type = none");
+        {
+          std::vector<std::string> entries = shape_entries;
+          entries.insert(entries.end(), {"Friction", "Path file"});
+          warn_if_set(prm, obstacle.subsection, entries, "Type = none");
+        }
       else
-        for (const auto &[shape, used] : shape_entries)
+        for (const auto &[shape, used] : used_by_shape)
           if (shape == obstacle.type)
             {
               std::vector<std::string> unused;
-              for (const std::string entry : {"Point", "Normal", "End", "Radius", "Size", "File"})
+              for (const std::string &entry : shape_entries)
                 if (std::find(used.begin(), used.end(), entry) == used.end())
                   unused.push_back(entry);
-              ignored(obstacle.subsection, unused, "Type = " + obstacle.type);
+              warn_if_set(prm, obstacle.subsection, unused, "Type = " + obstacle.type);
             }
     if (std::none_of(obstacles.begin(), obstacles.end(), [](const auto &o) { return o.active(); }))
-      ignored("Contact", {"Alarm distance", "Contact distance", "Max iterations", "Tolerance", "Max contacts",
-                          "Compliance"}, "no obstacle (Obstacle/Type = none)");
+      warn_if_set(prm, "Contact",
+                  {"Alarm distance", "Contact distance", "Max iterations", "Tolerance", "Max contacts", "Compliance"},
+                  "no obstacle (Obstacle/Type = none)");
     if (output.vtu_interval == 0)
-      ignored("Output", {"VTU precision"}, "VTU interval = 0");
+      warn_if_set(prm, "Output", {"VTU precision"}, "VTU interval = 0");
+  }
+
+  void AllParameters::warn_about_run_kind(ParameterHandler &prm)
+  {
     // One kind of run reads Distributed, the other Solver (DistributedSimulation solves by
     // Distributed/Linear solver alone).
-    if (serial)
-      ignored("Distributed", {"Linear solver", "Tolerance", "Max iterations"},
-              "a serial run (distributed: mpirun -np N with N > 1, or --distributed)");
-    else
+    if (run == RunKind::serial)
       {
-        ignored("Solver", {"Ordering", "Method", "Threads", "Top flops fraction", "Backend", "Tolerance",
-                           "Max iterations", "Change method", "Preconditioner precision"},
-                "a distributed run (it solves by Distributed/Linear solver)");
-        // DistributedSimulation has no instruments, no contact, no reference run and
-        // writes its VTU pieces with deal.II's DataOut (float32).
-        const std::string distributed_run = "a distributed run";
-        for (const auto &cut : cuts)
-          if (cut.active())
-            ignored(cut.subsection, {"Duration"}, distributed_run + " (no cuts)");
-        for (const auto &grasp : grasps)
-          if (grasp.active())
-            ignored(grasp.subsection, {"Sphere radius"}, distributed_run + " (no grasps)");
-        for (const auto &change : material_changes)
-          if (change.region.kind != "none")
-            ignored(change.subsection, {"Region", "Stiffness factor"}, distributed_run + " (no material changes)");
-        for (const auto &obstacle : obstacles)
-          if (obstacle.active())
-            ignored(obstacle.subsection, {"Type"}, distributed_run + " (no contact)");
-        ignored("Output", {"Exact steps timed"}, distributed_run);
-        if (output.vtu_interval > 0)
-          ignored("Output", {"VTU precision"}, distributed_run + " (float32)");
-        if (distributed.linear_solver == "mumps")
-          ignored("Distributed", {"Tolerance", "Max iterations"}, "Linear solver = mumps");
+        warn_if_set(prm, "Distributed", {"Linear solver", "Tolerance", "Max iterations"},
+                    "a serial run (distributed: mpirun -np N with N > 1, or --distributed)");
+        return;
       }
+    warn_if_set(prm, "Solver",
+                {"Ordering", "Method", "Threads", "Top flops fraction", "Backend", "Tolerance", "Max iterations",
+                 "Change method", "Preconditioner precision"},
+                "a distributed run (it solves by Distributed/Linear solver)");
+    // DistributedSimulation has no instruments, no contact, no reference run and writes
+    // its VTU pieces with deal.II's DataOut (float32).
+    const std::string distributed_run = "a distributed run";
+    for (const auto &cut : cuts)
+      if (cut.active())
+        warn_if_set(prm, cut.subsection, {"Duration"}, distributed_run + " (no cuts)");
+    for (const auto &grasp : grasps)
+      if (grasp.active())
+        warn_if_set(prm, grasp.subsection, {"Sphere radius"}, distributed_run + " (no grasps)");
+    for (const auto &change : material_changes)
+      if (change.region.kind != "none")
+        warn_if_set(prm, change.subsection, {"Region", "Stiffness factor"}, distributed_run + " (no material changes)");
+    for (const auto &obstacle : obstacles)
+      if (obstacle.active())
+        warn_if_set(prm, obstacle.subsection, {"Type"}, distributed_run + " (no contact)");
+    warn_if_set(prm, "Output", {"Exact steps timed"}, distributed_run);
+    if (output.vtu_interval > 0)
+      warn_if_set(prm, "Output", {"VTU precision"}, distributed_run + " (float32)");
+    if (distributed.linear_solver == "mumps")
+      warn_if_set(prm, "Distributed", {"Tolerance", "Max iterations"}, "Linear solver = mumps");
   }
 
   void AllParameters::print_warnings(std::ostream &err) const

@@ -130,6 +130,22 @@ namespace warpchol::app
     void check_backend(dealii::ParameterHandler &prm) const;
     /** Fill warnings: the entries set in the file that the choices made ignore, for every subsection. */
     void warn_about_ignored_entries(dealii::ParameterHandler &prm);
+    /** Add a warning for each of @p entries of @p subsection that the file sets: ignored with @p choice. */
+    void warn_if_set(dealii::ParameterHandler &prm, const std::string &subsection,
+                     const std::vector<std::string> &entries, const std::string &choice);
+    /** The entries of a region's subsection that its kind leaves unused; @p what_it_moves with none. */
+    void warn_about_region(dealii::ParameterHandler &prm, const RegionParameters &region,
+                           const std::string &subsection, const std::vector<std::string> &what_it_moves);
+    /** Mesh and Material: the other sources' entries, the density beside a total mass. */
+    void warn_about_mesh_and_material(dealii::ParameterHandler &prm);
+    /** Model, Bodies' models and (in a serial run) Solver: what the model, strategy and backend leave unused. */
+    void warn_about_model_and_solver(dealii::ParameterHandler &prm);
+    /** The fixed vertices, forces, tool, cuts, grasps and material changes. */
+    void warn_about_instruments(dealii::ParameterHandler &prm);
+    /** The obstacles' entries their shapes do not use, Contact without an obstacle, Output. */
+    void warn_about_obstacles_and_output(dealii::ParameterHandler &prm);
+    /** Distributed in a serial run; in a distributed run, what DistributedSimulation does not read. */
+    void warn_about_run_kind(dealii::ParameterHandler &prm);
     /** Add to warnings each entry the file sets by its old name (renamed_entries). */
     void warn_about_old_names();
   };
