@@ -281,48 +281,13 @@ namespace
     return rows;
   }
 
-  void run(const Options &options)
+  /**
+   * The scene as it says, beside the same without its changes, with its changes recomputed,
+   * exact by warpchol and by CHOLMOD, and on the stale rest factor with CG: a table of
+   * seconds a step and the ratios to the scene's own run.
+   */
+  void compare_whole_runs(const app::AllParameters &parameters)
   {
-    app::AllParameters parameters(options.parameter_file);
-    parameters.output.vtu_interval = 0;
-    parameters.output.write_log    = false;
-    const std::string csv_file     = options.csv_file.empty() ?
-                                       parameters.output.directory + "/" + parameters.scene_name() + "/surgery.csv" :
-                                       options.csv_file;
-    const std::string csv_directory = std::filesystem::path(csv_file).parent_path().string();
-    if (!csv_directory.empty())
-      app::create_directory(csv_directory);
-
-    std::cout << app::describe_machine() << "\n"
-              << "scene " << parameters.scene_name() << ", " << parameters.time_stepping.n_steps << " steps, "
-              << parameters.solver.settings.n_threads << " thread(s)\n\n"
-              << "each change alone (stiffness warping: the factor changes only with the changes); seconds, best of "
-              << options.repeat << "\n"
-              << std::setw(5) << "step" << std::setw(24) << "change" << std::setw(9) << "columns%" << std::setw(6)
-              << "rank" << std::setw(10) << "update" << std::setw(10) << "partial" << std::setw(10) << "full"
-              << std::setw(12) << "CHOLMOD upd" << std::setw(12) << "CHOLMOD new" << std::setw(9) << "chosen"
-              << std::setw(11) << "predicted" << std::setw(14) << "chosen/best" << "\n";
-    const std::vector<ChangeRow> changes = change_costs(parameters, options.repeat);
-    unsigned int                 within  = 0;
-    double worst = 0, update_vs_cholmod = std::numeric_limits<double>::infinity();
-    for (const auto &row : changes)
-      {
-        const double ratio = row.chosen_seconds() / row.fastest();
-        within += ratio <= 1.2;
-        worst             = std::max(worst, ratio);
-        update_vs_cholmod = std::min(update_vs_cholmod, row.cholmod_updown / row.update);
-        std::cout << std::setw(5) << row.step << std::setw(24) << row.what << std::setw(9)
-                  << format_number(row.columns_pct, 3) << std::setw(6) << row.rank << std::setw(10)
-                  << format_number(row.update, 3) << std::setw(10) << format_number(row.partial, 3) << std::setw(10)
-                  << format_number(row.full, 3) << std::setw(12) << format_number(row.cholmod_updown, 3) << std::setw(12)
-                  << format_number(row.cholmod_anew, 3) << std::setw(9) << row.chosen << std::setw(11)
-                  << format_number(row.predicted, 3) << std::setw(14) << format_number(ratio, 3) << "\n";
-      }
-    std::cout << "steps whose chosen method is within 1.2x of the fastest of update, partial and full: " << within
-              << " of " << changes.size() << " (worst " << format_number(worst, 3)
-              << "x); update against CHOLMOD's updown at least " << format_number(update_vs_cholmod, 3) << "x\n\n";
-
-    // Whole runs.
     std::vector<RunRow> runs;
     runs.push_back(run_scene("as the scene says (" + fem::to_string(parameters.model.type) + ", " +
                                fem::to_string(parameters.model.strategy.kind) + ")",
@@ -371,6 +336,50 @@ namespace
               << "x faster than CHOLMOD refactoring every step, "
               << format_number(runs[5].seconds_per_step / runs[0].seconds_per_step, 3)
               << "x faster than the stale rest factor\n";
+  }
+
+  void run(const Options &options)
+  {
+    app::AllParameters parameters(options.parameter_file);
+    parameters.output.vtu_interval = 0;
+    parameters.output.write_log    = false;
+    const std::string csv_file     = options.csv_file.empty() ?
+                                       parameters.output.directory + "/" + parameters.scene_name() + "/surgery.csv" :
+                                       options.csv_file;
+    const std::string csv_directory = std::filesystem::path(csv_file).parent_path().string();
+    if (!csv_directory.empty())
+      app::create_directory(csv_directory);
+
+    std::cout << app::describe_machine() << "\n"
+              << "scene " << parameters.scene_name() << ", " << parameters.time_stepping.n_steps << " steps, "
+              << parameters.solver.settings.n_threads << " thread(s)\n\n"
+              << "each change alone (stiffness warping: the factor changes only with the changes); seconds, best of "
+              << options.repeat << "\n"
+              << std::setw(5) << "step" << std::setw(24) << "change" << std::setw(9) << "columns%" << std::setw(6)
+              << "rank" << std::setw(10) << "update" << std::setw(10) << "partial" << std::setw(10) << "full"
+              << std::setw(12) << "CHOLMOD upd" << std::setw(12) << "CHOLMOD new" << std::setw(9) << "chosen"
+              << std::setw(11) << "predicted" << std::setw(14) << "chosen/best" << "\n";
+    const std::vector<ChangeRow> changes = change_costs(parameters, options.repeat);
+    unsigned int                 within  = 0;
+    double worst = 0, update_vs_cholmod = std::numeric_limits<double>::infinity();
+    for (const auto &row : changes)
+      {
+        const double ratio = row.chosen_seconds() / row.fastest();
+        within += ratio <= 1.2;
+        worst             = std::max(worst, ratio);
+        update_vs_cholmod = std::min(update_vs_cholmod, row.cholmod_updown / row.update);
+        std::cout << std::setw(5) << row.step << std::setw(24) << row.what << std::setw(9)
+                  << format_number(row.columns_pct, 3) << std::setw(6) << row.rank << std::setw(10)
+                  << format_number(row.update, 3) << std::setw(10) << format_number(row.partial, 3) << std::setw(10)
+                  << format_number(row.full, 3) << std::setw(12) << format_number(row.cholmod_updown, 3) << std::setw(12)
+                  << format_number(row.cholmod_anew, 3) << std::setw(9) << row.chosen << std::setw(11)
+                  << format_number(row.predicted, 3) << std::setw(14) << format_number(ratio, 3) << "\n";
+      }
+    std::cout << "steps whose chosen method is within 1.2x of the fastest of update, partial and full: " << within
+              << " of " << changes.size() << " (worst " << format_number(worst, 3)
+              << "x); update against CHOLMOD's updown at least " << format_number(update_vs_cholmod, 3) << "x\n\n";
+
+    compare_whole_runs(parameters);
 
     write_file_atomically(csv_file, [&](std::ostream &out) {
       out << "step,change,columns_pct,rank,update_seconds,partial_seconds,full_seconds,cholmod_updown_seconds,"

@@ -224,6 +224,106 @@ namespace warpchol::cholesky
     return w;
   }
 
+  namespace
+  {
+    /**
+     * Y on the paths of all the unknowns @p rows: each column copied from where it was
+     * solved, the kept ones (@p was >= 0) from @p kept, the new ones (@p fresh) from
+     * @p solved. A column's path is that of its one nonzero: the same supernodes in either.
+     */
+    PathForwardSolve merged_paths(const SupernodalSymbolic &symbolic, const std::vector<Index> &rows,
+                                  const std::vector<Index> &was, const std::vector<Index> &fresh,
+                                  const PathForwardSolve &kept, const PathForwardSolve &solved)
+    {
+      const Index        m = static_cast<Index>(rows.size());
+      std::vector<Index> all(m);
+      for (Index i = 0; i < m; ++i)
+        all[i] = i;
+      PathForwardSolve   merged = path_structure(symbolic, unit_columns(symbolic.n, rows, all));
+      std::vector<Index> fresh_index(m, -1);
+      for (std::size_t f = 0; f < fresh.size(); ++f)
+        fresh_index[fresh[f]] = static_cast<Index>(f);
+      const std::vector<Index> kept_at   = positions_of(symbolic, kept);
+      const std::vector<Index> solved_at = positions_of(symbolic, solved);
+      const auto               column_of = [](const PathForwardSolve &solve, const Index k, const Index i) {
+        const auto begin = solve.constraints.begin() + solve.constraint_start[k];
+        const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
+        return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
+      };
+      for (std::size_t k = 0; k < merged.supernodes.size(); ++k)
+        {
+          const Index s  = merged.supernodes[k];
+          const Index nc = symbolic.n_columns(s);
+          const Index kc = merged.constraint_start[k + 1] - merged.constraint_start[k];
+          double     *to = merged.panels.data() + merged.panel_start[k];
+          for (Index a = 0; a < kc; ++a)
+            {
+              const Index             i      = merged.constraints[merged.constraint_start[k] + a];
+              const bool              is_new = was[i] < 0;
+              const PathForwardSolve &source = is_new ? solved : kept;
+              const Index             ks     = is_new ? solved_at[s] : kept_at[s];
+              const Index             b      = column_of(source, ks, is_new ? fresh_index[i] : was[i]);
+              const Index             ld     = source.constraint_start[ks + 1] - source.constraint_start[ks];
+              const double           *from   = source.panels.data() + source.panel_start[ks];
+              for (Index c = 0; c < nc; ++c)
+                to[a + c * kc] = from[b + c * ld];
+            }
+        }
+      return merged;
+    }
+
+    /**
+     * next.gram: the entries of @p kept's between kept unknowns, then the new unknowns' rows,
+     * supernode by supernode (their panel rows times the panel, dgemm), mirrored into their
+     * columns.
+     */
+    void extend_gram(const SupernodalSymbolic &symbolic, const std::vector<Index> &was,
+                     const std::vector<Index> &fresh, const KeptInverseColumns &kept, KeptInverseColumns &next)
+    {
+      const Index m      = static_cast<Index>(next.rows.size());
+      const Index m_kept = static_cast<Index>(kept.rows.size());
+      next.gram.assign(static_cast<std::size_t>(m) * m, 0.);
+      for (Index j = 0; j < m; ++j)
+        if (was[j] >= 0)
+          for (Index i = 0; i < m; ++i)
+            if (was[i] >= 0)
+              next.gram[i + static_cast<std::size_t>(j) * m] =
+                kept.gram[was[i] + static_cast<std::size_t>(was[j]) * m_kept];
+      std::vector<Index>  local_fresh;
+      std::vector<double> fresh_panel, product;
+      for (std::size_t k = 0; k < next.solve.supernodes.size(); ++k)
+        {
+          const Index   nc    = symbolic.n_columns(next.solve.supernodes[k]);
+          const Index   kc    = next.solve.constraint_start[k + 1] - next.solve.constraint_start[k];
+          const Index  *own   = next.solve.constraints.data() + next.solve.constraint_start[k];
+          const double *panel = next.solve.panels.data() + next.solve.panel_start[k];
+          local_fresh.clear();
+          for (Index a = 0; a < kc; ++a)
+            if (was[own[a]] < 0)
+              local_fresh.push_back(a);
+          const Index kf = static_cast<Index>(local_fresh.size());
+          if (kf == 0)
+            continue;
+          fresh_panel.resize(static_cast<std::size_t>(kf) * nc);
+          for (Index c = 0; c < nc; ++c)
+            for (Index f = 0; f < kf; ++f)
+              fresh_panel[f + static_cast<std::size_t>(c) * kf] =
+                panel[local_fresh[f] + static_cast<std::size_t>(c) * kc];
+          product.resize(static_cast<std::size_t>(kf) * kc);
+          blas::gemm_nt(static_cast<int>(kf), static_cast<int>(kc), static_cast<int>(nc), 1., fresh_panel.data(),
+                        static_cast<int>(kf), panel, static_cast<int>(kc), 0., product.data(), static_cast<int>(kf));
+          next.solve.product_flops += 2. * static_cast<double>(kf) * kc * nc;
+          for (Index b = 0; b < kc; ++b)
+            for (Index f = 0; f < kf; ++f)
+              next.gram[own[local_fresh[f]] + static_cast<std::size_t>(own[b]) * m] +=
+                product[f + static_cast<std::size_t>(b) * kf];
+        }
+      for (const Index i : fresh)
+        for (Index j = 0; j < m; ++j)
+          next.gram[j + static_cast<std::size_t>(i) * m] = next.gram[i + static_cast<std::size_t>(j) * m];
+    }
+  } // namespace
+
   void update_inverse_columns(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
                               const std::uint64_t factor_revision, const std::vector<Index> &rows,
                               KeptInverseColumns &columns)
@@ -266,82 +366,8 @@ namespace warpchol::cholesky
         return;
       }
 
-    // Y on the paths of all the unknowns: each column copied from where it was solved, the
-    // kept ones from the last call's panels, the new ones from this call's. A column's path
-    // is that of its one nonzero: the same supernodes in either.
-    std::vector<Index> all(m);
-    for (Index i = 0; i < m; ++i)
-      all[i] = i;
-    next.solve = path_structure(symbolic, unit_columns(symbolic.n, rows, all));
-    std::vector<Index> fresh_index(m, -1);
-    for (std::size_t f = 0; f < fresh.size(); ++f)
-      fresh_index[fresh[f]] = static_cast<Index>(f);
-    const std::vector<Index> kept_at   = positions_of(symbolic, columns.solve);
-    const std::vector<Index> solved_at = positions_of(symbolic, solved);
-    const auto               column_of = [](const PathForwardSolve &solve, const Index k, const Index i) {
-      const auto begin = solve.constraints.begin() + solve.constraint_start[k];
-      const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
-      return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
-    };
-    for (std::size_t k = 0; k < next.solve.supernodes.size(); ++k)
-      {
-        const Index s  = next.solve.supernodes[k];
-        const Index nc = symbolic.n_columns(s);
-        const Index kc = next.solve.constraint_start[k + 1] - next.solve.constraint_start[k];
-        double     *to = next.solve.panels.data() + next.solve.panel_start[k];
-        for (Index a = 0; a < kc; ++a)
-          {
-            const Index             i      = next.solve.constraints[next.solve.constraint_start[k] + a];
-            const bool              is_new = was[i] < 0;
-            const PathForwardSolve &source = is_new ? solved : columns.solve;
-            const Index             ks     = is_new ? solved_at[s] : kept_at[s];
-            const Index             b      = column_of(source, ks, is_new ? fresh_index[i] : was[i]);
-            const Index             ld     = source.constraint_start[ks + 1] - source.constraint_start[ks];
-            const double           *from   = source.panels.data() + source.panel_start[ks];
-            for (Index c = 0; c < nc; ++c)
-              to[a + c * kc] = from[b + c * ld];
-          }
-      }
-
-    // G: the kept entries between kept unknowns, then the new unknowns' rows, supernode by
-    // supernode (their panel rows times the panel, dgemm), mirrored into their columns.
-    const Index m_kept = static_cast<Index>(columns.rows.size());
-    next.gram.assign(static_cast<std::size_t>(m) * m, 0.);
-    for (Index j = 0; j < m; ++j)
-      if (was[j] >= 0)
-        for (Index i = 0; i < m; ++i)
-          if (was[i] >= 0)
-            next.gram[i + static_cast<std::size_t>(j) * m] = columns.gram[was[i] + static_cast<std::size_t>(was[j]) * m_kept];
-    std::vector<Index>  local_fresh;
-    std::vector<double> fresh_panel, product;
-    for (std::size_t k = 0; k < next.solve.supernodes.size(); ++k)
-      {
-        const Index  nc    = symbolic.n_columns(next.solve.supernodes[k]);
-        const Index  kc    = next.solve.constraint_start[k + 1] - next.solve.constraint_start[k];
-        const Index *own   = next.solve.constraints.data() + next.solve.constraint_start[k];
-        const double *panel = next.solve.panels.data() + next.solve.panel_start[k];
-        local_fresh.clear();
-        for (Index a = 0; a < kc; ++a)
-          if (was[own[a]] < 0)
-            local_fresh.push_back(a);
-        const Index kf = static_cast<Index>(local_fresh.size());
-        if (kf == 0)
-          continue;
-        fresh_panel.resize(static_cast<std::size_t>(kf) * nc);
-        for (Index c = 0; c < nc; ++c)
-          for (Index f = 0; f < kf; ++f)
-            fresh_panel[f + static_cast<std::size_t>(c) * kf] = panel[local_fresh[f] + static_cast<std::size_t>(c) * kc];
-        product.resize(static_cast<std::size_t>(kf) * kc);
-        blas::gemm_nt(static_cast<int>(kf), static_cast<int>(kc), static_cast<int>(nc), 1., fresh_panel.data(),
-                      static_cast<int>(kf), panel, static_cast<int>(kc), 0., product.data(), static_cast<int>(kf));
-        next.solve.product_flops += 2. * static_cast<double>(kf) * kc * nc;
-        for (Index b = 0; b < kc; ++b)
-          for (Index f = 0; f < kf; ++f)
-            next.gram[own[local_fresh[f]] + static_cast<std::size_t>(own[b]) * m] += product[f + static_cast<std::size_t>(b) * kf];
-      }
-    for (const Index i : fresh)
-      for (Index j = 0; j < m; ++j)
-        next.gram[j + static_cast<std::size_t>(i) * m] = next.gram[i + static_cast<std::size_t>(j) * m];
+    next.solve = merged_paths(symbolic, rows, was, fresh, columns.solve, solved);
+    extend_gram(symbolic, was, fresh, columns, next);
     next.solve.solve_flops = solved.solve_flops;
     columns                = std::move(next);
   }

@@ -152,6 +152,137 @@ namespace warpchol::cholesky
       first.push_back(n);
       return first;
     }
+
+    /** supernode_of, supernode_parent and first_descendant, from first_column and the column tree @p parent. */
+    void link_supernodes(SupernodalSymbolic &symbolic, const std::vector<Index> &parent)
+    {
+      const Index n  = symbolic.n;
+      const Index ns = symbolic.n_supernodes();
+      symbolic.supernode_of.resize(n);
+      for (Index s = 0; s < ns; ++s)
+        for (Index j = symbolic.first_column[s]; j < symbolic.first_column[s + 1]; ++j)
+          symbolic.supernode_of[j] = s;
+      symbolic.supernode_parent.assign(ns, -1);
+      symbolic.first_descendant.resize(ns);
+      std::iota(symbolic.first_descendant.begin(), symbolic.first_descendant.end(), Index(0));
+      for (Index s = 0; s < ns; ++s)
+        {
+          const Index above = parent[symbolic.first_column[s + 1] - 1];
+          if (above != -1)
+            {
+              const Index p                = symbolic.supernode_of[above];
+              symbolic.supernode_parent[s] = p;
+              symbolic.first_descendant[p] = std::min(symbolic.first_descendant[p], symbolic.first_descendant[s]);
+            }
+        }
+    }
+
+    /**
+     * row_start, row_index and value_start. Row i lies below supernode s iff s is on the
+     * supernodal tree path from the supernode of some k < i with C(i,k) != 0 up to (not
+     * including) the supernode of i. Rows are visited in increasing order, so each
+     * supernode's rows come out sorted.
+     */
+    void find_row_structure(SupernodalSymbolic &symbolic, const sparse::CSCMatrix &lower)
+    {
+      const Index             n     = symbolic.n;
+      const Index             ns    = symbolic.n_supernodes();
+      const sparse::CSCMatrix upper = sparse::upper_triangle(lower);
+      auto                    walk_rows = [&](auto &&add_row) {
+        std::vector<Index> mark(ns, -1);
+        for (Index i = 0; i < n; ++i)
+          {
+            const Index top = symbolic.supernode_of[i];
+            for (Index p = upper.column_start[i]; p < upper.column_start[i + 1]; ++p)
+              for (Index s = symbolic.supernode_of[upper.row_index[p]]; s != top && mark[s] != i;
+                   s       = symbolic.supernode_parent[s])
+                {
+                  mark[s] = i;
+                  add_row(s, i);
+                }
+          }
+      };
+      symbolic.row_start.assign(ns + 1, 0);
+      for (Index s = 0; s < ns; ++s)
+        symbolic.row_start[s + 1] = symbolic.n_columns(s);
+      walk_rows([&](const Index s, Index) { ++symbolic.row_start[s + 1]; });
+      std::partial_sum(symbolic.row_start.begin(), symbolic.row_start.end(), symbolic.row_start.begin());
+      symbolic.row_index.resize(symbolic.row_start[ns]);
+      std::vector<Index> next_row(ns);
+      for (Index s = 0; s < ns; ++s)
+        {
+          next_row[s] = symbolic.row_start[s];
+          for (Index j = symbolic.first_column[s]; j < symbolic.first_column[s + 1]; ++j)
+            symbolic.row_index[next_row[s]++] = j;
+        }
+      walk_rows([&](const Index s, const Index i) { symbolic.row_index[next_row[s]++] = i; });
+
+      symbolic.value_start.assign(ns + 1, 0);
+      for (Index s = 0; s < ns; ++s)
+        symbolic.value_start[s + 1] = symbolic.value_start[s] + symbolic.n_rows(s) * symbolic.n_columns(s);
+    }
+
+    /**
+     * The updates: the rows of d below its columns, grouped by the supernode they belong to.
+     * Listing them by increasing d fixes the order in which updates are summed, so the
+     * result does not depend on scheduling.
+     */
+    void list_updates(SupernodalSymbolic &symbolic)
+    {
+      const Index ns = symbolic.n_supernodes();
+      symbolic.update_start.assign(ns + 1, 0);
+      for (int pass = 0; pass < 2; ++pass)
+        {
+          std::vector<Index> next_update(symbolic.update_start.begin(), symbolic.update_start.end() - 1);
+          for (Index d = 0; d < ns; ++d)
+            {
+              const Index end = symbolic.row_start[d + 1];
+              for (Index p = symbolic.row_start[d] + symbolic.n_columns(d); p < end;)
+                {
+                  const Index s     = symbolic.supernode_of[symbolic.row_index[p]];
+                  const Index begin = p;
+                  while (p < end && symbolic.row_index[p] < symbolic.first_column[s + 1])
+                    ++p;
+                  if (pass == 0)
+                    ++symbolic.update_start[s + 1];
+                  else
+                    {
+                      const Index k                = next_update[s]++;
+                      symbolic.update_source[k]    = d;
+                      symbolic.update_row_begin[k] = begin;
+                      symbolic.update_row_end[k]   = p;
+                    }
+                }
+            }
+          if (pass == 0)
+            {
+              std::partial_sum(symbolic.update_start.begin(), symbolic.update_start.end(),
+                               symbolic.update_start.begin());
+              symbolic.update_source.resize(symbolic.update_start[ns]);
+              symbolic.update_row_begin.resize(symbolic.update_start[ns]);
+              symbolic.update_row_end.resize(symbolic.update_start[ns]);
+            }
+        }
+    }
+
+    /** Flops, counted the way the numeric phase spends them, and the workspace it needs. */
+    void count_flops(SupernodalSymbolic &symbolic)
+    {
+      const Index ns = symbolic.n_supernodes();
+      symbolic.supernode_flops.assign(ns, 0.);
+      for (Index s = 0; s < ns; ++s)
+        {
+          symbolic.supernode_flops[s] = symbolic.flops_from(s, 0);
+          symbolic.flops += symbolic.supernode_flops[s];
+          for (Index k = symbolic.update_start[s]; k < symbolic.update_start[s + 1]; ++k)
+            symbolic.max_update_size =
+              std::max(symbolic.max_update_size, (symbolic.update_row_end[k] - symbolic.update_row_begin[k]) *
+                                                   (symbolic.row_start[symbolic.update_source[k] + 1] -
+                                                    symbolic.update_row_begin[k]));
+        }
+      for (const Index count : symbolic.column_counts)
+        symbolic.exact_flops += static_cast<double>(count) * static_cast<double>(count);
+    }
   } // namespace
 
   SupernodalSymbolic analyze_supernodal(const sparse::CSCMatrix   &lower,
@@ -169,114 +300,10 @@ namespace warpchol::cholesky
     std::iota(identity.begin(), identity.end(), Index(0));
     symbolic.column_counts = column_counts(lower, parent, identity);
     symbolic.first_column  = relaxed_supernodes(parent, symbolic.column_counts, relaxation);
-
-    const Index ns = symbolic.n_supernodes();
-    symbolic.supernode_of.resize(n);
-    for (Index s = 0; s < ns; ++s)
-      for (Index j = symbolic.first_column[s]; j < symbolic.first_column[s + 1]; ++j)
-        symbolic.supernode_of[j] = s;
-    symbolic.supernode_parent.assign(ns, -1);
-    symbolic.first_descendant.resize(ns);
-    std::iota(symbolic.first_descendant.begin(), symbolic.first_descendant.end(), Index(0));
-    for (Index s = 0; s < ns; ++s)
-      {
-        const Index above = parent[symbolic.first_column[s + 1] - 1];
-        if (above != -1)
-          {
-            const Index p               = symbolic.supernode_of[above];
-            symbolic.supernode_parent[s] = p;
-            symbolic.first_descendant[p] = std::min(symbolic.first_descendant[p], symbolic.first_descendant[s]);
-          }
-      }
-
-    // Row structure: row i lies below supernode s iff s is on the supernodal tree path from
-    // the supernode of some k < i with C(i,k) != 0 up to (not including) the supernode of i.
-    // Rows are visited in increasing order, so each supernode's rows come out sorted.
-    const sparse::CSCMatrix upper = sparse::upper_triangle(lower);
-    auto walk_rows = [&](auto &&add_row) {
-      std::vector<Index> mark(ns, -1);
-      for (Index i = 0; i < n; ++i)
-        {
-          const Index top = symbolic.supernode_of[i];
-          for (Index p = upper.column_start[i]; p < upper.column_start[i + 1]; ++p)
-            for (Index s = symbolic.supernode_of[upper.row_index[p]]; s != top && mark[s] != i;
-                 s = symbolic.supernode_parent[s])
-              {
-                mark[s] = i;
-                add_row(s, i);
-              }
-        }
-    };
-    symbolic.row_start.assign(ns + 1, 0);
-    for (Index s = 0; s < ns; ++s)
-      symbolic.row_start[s + 1] = symbolic.n_columns(s);
-    walk_rows([&](const Index s, Index) { ++symbolic.row_start[s + 1]; });
-    std::partial_sum(symbolic.row_start.begin(), symbolic.row_start.end(), symbolic.row_start.begin());
-    symbolic.row_index.resize(symbolic.row_start[ns]);
-    std::vector<Index> next_row(ns);
-    for (Index s = 0; s < ns; ++s)
-      {
-        next_row[s] = symbolic.row_start[s];
-        for (Index j = symbolic.first_column[s]; j < symbolic.first_column[s + 1]; ++j)
-          symbolic.row_index[next_row[s]++] = j;
-      }
-    walk_rows([&](const Index s, const Index i) { symbolic.row_index[next_row[s]++] = i; });
-
-    symbolic.value_start.assign(ns + 1, 0);
-    for (Index s = 0; s < ns; ++s)
-      symbolic.value_start[s + 1] = symbolic.value_start[s] + symbolic.n_rows(s) * symbolic.n_columns(s);
-
-    // Updates: the rows of d below its columns, grouped by the supernode they belong to.
-    // Listing them by increasing d fixes the order in which updates are summed, so the
-    // result does not depend on scheduling.
-    symbolic.update_start.assign(ns + 1, 0);
-    for (int pass = 0; pass < 2; ++pass)
-      {
-        std::vector<Index> next_update(symbolic.update_start.begin(), symbolic.update_start.end() - 1);
-        for (Index d = 0; d < ns; ++d)
-          {
-            const Index end = symbolic.row_start[d + 1];
-            for (Index p = symbolic.row_start[d] + symbolic.n_columns(d); p < end;)
-              {
-                const Index s = symbolic.supernode_of[symbolic.row_index[p]];
-                const Index begin = p;
-                while (p < end && symbolic.row_index[p] < symbolic.first_column[s + 1])
-                  ++p;
-                if (pass == 0)
-                  ++symbolic.update_start[s + 1];
-                else
-                  {
-                    const Index k               = next_update[s]++;
-                    symbolic.update_source[k]    = d;
-                    symbolic.update_row_begin[k] = begin;
-                    symbolic.update_row_end[k]   = p;
-                  }
-              }
-          }
-        if (pass == 0)
-          {
-            std::partial_sum(symbolic.update_start.begin(), symbolic.update_start.end(),
-                             symbolic.update_start.begin());
-            symbolic.update_source.resize(symbolic.update_start[ns]);
-            symbolic.update_row_begin.resize(symbolic.update_start[ns]);
-            symbolic.update_row_end.resize(symbolic.update_start[ns]);
-          }
-      }
-
-    // Flops, counted the way the numeric phase spends them, and the workspace it needs.
-    symbolic.supernode_flops.assign(ns, 0.);
-    for (Index s = 0; s < ns; ++s)
-      {
-        symbolic.supernode_flops[s] = symbolic.flops_from(s, 0);
-        symbolic.flops += symbolic.supernode_flops[s];
-        for (Index k = symbolic.update_start[s]; k < symbolic.update_start[s + 1]; ++k)
-          symbolic.max_update_size =
-            std::max(symbolic.max_update_size, (symbolic.update_row_end[k] - symbolic.update_row_begin[k]) *
-                                                 (symbolic.row_start[symbolic.update_source[k] + 1] -
-                                                  symbolic.update_row_begin[k]));
-      }
-    for (const Index count : symbolic.column_counts)
-      symbolic.exact_flops += static_cast<double>(count) * static_cast<double>(count);
+    link_supernodes(symbolic, parent);
+    find_row_structure(symbolic, lower);
+    list_updates(symbolic);
+    count_flops(symbolic);
     return symbolic;
   }
 } // namespace warpchol::cholesky

@@ -445,28 +445,14 @@ namespace warpchol::fem
         free_velocity[3 * j + 2] = c.tangent_2.dot(relative);
         friction[j]              = o.friction();
       }
-    {
-      StageTimer timer(statistics.stages, stage::contact_gauss_seidel);
-      // Warm start: a contact that persists (same vertex, same obstacle) starts from its
-      // impulses of the step before, as SOFA's solver starts from the last forces.
-      std::unordered_map<std::uint64_t, std::size_t> previous;
-      for (std::size_t j = 0; j < previous_contacts.size(); ++j)
-        previous[contact_key(previous_contacts[j])] = j;
-      std::vector<double> start(3 * n_contacts, 0.);
-      for (std::size_t j = 0; j < n_contacts; ++j)
-        if (const auto found = previous.find(contact_key(step_contacts[j])); found != previous.end())
-          for (std::size_t d = 0; d < 3; ++d)
-            start[3 * j + d] = lambda[3 * found->second + d];
-      lambda              = std::move(start);
-      report.gauss_seidel = solve_friction_cone(w, free_velocity, friction, contact_settings.gauss_seidel, lambda);
-    }
+    solve_for_impulses(w, free_velocity, friction, statistics);
 
     // v += A~^-1 H^T lambda: the impulses as forces on the vertices, one solve.
     std::vector<Vector3> impulses(body.n_vertices(), Vector3::Zero());
     for (std::size_t j = 0; j < n_contacts; ++j)
       {
         const Contact &c       = step_contacts[j];
-        const Vector3  impulse = lambda[3 * j] * c.normal + lambda[3 * j + 1] * c.tangent_1 + lambda[3 * j + 2] * c.tangent_2;
+        const Vector3  impulse = impulse_of(j);
         for (unsigned int k = 0; k < c.n_vertices; ++k)
           impulses[c.vertex_of(k)] += c.weights[k] * impulse;
       }
@@ -478,10 +464,39 @@ namespace warpchol::fem
         velocities[v] += change[v];
     }
 
+    record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
+    total_work += report.work_on_body;
+    total_dissipation += report.friction_dissipation;
+  }
+
+  void ContactConstraints::solve_for_impulses(const std::vector<double> &w, const std::vector<double> &free_velocity,
+                                              const std::vector<double> &friction, StepStatistics &statistics)
+  {
+    const std::size_t n_contacts = step_contacts.size();
+    StageTimer timer(statistics.stages, stage::contact_gauss_seidel);
+    // As SOFA's solver starts from the last forces.
+    std::unordered_map<std::uint64_t, std::size_t> previous;
+    for (std::size_t j = 0; j < previous_contacts.size(); ++j)
+      previous[contact_key(previous_contacts[j])] = j;
+    std::vector<double> start(3 * n_contacts, 0.);
+    for (std::size_t j = 0; j < n_contacts; ++j)
+      if (const auto found = previous.find(contact_key(step_contacts[j])); found != previous.end())
+        for (std::size_t d = 0; d < 3; ++d)
+          start[3 * j + d] = lambda[3 * found->second + d];
+    lambda              = std::move(start);
+    report.gauss_seidel = solve_friction_cone(w, free_velocity, friction, contact_settings.gauss_seidel, lambda);
+  }
+
+  void ContactConstraints::record_forces_and_gaps(const std::vector<Vector3> &positions,
+                                                  const std::vector<Vector3> &velocities,
+                                                  const std::vector<Vector3> &obstacle_velocity, const double time,
+                                                  const double time_step)
+  {
+    const std::size_t n_contacts = step_contacts.size();
     for (std::size_t j = 0; j < n_contacts; ++j)
       {
         const Contact &c        = step_contacts[j];
-        const Vector3  impulse  = lambda[3 * j] * c.normal + lambda[3 * j + 1] * c.tangent_1 + lambda[3 * j + 2] * c.tangent_2;
+        const Vector3  impulse  = impulse_of(j);
         const Vector3  velocity = point_value(c, velocities);
         const Vector3  relative = velocity - obstacle_velocity[j];
         const double   sliding  = -(lambda[3 * j + 1] * c.tangent_1.dot(relative) + lambda[3 * j + 2] * c.tangent_2.dot(relative));
@@ -498,8 +513,12 @@ namespace warpchol::fem
           gaps[c.vertex_of(k)] = std::min(gaps[c.vertex_of(k)], gap);
         report.largest_penetration = std::max(report.largest_penetration, -gap);
       }
-    total_work += report.work_on_body;
-    total_dissipation += report.friction_dissipation;
+  }
+
+  Vector3 ContactConstraints::impulse_of(const std::size_t j) const
+  {
+    const Contact &c = step_contacts[j];
+    return lambda[3 * j] * c.normal + lambda[3 * j + 1] * c.tangent_1 + lambda[3 * j + 2] * c.tangent_2;
   }
 
   void ContactConstraints::save(BinaryWriter &writer) const

@@ -97,6 +97,34 @@ namespace warpchol::fem
                           RotationPaths &paths);
   } // namespace
 
+  namespace
+  {
+    /** Throw InputError unless @p material is admissible and @p triangulation a mesh of tetrahedra. */
+    void check_body(const dealii::Triangulation<3> &triangulation, const Material &material,
+                    const std::vector<bool> &fixed_vertex)
+    {
+      if (!(material.youngs_modulus > 0) || !(material.density > 0) ||
+          !(material.poisson_ratio > -1 && material.poisson_ratio < 0.5))
+        throw InputError("material: need E > 0, density > 0 and -1 < nu < 0.5, got E = " +
+                         format_number(material.youngs_modulus) + ", nu = " +
+                         format_number(material.poisson_ratio) + ", density = " +
+                         format_number(material.density));
+      if (triangulation.n_active_cells() == 0)
+        throw InputError("the mesh has no cell");
+      if (triangulation.n_used_vertices() != triangulation.n_vertices())
+        throw InputError("the mesh has " +
+                         std::to_string(triangulation.n_vertices() - triangulation.n_used_vertices()) +
+                         " unused vertices");
+      if (fixed_vertex.size() != triangulation.n_vertices())
+        throw InputError("fixed vertex flags: " + std::to_string(fixed_vertex.size()) +
+                         " given for " + std::to_string(triangulation.n_vertices()) + " vertices");
+      for (const auto &cell : triangulation.active_cell_iterators())
+        if (!cell->reference_cell().is_simplex())
+          throw InputError("cell " + std::to_string(cell->active_cell_index()) +
+                           " is not a tetrahedron");
+    }
+  } // namespace
+
   ElasticBody::ElasticBody(const dealii::Triangulation<3> &triangulation,
                            const Material &material, const MassMatrix mass_matrix,
                            const std::vector<bool>         &fixed_vertex,
@@ -108,58 +136,14 @@ namespace warpchol::fem
     , fe_mapping(dealii::FE_SimplexP<3>(1))
     , dofs(triangulation)
   {
-    if (!(material.youngs_modulus > 0) || !(material.density > 0) ||
-        !(material.poisson_ratio > -1 && material.poisson_ratio < 0.5))
-      throw InputError("material: need E > 0, density > 0 and -1 < nu < 0.5, got E = " +
-                       format_number(material.youngs_modulus) + ", nu = " +
-                       format_number(material.poisson_ratio) + ", density = " +
-                       format_number(material.density));
-    if (triangulation.n_active_cells() == 0)
-      throw InputError("the mesh has no cell");
-    if (triangulation.n_used_vertices() != triangulation.n_vertices())
-      throw InputError("the mesh has " +
-                       std::to_string(triangulation.n_vertices() - triangulation.n_used_vertices()) +
-                       " unused vertices");
-    if (fixed_vertex.size() != triangulation.n_vertices())
-      throw InputError("fixed vertex flags: " + std::to_string(fixed_vertex.size()) +
-                       " given for " + std::to_string(triangulation.n_vertices()) + " vertices");
-    for (const auto &cell : triangulation.active_cell_iterators())
-      if (!cell->reference_cell().is_simplex())
-        throw InputError("cell " + std::to_string(cell->active_cell_index()) +
-                         " is not a tetrahedron");
-
+    check_body(triangulation, material, fixed_vertex);
     lambda = material.lame_lambda();
     mu     = material.lame_mu();
     rest.resize(triangulation.n_vertices());
     for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
       rest[v] = to_vector(triangulation.get_vertices()[v]);
 
-    // Free vertices get consecutive unknowns in vertex order or in the order given.
-    std::vector<unsigned int> order(unknown_order);
-    if (order.empty())
-      {
-        order.resize(triangulation.n_vertices());
-        std::iota(order.begin(), order.end(), 0u);
-      }
-    std::vector<bool> listed(triangulation.n_vertices(), false);
-    for (const unsigned int v : order)
-      {
-        if (v >= listed.size() || listed[v])
-          throw InputError("unknown order: vertex " + std::to_string(v) +
-                           (v >= listed.size() ? " does not exist" : " is listed twice"));
-        listed[v] = true;
-      }
-    if (order.size() != listed.size())
-      throw InputError("unknown order: " + std::to_string(order.size()) + " vertices listed for " +
-                       std::to_string(listed.size()));
-    first_unknown_of_vertex.assign(triangulation.n_vertices(), -1);
-    for (const unsigned int v : order)
-      if (!fixed_vertex[v])
-        {
-          free_vertices.push_back(v);
-          first_unknown_of_vertex[v] = unknown_count;
-          unknown_count += 3;
-        }
+    number_free_vertices(fixed_vertex, unknown_order);
 
     // Renumber the dofs so that component c of vertex v is dof 3 v + c.
     dofs.distribute_dofs(fe);
@@ -170,8 +154,51 @@ namespace warpchol::fem
           new_numbers[cell->vertex_dof_index(a, c)] = 3 * cell->vertex_index(a) + c;
     dofs.renumber_dofs(new_numbers);
 
-    vertices_of_element.resize(triangulation.n_active_cells());
-    for (const auto &cell : triangulation.active_cell_iterators())
+    list_elements_around_vertices();
+    compute_element_matrices();
+    rest_volumes = volumes;
+    stiffness_scale.assign(n_elements(), 1.0);
+    cut.assign(n_elements(), false);
+    particle_mass.assign(n_vertices(), 0.0);
+    live_elements.resize(n_vertices());
+    for (unsigned int v = 0; v < n_vertices(); ++v)
+      live_elements[v] = around_start[v + 1] - around_start[v];
+  }
+
+  void ElasticBody::number_free_vertices(const std::vector<bool>         &fixed_vertex,
+                                         const std::vector<unsigned int> &unknown_order)
+  {
+    std::vector<unsigned int> order(unknown_order);
+    if (order.empty())
+      {
+        order.resize(tria.n_vertices());
+        std::iota(order.begin(), order.end(), 0u);
+      }
+    std::vector<bool> listed(tria.n_vertices(), false);
+    for (const unsigned int v : order)
+      {
+        if (v >= listed.size() || listed[v])
+          throw InputError("unknown order: vertex " + std::to_string(v) +
+                           (v >= listed.size() ? " does not exist" : " is listed twice"));
+        listed[v] = true;
+      }
+    if (order.size() != listed.size())
+      throw InputError("unknown order: " + std::to_string(order.size()) + " vertices listed for " +
+                       std::to_string(listed.size()));
+    first_unknown_of_vertex.assign(tria.n_vertices(), -1);
+    for (const unsigned int v : order)
+      if (!fixed_vertex[v])
+        {
+          free_vertices.push_back(v);
+          first_unknown_of_vertex[v] = unknown_count;
+          unknown_count += 3;
+        }
+  }
+
+  void ElasticBody::list_elements_around_vertices()
+  {
+    vertices_of_element.resize(tria.n_active_cells());
+    for (const auto &cell : tria.active_cell_iterators())
       {
         const unsigned int e = cell->active_cell_index();
         for (unsigned int a = 0; a < 4; ++a)
@@ -180,7 +207,7 @@ namespace warpchol::fem
     if (4 * vertices_of_element.size() > std::numeric_limits<unsigned int>::max())
       throw InputError("the mesh has " + std::to_string(vertices_of_element.size()) +
                        " cells, more than 2^30 (4 per cell around the vertices)");
-    around_start.assign(triangulation.n_vertices() + 1, 0);
+    around_start.assign(tria.n_vertices() + 1, 0);
     for (const auto &vertices : vertices_of_element)
       for (const unsigned int v : vertices)
         ++around_start[v + 1];
@@ -195,19 +222,10 @@ namespace warpchol::fem
           around_element[k]    = e;
           around_local[k]      = static_cast<unsigned char>(a);
         }
-    element_span.assign(triangulation.n_vertices(), {{0, 0}});
-    for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
+    element_span.assign(tria.n_vertices(), {{0, 0}});
+    for (unsigned int v = 0; v < tria.n_vertices(); ++v)
       if (around_start[v + 1] > around_start[v])
         element_span[v] = {{around_element[around_start[v]], around_element[around_start[v + 1] - 1]}};
-
-    compute_element_matrices();
-    rest_volumes = volumes;
-    stiffness_scale.assign(n_elements(), 1.0);
-    cut.assign(n_elements(), false);
-    particle_mass.assign(n_vertices(), 0.0);
-    live_elements.resize(n_vertices());
-    for (unsigned int v = 0; v < n_vertices(); ++v)
-      live_elements[v] = around_start[v + 1] - around_start[v];
   }
 
   std::vector<unsigned int> ElasticBody::cut_element(const unsigned int e)

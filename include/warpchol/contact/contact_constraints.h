@@ -209,6 +209,20 @@ namespace warpchol::fem
      */
     std::vector<double> compliance_from_kept_columns(const ElasticBody &body, const ElasticityModel &model);
 
+    /**
+     * lambda: the impulses of the step's contacts by projected Gauss-Seidel on @p w, warm
+     * started from those of the contacts that persist (same vertex, same obstacle).
+     */
+    void solve_for_impulses(const std::vector<double> &w, const std::vector<double> &free_velocity,
+                            const std::vector<double> &friction, StepStatistics &statistics);
+
+    /** The impulse of contact @p j of the step, lambda in world coordinates. */
+    Vector3 impulse_of(std::size_t j) const;
+
+    /** forces, gaps and the report's totals from lambda and the corrected @p velocities. */
+    void record_forces_and_gaps(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
+                                const std::vector<Vector3> &obstacle_velocity, double time, double time_step);
+
     /** surface_vertices(), recomputed when the number of cut elements changes. */
     const std::vector<unsigned int> &current_surface(const ElasticBody &body);
 

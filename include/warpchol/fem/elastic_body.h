@@ -323,6 +323,13 @@ namespace warpchol::fem
     const dealii::Mapping<3>    &mapping() const;
 
   private:
+    /**
+     * first_unknown_of_vertex and free_vertices: the free vertices get consecutive unknowns,
+     * in vertex order or in @p unknown_order (checked to list every vertex once).
+     */
+    void number_free_vertices(const std::vector<bool> &fixed_vertex, const std::vector<unsigned int> &unknown_order);
+    /** vertices_of_element, the elements around each vertex (around_*) and their span. */
+    void list_elements_around_vertices();
     void compute_element_matrices();
 
     /** sigma = lambda tr(eps) I + 2 mu eps with eps = sym(@p displacement_gradient). */
