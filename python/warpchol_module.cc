@@ -482,6 +482,8 @@ namespace warpchol::python
   }
 } // namespace warpchol::python
 
+// The module's bindings, one .def per function in the order help() lists them: a table that
+// reads as the Python interface does (hence its length).
 PYBIND11_MODULE(_warpchol, module)
 {
   using warpchol::python::SciPyCholesky;

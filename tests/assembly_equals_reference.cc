@@ -41,6 +41,7 @@ namespace
     return difference / largest;
   }
 
+  // The comparisons of one mass matrix in the order of the .output file: a list, kept in one place.
   void run(const fem::MassMatrix mass, const std::string &label)
   {
     std::cout << label << " mass:" << std::endl;

@@ -74,6 +74,7 @@ namespace
   };
 } // namespace
 
+// One bad input after another, in the order of the .output file: a list, not an algorithm.
 int main()
 {
   // The valid scene runs: the checks below fail for their own reason.

@@ -42,6 +42,7 @@ namespace
   }
 } // namespace
 
+// The cases in the order of the .output file, each a few checks: a list, kept in one place.
 int main()
 {
   const sparse::CSCMatrix matrix = sparse::read_matrix_market(tests::data_file("bcsstk16.mtx"));

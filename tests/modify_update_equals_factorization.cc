@@ -71,6 +71,7 @@ namespace
     tests::check("  2 threads give the bits of 1 thread (every rank)", same_bits);
   }
 
+  // The checks of one matrix in the order of the .output file: a list, kept in one place.
   void run(const std::string &name, const sparse::CSCMatrix &matrix, const int block_size)
   {
     cholesky::SparseCholesky::Settings settings;

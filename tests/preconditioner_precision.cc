@@ -97,6 +97,7 @@ namespace
   }
 } // namespace
 
+// The checks in the order of the .output file, each a few lines: a list, kept in one place.
 int main()
 {
   const sparse::CSCMatrix   matrix = sparse::read_matrix_market(tests::data_file("bcsstk16.mtx"));

@@ -29,6 +29,7 @@ namespace
                             "4 4 7\n1 1 4\n2 1 -1\n2 2 4\n3 2 -1\n3 3 4\n4 3 -1\n4 4 4\n";
 } // namespace
 
+// One bad input after another, in the order of the .output file: a list, not an algorithm.
 int main()
 {
   std::cout << "solver:" << std::endl;

@@ -510,7 +510,10 @@ namespace warpchol::app
               }};
     }
 
-    /** The columns of the step itself, before the solver's. */
+    /**
+     * The columns of the step itself, before the solver's: one entry per column in the
+     * log's order, a table that reads as the header does (hence its length).
+     */
     std::vector<LogColumn> step_columns()
     {
       using Row = StepLogRow;

@@ -702,7 +702,8 @@ namespace warpchol::fem::HWY_NAMESPACE
      * u_ab = R g_b: the rotated and rest cases skip the products of frames. A diagonal
      * block is (lambda + mu) V u_aa u_aa^T plus its diagonal, formed in its lower triangle
      * (what is scattered); an off-diagonal block as it lands, transposed in the lanes whose
-     * bit k of @p transposed is set.
+     * bit k of @p transposed is set. The three kinds of frames stay in one function: they
+     * share the inputs gathered once per group and the lane stores.
      */
     void form_part(const ElasticBody &body, const SystemCoefficients &coefficients, const ElementFrames &frames,
                    const std::uint16_t *transposed, const unsigned int *elements, const unsigned int count,
