@@ -611,36 +611,41 @@ namespace warpchol::cholesky
      * (scaled_solve.h): @p stored its blocks, @p scale and @p inverse_diagonal per column.
      */
     template <typename Stored>
-    void scaled_solve(const SupernodalSymbolic &symbolic, const Stored *stored, const float *scale,
-                      const float *inverse_diagonal, float *x, const SolvePartition *partition)
+    void scaled_solve(const SupernodalSymbolic &symbolic, const Stored *stored, const std::vector<Index> &copy_start,
+                      const float *scale, const float *inverse_diagonal, float *x, const SolvePartition *partition)
     {
+      // work: the supernode's own entries of x, then its rows below, then padding (scaled_solve.h).
       solve_by_supernodes(
         symbolic, x, Index(1), partition,
-        [&](const Index s, float *y, std::vector<float> &below, const auto &outside, float *gathered,
+        [&](const Index s, float *y, std::vector<float> &work, const auto &outside, float *gathered,
             const Index) {
           const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
           const Index *rows = symbolic.row_index.data() + symbolic.row_start[s];
-          below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(nr - nc + scaled_solve_padding)));
-          forward_scaled(stored + symbolic.value_start[s], nr, nc, scale + f, inverse_diagonal + f, y + f,
-                         below.data());
-          // below holds -L21 y_s: what the rows below (or the top's gathered rows) take.
+          work.resize(std::max<std::size_t>(work.size(), static_cast<std::size_t>(nr + scaled_solve_padding)));
+          std::copy(y + f, y + f + nc, work.begin());
+          std::fill(work.begin() + nc, work.begin() + nr + scaled_tile_rows, 0.f);
+          forward_scaled(stored + copy_start[s], nr, nc, scale + f, inverse_diagonal + f, work.data());
+          std::copy(work.begin(), work.begin() + nc, y + f);
+          // The rows below hold -L21 y_s: what the rows below (or the top's gathered rows) take.
           for (Index i = 0; i < nr - nc; ++i)
             {
               const Index position = outside(rows[nc + i]);
               if (position < 0)
-                y[rows[nc + i]] += below[i];
+                y[rows[nc + i]] += work[nc + i];
               else
-                gathered[position] -= below[i];
+                gathered[position] -= work[nc + i];
             }
         },
-        [&](const Index s, float *y, std::vector<float> &below) {
+        [&](const Index s, float *y, std::vector<float> &work) {
           const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
           const Index *rows = symbolic.row_index.data() + symbolic.row_start[s];
-          below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(nr - nc + scaled_solve_padding)));
+          work.resize(std::max<std::size_t>(work.size(), static_cast<std::size_t>(nr + scaled_solve_padding)));
+          std::copy(y + f, y + f + nc, work.begin());
           for (Index i = 0; i < nr - nc; ++i)
-            below[i] = y[rows[nc + i]];
-          backward_scaled(stored + symbolic.value_start[s], nr, nc, scale + f, inverse_diagonal + f, y + f,
-                          below.data());
+            work[nc + i] = y[rows[nc + i]];
+          std::fill(work.begin() + nr, work.begin() + nr + scaled_tile_rows, 0.f);
+          backward_scaled(stored + copy_start[s], nr, nc, scale + f, inverse_diagonal + f, work.data());
+          std::copy(work.begin(), work.begin() + nc, y + f);
         });
     }
   } // namespace
@@ -652,6 +657,8 @@ namespace warpchol::cholesky
     PreconditionerPrecision                    copy = PreconditionerPrecision::full;
     std::vector<float>                         single_values;
     std::vector<Half>                          half_values;
+    /** Where each supernode's blocks start in the copy (its own layout, scaled_solve.h). */
+    std::vector<Index>                         copy_start;
     /** Per column: the power of two it is scaled by, and 1 / its scaled diagonal entry. */
     std::vector<float>                         column_scale, inverse_diagonal;
 
@@ -661,10 +668,10 @@ namespace warpchol::cholesky
       const Index   f = symbolic.first_column[s], nr = symbolic.n_rows(s), nc = symbolic.n_columns(s);
       const double *block = values.data() + symbolic.value_start[s];
       if (copy == PreconditionerPrecision::single)
-        round_columns(block, nr, nc, q, single_values.data() + symbolic.value_start[s], column_scale.data() + f,
+        round_columns(block, nr, nc, q, single_values.data() + copy_start[s], column_scale.data() + f,
                       inverse_diagonal.data() + f);
       else if (copy == PreconditionerPrecision::half)
-        round_columns(block, nr, nc, q, half_values.data() + symbolic.value_start[s], column_scale.data() + f,
+        round_columns(block, nr, nc, q, half_values.data() + copy_start[s], column_scale.data() + f,
                       inverse_diagonal.data() + f);
     }
     /**
@@ -747,6 +754,7 @@ namespace warpchol::cholesky
     implementation->copy             = other.implementation->copy;
     implementation->single_values    = other.implementation->single_values;
     implementation->half_values      = other.implementation->half_values;
+    implementation->copy_start       = other.implementation->copy_start;
     implementation->column_scale     = other.implementation->column_scale;
     implementation->inverse_diagonal = other.implementation->inverse_diagonal;
     implementation->stale_copy_from  = other.implementation->stale_copy_from;
@@ -760,7 +768,15 @@ namespace warpchol::cholesky
     data.partition.reset();
     data.values.assign(symbolic.n_stored_values(), 0.);
     data.copy            = copy;
-    const Index n_copy   = symbolic.n_stored_values() + scaled_solve_padding;
+    data.copy_start.clear();
+    if (copy != PreconditionerPrecision::full)
+      {
+        const Index ns = symbolic.n_supernodes();
+        data.copy_start.assign(ns + 1, 0);
+        for (Index s = 0; s < ns; ++s)
+          data.copy_start[s + 1] = data.copy_start[s] + scaled_copy_entries(symbolic.n_rows(s), symbolic.n_columns(s));
+      }
+    const Index n_copy = copy == PreconditionerPrecision::full ? 0 : data.copy_start.back() + scaled_solve_padding;
     const Index n_single = copy == PreconditionerPrecision::single ? n_copy : 0;
     const Index n_half   = copy == PreconditionerPrecision::half ? n_copy : 0;
     const Index n_scales = copy == PreconditionerPrecision::full ? 0 : symbolic.n;
@@ -779,6 +795,7 @@ namespace warpchol::cholesky
     std::vector<double>().swap(data.values);
     std::vector<float>().swap(data.single_values);
     std::vector<Half>().swap(data.half_values);
+    std::vector<Index>().swap(data.copy_start);
     std::vector<float>().swap(data.column_scale);
     std::vector<float>().swap(data.inverse_diagonal);
     std::vector<Index>().swap(data.stale_copy_from);
@@ -790,7 +807,7 @@ namespace warpchol::cholesky
   {
     const Implementation &data = *implementation;
     return data.values.capacity() * sizeof(double) + data.single_values.capacity() * sizeof(float) +
-           data.half_values.capacity() * sizeof(Half) +
+           data.half_values.capacity() * sizeof(Half) + data.copy_start.capacity() * sizeof(Index) +
            (data.column_scale.capacity() + data.inverse_diagonal.capacity()) * sizeof(float);
   }
 
@@ -888,10 +905,12 @@ namespace warpchol::cholesky
     std::copy(x, x + symbolic.n, y.begin());
     const SolvePartition *partition = implementation->partition_for(symbolic, n_threads);
     if (data.copy == PreconditionerPrecision::single)
-      scaled_solve(symbolic, data.single_values.data(), data.column_scale.data(), data.inverse_diagonal.data(),
+      scaled_solve(symbolic, data.single_values.data(), data.copy_start, data.column_scale.data(),
+                   data.inverse_diagonal.data(),
                    y.data(), partition);
     else
-      scaled_solve(symbolic, data.half_values.data(), data.column_scale.data(), data.inverse_diagonal.data(),
+      scaled_solve(symbolic, data.half_values.data(), data.copy_start, data.column_scale.data(),
+                   data.inverse_diagonal.data(),
                    y.data(), partition);
     std::copy(y.begin(), y.begin() + symbolic.n, x);
   }

@@ -70,9 +70,16 @@ namespace warpchol::cholesky
       stored = half_from_float(x);
     }
 
-    /** Columns a pass carries at once: each row of x is loaded and stored once per block. */
-    constexpr int block_columns = 8;
   } // namespace
+
+  Index scaled_copy_entries(const Index nr, const Index nc)
+  {
+    Index entries = 0;
+    for (Index j0 = 0; j0 < nc; j0 += scaled_block_columns)
+      entries += std::min(scaled_block_columns, nc - j0) *
+                 ((nr - j0 + scaled_tile_rows - 1) / scaled_tile_rows * scaled_tile_rows);
+    return entries;
+  }
 } // namespace warpchol::cholesky
 #endif
 
@@ -80,7 +87,6 @@ namespace warpchol::cholesky
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "cholesky/scaled_solve.cc"
 #include <hwy/foreach_target.h>
-#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 HWY_BEFORE_NAMESPACE();
@@ -90,8 +96,10 @@ namespace warpchol::cholesky::HWY_NAMESPACE
 
   namespace
   {
-    using FloatTag = hn::ScalableTag<float>;
+    /** At most a tile's rows per vector: a tile is one vector on AVX2 and AVX-512, two on SSE4. */
+    using FloatTag = hn::CappedTag<float, scaled_tile_rows>;
     using Floats   = hn::Vec<FloatTag>;
+    constexpr int tile = static_cast<int>(scaled_tile_rows);
 
     inline Floats load(const FloatTag d, const float *p)
     {
@@ -104,27 +112,15 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       return hn::PromoteTo(d, hn::LoadU(dh, p));
     }
 
-    /** Room for a vector of floats on any target. */
-    constexpr std::size_t max_lanes = scaled_solve_padding;
-
-    /**
-     * The B x B block at @p l (column stride @p ld) in single precision, column by column
-     * (each column read as a whole vector: the padding keeps that inside the arrays).
-     */
+    /** The first tile of a block (its diagonal block on top) in single precision: tile[k][i] = L(j0 + i, j0 + k). */
     template <int B, typename Stored>
-    inline void load_block(const Stored *l, const Index ld, float (&block)[B][B])
+    inline void load_first_tile(const Stored *l, float (&first)[B][scaled_tile_rows])
     {
-      const FloatTag  d;
-      const Index     lanes = static_cast<Index>(hn::Lanes(d));
-      HWY_ALIGN float column[2 * max_lanes] = {};
+      const FloatTag d;
+      const int      lanes = static_cast<int>(hn::Lanes(d));
       for (int k = 0; k < B; ++k)
-        {
-          // As many vectors as B rows take (two on a 128-bit target).
-          for (Index i = 0; i < B; i += lanes)
-            hn::Store(load(d, l + k * ld + i), d, column + i);
-          for (int i = 0; i < B; ++i)
-            block[k][i] = column[i];
-        }
+        for (int i = 0; i < tile; i += lanes)
+          hn::StoreU(load(d, l + k * tile + i), d, first[k] + i);
     }
 
     /** The largest |value| of @p count doubles. */
@@ -145,11 +141,11 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     /** stored[i] = values[i] * factor, rounded, for i < count. */
     void scale_into(const double *values, const Index count, const double factor, float *stored)
     {
-      const hn::ScalableTag<double>            d;
+      const hn::ScalableTag<double>        d;
       const hn::Rebind<float, decltype(d)> df;
-      const Index                              lanes = static_cast<Index>(hn::Lanes(d));
-      const auto                               f     = hn::Set(d, factor);
-      Index                                    i     = 0;
+      const Index                          lanes = static_cast<Index>(hn::Lanes(d));
+      const auto                           f     = hn::Set(d, factor);
+      Index                                i     = 0;
       for (; i + lanes <= count; i += lanes)
         hn::StoreU(hn::DemoteTo(df, hn::Mul(hn::LoadU(d, values + i), f)), df, stored + i);
       for (; i < count; ++i)
@@ -158,206 +154,227 @@ namespace warpchol::cholesky::HWY_NAMESPACE
 
     void scale_into(const double *values, const Index count, const double factor, Half *stored)
     {
-      const hn::ScalableTag<double>                  d;
-      const hn::Rebind<float, decltype(d)>           df;
-      const hn::Rebind<hwy::float16_t, decltype(d)>  dh;
-      const Index                                    lanes = static_cast<Index>(hn::Lanes(d));
-      const auto                                     f     = hn::Set(d, factor);
-      Index                                          i     = 0;
+      const hn::ScalableTag<double>                 d;
+      const hn::Rebind<float, decltype(d)>          df;
+      const hn::Rebind<hwy::float16_t, decltype(d)> dh;
+      const Index                                   lanes = static_cast<Index>(hn::Lanes(d));
+      const auto                                    f     = hn::Set(d, factor);
+      Index                                         i     = 0;
       for (; i + lanes <= count; i += lanes)
         hn::StoreU(hn::DemoteTo(dh, hn::DemoteTo(df, hn::Mul(hn::LoadU(d, values + i), f))), dh, stored + i);
       for (; i < count; ++i)
         stored[i] = half_from_float(static_cast<float>(values[i] * factor));
     }
 
+    /**
+     * Block j0 (width B) of a supernode into the copy at @p stored: column j = j0 + k
+     * scaled by @p factor[k], its rows [j0, nr) in tiles, zeros above the diagonal and past nr.
+     */
+    template <typename Stored>
+    void round_block(const double *values, const Index nr, const Index j0, const Index b, const double *factor,
+                     Stored *stored)
+    {
+      const Index rows = nr - j0;
+      const Index n_tiles = (rows + tile - 1) / tile;
+      for (Index t = 0; t < n_tiles; ++t)
+        for (Index k = 0; k < b; ++k)
+          {
+            const Index   j      = j0 + k;
+            const double *column = values + j * nr;
+            Stored       *to     = stored + (t * b + k) * tile;
+            const Index   r0     = j0 + t * tile;
+            if (r0 >= j && r0 + tile <= nr)
+              scale_into(column + r0, tile, factor[k], to);
+            else
+              for (Index i = 0; i < tile; ++i)
+                {
+                  const Index r = r0 + i;
+                  from_float(r >= j && r < nr ? static_cast<float>(column[r] * factor[k]) : 0.f, to[i]);
+                }
+          }
+    }
+
     template <typename Stored>
     void round_columns_of(const double *values, const Index nr, const Index nc, const Index q, Stored *stored,
                           float *scale, float *inverse_diagonal)
     {
-      for (Index j = q; j < nc; ++j)
+      Stored *block = stored;
+      for (Index j0 = 0; j0 < nc; j0 += scaled_block_columns)
         {
-          const double *column = values + j * nr;
-          // A power of two at least the largest entry: the scaling itself rounds nothing.
-          int exponent;
-          std::frexp(largest_size(column + j, nr - j), &exponent);
-          const double factor = std::ldexp(1., -exponent);
-          for (Index i = 0; i < j; ++i)
-            from_float(0.f, stored[j * nr + i]);
-          scale_into(column + j, nr - j, factor, stored + j * nr + j);
-          scale[j]            = std::ldexp(1.f, exponent);
-          inverse_diagonal[j] = static_cast<float>(1. / (column[j] * factor));
+          const Index b = std::min(scaled_block_columns, nc - j0);
+          if (j0 + b > q)
+            {
+              double factor[scaled_block_columns];
+              for (Index k = 0; k < b; ++k)
+                {
+                  const Index   j      = j0 + k;
+                  const double *column = values + j * nr;
+                  // A power of two at least the largest entry: the scaling itself rounds nothing.
+                  int exponent;
+                  std::frexp(largest_size(column + j, nr - j), &exponent);
+                  factor[k]           = std::ldexp(1., -exponent);
+                  scale[j]            = std::ldexp(1.f, exponent);
+                  inverse_diagonal[j] = static_cast<float>(1. / (column[j] * factor[k]));
+                }
+              round_block(values, nr, j0, b, factor, block);
+            }
+          block += b * ((nr - j0 + tile - 1) / tile * tile);
         }
     }
 
     /**
-     * target[r - r0] -= sum_k L(r, k) t[k] for the rows [r0, r1) of the B columns at
-     * @p columns (column stride @p ld).
+     * The forward pass over block j0 (width B, its tiles at @p l) of a supernode of nr rows:
+     * work[j0, j0 + B) solved with the block's diagonal, then the rows below it updated.
      */
     template <int B, typename Stored>
-    void subtract_columns(const Stored *columns, const Index ld, const Index r0, const Index r1, const float *t,
-                          float *target, const Stored *ahead)
+    void forward_block(const Stored *l, const Index nr, const Index j0, const float *scale,
+                       const float *inverse_diagonal, float *work)
     {
       const FloatTag d;
-      const Index    lanes = static_cast<Index>(hn::Lanes(d));
-      Floats         factor[B];
+      const int      lanes = static_cast<int>(hn::Lanes(d));
+      // With column j scaled by scale[j]: L = S D, t_j = (S^-1-solved) x_j * scale[j].
+      float t[B], first[B][scaled_tile_rows];
+      load_first_tile<B>(l, first);
+      for (int k = 0; k < B; ++k)
+        {
+          t[k] = work[j0 + k] * inverse_diagonal[j0 + k];
+          for (int i = k + 1; i < B; ++i)
+            work[j0 + i] -= first[k][i] * t[k];
+        }
+      Floats factor[B];
       for (int k = 0; k < B; ++k)
         factor[k] = hn::Set(d, t[k]);
-      Index r = r0;
-      for (; r + lanes <= r1; r += lanes)
+      const Index n_tiles = (nr - j0 + tile - 1) / tile;
+      // The first tile's first B rows are the block's own, solved above: kept.
+      for (int i = 0; i < tile; i += lanes)
         {
-          // Blocks of eight short columns are short streams the prefetchers do not learn
-          // in time: fetch the next block's rows ahead.
-          if (ahead != nullptr)
-            for (int k = 0; k < B; ++k)
-              hwy::Prefetch(ahead + k * ld + r);
-          Floats y = hn::LoadU(d, target + (r - r0));
+          Floats y = hn::LoadU(d, work + j0 + i);
+          Floats v = y;
           for (int k = 0; k < B; ++k)
-            y = hn::NegMulAdd(load(d, columns + k * ld + r), factor[k], y);
-          hn::StoreU(y, d, target + (r - r0));
+            v = hn::NegMulAdd(load(d, l + k * tile + i), factor[k], v);
+          hn::StoreU(hn::IfThenElse(hn::FirstN(d, static_cast<std::size_t>(std::max(0, B - i))), y, v), d,
+                     work + j0 + i);
         }
-      if (r < r1)
+      for (Index t0 = 1; t0 < n_tiles; ++t0)
         {
-          // A whole vector, read past the rows (the padding keeps it inside the arrays);
-          // only the rows' lanes are written back.
-          HWY_ALIGN float y[max_lanes];
-          Floats          v = hn::LoadU(d, target + (r - r0));
-          for (int k = 0; k < B; ++k)
-            v = hn::NegMulAdd(load(d, columns + k * ld + r), factor[k], v);
-          hn::Store(v, d, y);
-          std::memcpy(target + (r - r0), y, static_cast<std::size_t>(r1 - r) * sizeof(float));
-        }
-    }
-
-    /** s[k] += sum_r L(r, k) source[r - r0] over the rows [r0, r1) of the B columns at @p columns. */
-    template <int B, typename Stored>
-    void add_dots(const Stored *columns, const Index ld, const Index r0, const Index r1, const float *source,
-                  float *s, const Stored *ahead)
-    {
-      const FloatTag d;
-      const Index    lanes = static_cast<Index>(hn::Lanes(d));
-      Floats         even[B], odd[B];
-      for (int k = 0; k < B; ++k)
-        even[k] = odd[k] = hn::Zero(d);
-      Index r = r0;
-      // Two sums per column: twice the chains in flight.
-      for (; r + 2 * lanes <= r1; r += 2 * lanes)
-        {
-          // The backward pass walks the factor downwards in memory, block by block, where
-          // the hardware's prefetchers lose the stream: fetch the next block's rows ahead.
-          if (ahead != nullptr)
-            for (int k = 0; k < B; ++k)
-              hwy::Prefetch(ahead + k * ld + r);
-          const Floats x0 = hn::LoadU(d, source + (r - r0)), x1 = hn::LoadU(d, source + (r - r0) + lanes);
-          for (int k = 0; k < B; ++k)
+          const Stored *tile_values = l + t0 * B * tile;
+          float        *y_rows      = work + j0 + t0 * tile;
+          for (int i = 0; i < tile; i += lanes)
             {
-              even[k] = hn::MulAdd(load(d, columns + k * ld + r), x0, even[k]);
-              odd[k]  = hn::MulAdd(load(d, columns + k * ld + r + lanes), x1, odd[k]);
+              Floats y = hn::LoadU(d, y_rows + i);
+              for (int k = 0; k < B; ++k)
+                y = hn::NegMulAdd(load(d, tile_values + k * tile + i), factor[k], y);
+              hn::StoreU(y, d, y_rows + i);
             }
         }
-      for (; r + lanes <= r1; r += lanes)
-        {
-          const Floats x = hn::LoadU(d, source + (r - r0));
-          for (int k = 0; k < B; ++k)
-            even[k] = hn::MulAdd(load(d, columns + k * ld + r), x, even[k]);
-        }
-      if (r < r1)
-        {
-          // Read past the rows as above; the lanes past them are zeros of x (L's entries
-          // there are finite: scaled entries of L, zeros above its diagonal, padding).
-          const Floats x = hn::IfThenElseZero(hn::FirstN(d, static_cast<std::size_t>(r1 - r)),
-                                              hn::LoadU(d, source + (r - r0)));
-          for (int k = 0; k < B; ++k)
-            odd[k] = hn::MulAdd(load(d, columns + k * ld + r), x, odd[k]);
-        }
       for (int k = 0; k < B; ++k)
-        s[k] += hn::GetLane(hn::SumOfLanes(d, hn::Add(even[k], odd[k])));
+        work[j0 + k] = t[k] / scale[j0 + k];
     }
 
-    /** The forward pass over the B columns from @p j0. */
+    /** The backward pass over block j0 (width B, its tiles at @p l): the rows after it solved. */
     template <int B, typename Stored>
-    void forward_block(const Stored *l, const Index nr, const Index nc, const Index j0, const float *scale,
-                       const float *inverse_diagonal, float *own, float *below)
+    void backward_block(const Stored *l, const Index nr, const Index j0, const float *scale,
+                        const float *inverse_diagonal, float *work)
     {
-      // With column j scaled by scale[j]: L = S D, t_j = (S^-1-solved) x_j * scale[j].
-      float t[B], block[B][B];
-      load_block<B>(l + j0 * nr + j0, nr, block);
+      const FloatTag d;
+      const int      lanes = static_cast<int>(hn::Lanes(d));
+      Floats         sum[B];
       for (int k = 0; k < B; ++k)
+        sum[k] = hn::Zero(d);
+      const Index n_tiles = (nr - j0 + tile - 1) / tile;
+      // The first tile without the block's own rows (zeros of x in their lanes); the
+      // rows past nr are zeros of L.
+      for (int i = 0; i < tile; i += lanes)
         {
-          t[k] = own[j0 + k] * inverse_diagonal[j0 + k];
-          for (int k2 = k + 1; k2 < B; ++k2)
-            own[j0 + k2] -= block[k][k2] * t[k];
+          const Floats x = hn::IfThenZeroElse(hn::FirstN(d, static_cast<std::size_t>(std::max(0, B - i))),
+                                              hn::LoadU(d, work + j0 + i));
+          for (int k = 0; k < B; ++k)
+            sum[k] = hn::MulAdd(load(d, l + k * tile + i), x, sum[k]);
         }
-      const Stored *ahead = j0 + B < nc ? l + (j0 + B) * nr : nullptr;
-      subtract_columns<B>(l + j0 * nr, nr, j0 + B, nc, t, own + j0 + B, ahead);
-      subtract_columns<B>(l + j0 * nr, nr, nc, nr, t, below, ahead);
-      for (int k = 0; k < B; ++k)
-        own[j0 + k] = t[k] / scale[j0 + k];
-    }
-
-    /** The backward pass over the B columns from @p j0 (those after them solved). */
-    template <int B, typename Stored>
-    void backward_block(const Stored *l, const Index nr, const Index nc, const Index j0, const float *scale,
-                        const float *inverse_diagonal, float *own, const float *below)
-    {
-      // The block after this one (the columns before it), whose rows are read next.
-      const Stored *ahead = j0 >= block_columns ? l + (j0 - block_columns) * nr : nullptr;
-      float s[B] = {}, block[B][B];
-      add_dots<B>(l + j0 * nr, nr, j0 + B, nc, own + j0 + B, s, ahead);
-      add_dots<B>(l + j0 * nr, nr, nc, nr, below, s, ahead);
-      load_block<B>(l + j0 * nr + j0, nr, block);
+      for (Index t0 = 1; t0 < n_tiles; ++t0)
+        {
+          const Stored *tile_values = l + t0 * B * tile;
+          const float  *x_rows      = work + j0 + t0 * tile;
+          for (int i = 0; i < tile; i += lanes)
+            {
+              const Floats x = hn::LoadU(d, x_rows + i);
+              for (int k = 0; k < B; ++k)
+                sum[k] = hn::MulAdd(load(d, tile_values + k * tile + i), x, sum[k]);
+            }
+        }
+      float first[B][scaled_tile_rows];
+      load_first_tile<B>(l, first);
       for (int k = B - 1; k >= 0; --k)
         {
           const Index j = j0 + k;
-          float       v = own[j] / scale[j] - s[k];
-          for (int k2 = k + 1; k2 < B; ++k2)
-            v -= block[k][k2] * own[j0 + k2];
-          own[j] = v * inverse_diagonal[j];
+          float       v = work[j] / scale[j] - hn::GetLane(hn::SumOfLanes(d, sum[k]));
+          for (int i = k + 1; i < B; ++i)
+            v -= first[k][i] * work[j0 + i];
+          work[j] = v * inverse_diagonal[j];
         }
     }
 
-    /** forward_block<count>() for the last @p count (< block_columns) columns, from @p j0. */
+    /** forward_block<count>() for a last block of @p count (< scaled_block_columns) columns. */
     template <int B, typename Stored>
-    void forward_last(const Index count, const Stored *l, const Index nr, const Index nc, const Index j0,
-                      const float *scale, const float *inverse_diagonal, float *own, float *below)
+    void forward_last(const Index count, const Stored *l, const Index nr, const Index j0, const float *scale,
+                      const float *inverse_diagonal, float *work)
     {
       if constexpr (B > 1)
         if (count < B)
-          return forward_last<B - 1>(count, l, nr, nc, j0, scale, inverse_diagonal, own, below);
-      forward_block<B>(l, nr, nc, j0, scale, inverse_diagonal, own, below);
+          return forward_last<B - 1>(count, l, nr, j0, scale, inverse_diagonal, work);
+      forward_block<B>(l, nr, j0, scale, inverse_diagonal, work);
     }
 
     template <int B, typename Stored>
-    void backward_last(const Index count, const Stored *l, const Index nr, const Index nc, const Index j0,
-                       const float *scale, const float *inverse_diagonal, float *own, const float *below)
+    void backward_last(const Index count, const Stored *l, const Index nr, const Index j0, const float *scale,
+                       const float *inverse_diagonal, float *work)
     {
       if constexpr (B > 1)
         if (count < B)
-          return backward_last<B - 1>(count, l, nr, nc, j0, scale, inverse_diagonal, own, below);
-      backward_block<B>(l, nr, nc, j0, scale, inverse_diagonal, own, below);
+          return backward_last<B - 1>(count, l, nr, j0, scale, inverse_diagonal, work);
+      backward_block<B>(l, nr, j0, scale, inverse_diagonal, work);
+    }
+
+    constexpr int block_columns = static_cast<int>(scaled_block_columns);
+
+    /** The entries of block j0 in the copy. */
+    inline Index block_entries(const Index nr, const Index nc, const Index j0)
+    {
+      return std::min(scaled_block_columns, nc - j0) * ((nr - j0 + tile - 1) / tile * tile);
     }
 
     template <typename Stored>
     void forward_of(const Stored *l, const Index nr, const Index nc, const float *scale,
-                    const float *inverse_diagonal, float *own, float *below)
+                    const float *inverse_diagonal, float *work)
     {
-      std::fill(below, below + (nr - nc), 0.f);
       Index j0 = 0;
       for (; j0 + block_columns <= nc; j0 += block_columns)
-        forward_block<block_columns>(l, nr, nc, j0, scale, inverse_diagonal, own, below);
+        {
+          forward_block<block_columns>(l, nr, j0, scale, inverse_diagonal, work);
+          l += block_entries(nr, nc, j0);
+        }
       if (j0 < nc)
-        forward_last<block_columns - 1>(nc - j0, l, nr, nc, j0, scale, inverse_diagonal, own, below);
+        forward_last<block_columns - 1>(nc - j0, l, nr, j0, scale, inverse_diagonal, work);
     }
 
     template <typename Stored>
     void backward_of(const Stored *l, const Index nr, const Index nc, const float *scale,
-                     const float *inverse_diagonal, float *own, const float *below)
+                     const float *inverse_diagonal, float *work)
     {
-      // The same blocks as the forward pass, from the last.
+      // The same blocks as the forward pass, from the last: the copy walked downwards,
+      // each block upwards.
       const Index whole = nc / block_columns * block_columns;
+      const Stored *block = l + scaled_copy_entries(nr, nc);
       if (whole < nc)
-        backward_last<block_columns - 1>(nc - whole, l, nr, nc, whole, scale, inverse_diagonal, own, below);
+        {
+          block -= block_entries(nr, nc, whole);
+          backward_last<block_columns - 1>(nc - whole, block, nr, whole, scale, inverse_diagonal, work);
+        }
       for (Index j0 = whole - block_columns; j0 >= 0; j0 -= block_columns)
-        backward_block<block_columns>(l, nr, nc, j0, scale, inverse_diagonal, own, below);
+        {
+          block -= block_entries(nr, nc, j0);
+          backward_block<block_columns>(block, nr, j0, scale, inverse_diagonal, work);
+        }
     }
   } // namespace
 
@@ -374,27 +391,27 @@ namespace warpchol::cholesky::HWY_NAMESPACE
   }
 
   void ForwardHalf(const Half *l, const Index nr, const Index nc, const float *scale, const float *inverse_diagonal,
-                   float *own, float *below)
+                   float *work)
   {
-    forward_of(l, nr, nc, scale, inverse_diagonal, own, below);
+    forward_of(l, nr, nc, scale, inverse_diagonal, work);
   }
 
   void ForwardSingle(const float *l, const Index nr, const Index nc, const float *scale,
-                     const float *inverse_diagonal, float *own, float *below)
+                     const float *inverse_diagonal, float *work)
   {
-    forward_of(l, nr, nc, scale, inverse_diagonal, own, below);
+    forward_of(l, nr, nc, scale, inverse_diagonal, work);
   }
 
   void BackwardHalf(const Half *l, const Index nr, const Index nc, const float *scale, const float *inverse_diagonal,
-                    float *own, const float *below)
+                    float *work)
   {
-    backward_of(l, nr, nc, scale, inverse_diagonal, own, below);
+    backward_of(l, nr, nc, scale, inverse_diagonal, work);
   }
 
   void BackwardSingle(const float *l, const Index nr, const Index nc, const float *scale,
-                      const float *inverse_diagonal, float *own, const float *below)
+                      const float *inverse_diagonal, float *work)
   {
-    backward_of(l, nr, nc, scale, inverse_diagonal, own, below);
+    backward_of(l, nr, nc, scale, inverse_diagonal, work);
   }
 } // namespace warpchol::cholesky::HWY_NAMESPACE
 HWY_AFTER_NAMESPACE();
@@ -424,27 +441,27 @@ namespace warpchol::cholesky
   }
 
   void forward_scaled(const Half *l, const Index nr, const Index nc, const float *scale,
-                      const float *inverse_diagonal, float *own, float *below)
+                      const float *inverse_diagonal, float *work)
   {
-    HWY_DYNAMIC_DISPATCH(ForwardHalf)(l, nr, nc, scale, inverse_diagonal, own, below);
+    HWY_DYNAMIC_DISPATCH(ForwardHalf)(l, nr, nc, scale, inverse_diagonal, work);
   }
 
   void forward_scaled(const float *l, const Index nr, const Index nc, const float *scale,
-                      const float *inverse_diagonal, float *own, float *below)
+                      const float *inverse_diagonal, float *work)
   {
-    HWY_DYNAMIC_DISPATCH(ForwardSingle)(l, nr, nc, scale, inverse_diagonal, own, below);
+    HWY_DYNAMIC_DISPATCH(ForwardSingle)(l, nr, nc, scale, inverse_diagonal, work);
   }
 
   void backward_scaled(const Half *l, const Index nr, const Index nc, const float *scale,
-                       const float *inverse_diagonal, float *own, const float *below)
+                       const float *inverse_diagonal, float *work)
   {
-    HWY_DYNAMIC_DISPATCH(BackwardHalf)(l, nr, nc, scale, inverse_diagonal, own, below);
+    HWY_DYNAMIC_DISPATCH(BackwardHalf)(l, nr, nc, scale, inverse_diagonal, work);
   }
 
   void backward_scaled(const float *l, const Index nr, const Index nc, const float *scale,
-                       const float *inverse_diagonal, float *own, const float *below)
+                       const float *inverse_diagonal, float *work)
   {
-    HWY_DYNAMIC_DISPATCH(BackwardSingle)(l, nr, nc, scale, inverse_diagonal, own, below);
+    HWY_DYNAMIC_DISPATCH(BackwardSingle)(l, nr, nc, scale, inverse_diagonal, work);
   }
 } // namespace warpchol::cholesky
 #endif

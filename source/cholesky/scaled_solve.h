@@ -14,7 +14,7 @@
  *
  * CG reads the preconditioner's factor twice per iteration (forward and backward): it is
  * the largest part of what an iteration moves, and half the bytes halve that part. The
- * kernels stream each supernode's columns once per pass, four at a time, without BLAS.
+ * kernels stream each supernode once per pass, eight columns at a time, without BLAS.
  */
 namespace warpchol::cholesky
 {
@@ -22,9 +22,9 @@ namespace warpchol::cholesky
   using Half = hwy::float16_t;
 
   /**
-   * Entries of padding the kernels need after the copy's values, after x and after the
-   * buffer of the rows below a supernode: they read whole vectors past the last rows
-   * (and write back only the rows). The copy's padding must hold zeros.
+   * Entries of padding the kernels need after the copy's values, after x and after a
+   * supernode's work buffer: they read whole tiles past the last rows (and write back
+   * only the rows). The copy's padding must hold zeros.
    */
   constexpr Index scaled_solve_padding = 64;
 
@@ -33,11 +33,26 @@ namespace warpchol::cholesky
   float float_from_half(Half h);
 
   /**
+   * The copy's layout, per supernode (nr rows, nc columns): its columns in blocks of
+   * scaled_block_columns (the last may be narrower), each block stored from its diagonal
+   * row down as tiles of scaled_tile_rows rows, one after the other; in a tile, column by
+   * column. Block j0 of width B holds rows [j0, nr), padded with zeros to whole tiles, in
+   * B * ceil((nr - j0) / scaled_tile_rows) * scaled_tile_rows entries. So the solves read
+   * each block, and each supernode, as one stream (a column of a supernode is too short a
+   * stream for the hardware's prefetchers), and need no code for a last partial tile.
+   */
+  constexpr Index scaled_block_columns = 8;
+  constexpr Index scaled_tile_rows     = 8;
+
+  /** The entries of a supernode of @p nr rows and @p nc columns in the copy's layout. */
+  Index scaled_copy_entries(Index nr, Index nc);
+
+  /**
    * Round the local columns [q, nc) of a supernode (nr rows, column-major, @p values in
-   * double) into @p stored (the same layout): column j scaled by a power of two,
+   * double) into @p stored (the copy's layout, above): column j scaled by a power of two,
    * @p scale[j], so that its largest entry below the diagonal is at most 1 in size;
-   * @p inverse_diagonal[j] = 1 / (L_jj / scale[j]) in single precision. Entries above
-   * the diagonal are written as 0.
+   * @p inverse_diagonal[j] = 1 / (L_jj / scale[j]) in single precision. The blocks that
+   * hold those columns are written whole, entries above the diagonal and padding as 0.
    */
   void round_columns(const double *values, Index nr, Index nc, Index q, Half *stored, float *scale,
                      float *inverse_diagonal);
@@ -46,20 +61,22 @@ namespace warpchol::cholesky
 
   /**
    * Forward substitution on one supernode of a column-scaled factor (round_columns()):
-   * @p own (its nc columns' entries of x) becomes L11^-1 own, and @p below (nr - nc
-   * entries) is set to - L21 own, what the rows below it subtract.
+   * @p work holds the supernode's nc entries of x, then nr - nc zeros, then
+   * scaled_solve_padding entries of any finite value. On return its first nc entries are
+   * L11^-1 x, the next nr - nc are - L21 L11^-1 x, what the rows below it subtract.
    */
   void forward_scaled(const Half *l, Index nr, Index nc, const float *scale, const float *inverse_diagonal,
-                      float *own, float *below);
+                      float *work);
   void forward_scaled(const float *l, Index nr, Index nc, const float *scale, const float *inverse_diagonal,
-                      float *own, float *below);
+                      float *work);
 
   /**
-   * Backward substitution on one supernode: @p own becomes L11^-T (own - L21^T below),
-   * @p below holding the solution on the rows below it.
+   * Backward substitution on one supernode: @p work holds its nc entries of x, then the
+   * solution on the nr - nc rows below it, then scaled_solve_padding zeros; its first nc
+   * entries become L11^-T (x - L21^T below).
    */
   void backward_scaled(const Half *l, Index nr, Index nc, const float *scale, const float *inverse_diagonal,
-                       float *own, const float *below);
+                       float *work);
   void backward_scaled(const float *l, Index nr, Index nc, const float *scale, const float *inverse_diagonal,
-                       float *own, const float *below);
+                       float *work);
 } // namespace warpchol::cholesky
