@@ -70,14 +70,25 @@ namespace warpchol::cholesky
       stored = half_from_float(x);
     }
 
+
+    /** The tiles of block j0 of a supernode of @p nr rows: its rows from j0 on, padded to whole tiles. */
+    inline Index block_tiles(const Index nr, const Index j0)
+    {
+      return (nr - j0 + scaled_tile_rows - 1) / scaled_tile_rows;
+    }
+
+    /** The entries of block j0 of a supernode of @p nr rows and @p nc columns in the copy. */
+    inline Index block_entries(const Index nr, const Index nc, const Index j0)
+    {
+      return std::min(scaled_block_columns, nc - j0) * block_tiles(nr, j0) * scaled_tile_rows;
+    }
   } // namespace
 
   Index scaled_copy_entries(const Index nr, const Index nc)
   {
     Index entries = 0;
     for (Index j0 = 0; j0 < nc; j0 += scaled_block_columns)
-      entries += std::min(scaled_block_columns, nc - j0) *
-                 ((nr - j0 + scaled_tile_rows - 1) / scaled_tile_rows * scaled_tile_rows);
+      entries += block_entries(nr, nc, j0);
     return entries;
   }
 } // namespace warpchol::cholesky
@@ -112,7 +123,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       return hn::PromoteTo(d, hn::LoadU(dh, p));
     }
 
-    /** The first tile of a block (its diagonal block on top) in single precision: tile[k][i] = L(j0 + i, j0 + k). */
+    /** The first tile of a block (its diagonal block on top) in single precision: first[k][i] = L(j0 + i, j0 + k). */
     template <int B, typename Stored>
     inline void load_first_tile(const Stored *l, float (&first)[B][scaled_tile_rows])
     {
@@ -174,9 +185,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     void round_block(const double *values, const Index nr, const Index j0, const Index b, const double *factor,
                      Stored *stored)
     {
-      const Index rows = nr - j0;
-      const Index n_tiles = (rows + tile - 1) / tile;
-      for (Index t = 0; t < n_tiles; ++t)
+      for (Index t = 0; t < block_tiles(nr, j0); ++t)
         for (Index k = 0; k < b; ++k)
           {
             const Index   j      = j0 + k;
@@ -218,7 +227,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
                 }
               round_block(values, nr, j0, b, factor, block);
             }
-          block += b * ((nr - j0 + tile - 1) / tile * tile);
+          block += block_entries(nr, nc, j0);
         }
     }
 
@@ -244,7 +253,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       Floats factor[B];
       for (int k = 0; k < B; ++k)
         factor[k] = hn::Set(d, t[k]);
-      const Index n_tiles = (nr - j0 + tile - 1) / tile;
+      const Index n_tiles = block_tiles(nr, j0);
       // The first tile's first B rows are the block's own, solved above: kept.
       for (int i = 0; i < tile; i += lanes)
         {
@@ -281,7 +290,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       Floats         sum[B];
       for (int k = 0; k < B; ++k)
         sum[k] = hn::Zero(d);
-      const Index n_tiles = (nr - j0 + tile - 1) / tile;
+      const Index n_tiles = block_tiles(nr, j0);
       // The first tile without the block's own rows (zeros of x in their lanes); the
       // rows past nr are zeros of L.
       for (int i = 0; i < tile; i += lanes)
@@ -336,12 +345,6 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     }
 
     constexpr int block_columns = static_cast<int>(scaled_block_columns);
-
-    /** The entries of block j0 in the copy. */
-    inline Index block_entries(const Index nr, const Index nc, const Index j0)
-    {
-      return std::min(scaled_block_columns, nc - j0) * ((nr - j0 + tile - 1) / tile * tile);
-    }
 
     template <typename Stored>
     void forward_of(const Stored *l, const Index nr, const Index nc, const float *scale,
