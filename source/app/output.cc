@@ -17,11 +17,13 @@
 #include <cstdio>
 #include <cstring>
 #include <fcntl.h>
+#include <sched.h>
 #include <filesystem>
 #include <functional>
 #include <unistd.h>
 #include <iomanip>
 #include <sstream>
+#include <thread>
 #include <type_traits>
 #include <variant>
 
@@ -54,6 +56,19 @@ namespace warpchol::app
     remove_stale_temporaries(directory);
   }
 
+  namespace
+  {
+    /** The cores this process may run on (its affinity mask), at least 1. */
+    unsigned int allowed_cores()
+    {
+      cpu_set_t set;
+      CPU_ZERO(&set);
+      if (sched_getaffinity(0, sizeof set, &set) != 0)
+        return std::max(1u, std::thread::hardware_concurrency());
+      return std::max(1, CPU_COUNT(&set));
+    }
+  } // namespace
+
   VtuSeries::VtuSeries(const std::string &directory, const std::string &scene,
                        const std::string &precision)
     : directory(directory)
@@ -74,9 +89,19 @@ namespace warpchol::app
       pending.get();
   }
 
+  bool VtuSeries::writes_in_background()
+  {
+    return allowed_cores() >= 2;
+  }
+
   void VtuSeries::write(const unsigned int step, const double time, std::vector<BodySnapshot> bodies)
   {
     finish();
+    if (!writes_in_background())
+      {
+        write_now(step, time, bodies);
+        return;
+      }
     pending = std::async(std::launch::async, [this, step, time, bodies = std::move(bodies)]() {
       write_now(step, time, bodies);
     });

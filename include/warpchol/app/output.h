@@ -87,9 +87,15 @@ namespace warpchol::app
      * Write the state after step @p step at time @p time and rewrite the PVD file. The
      * state is copied and written in the background (building deal.II's patches and
      * compressing them costs about as much as a few steps): the call returns at once, after
-     * waiting for the previous file, whose error, if any, it throws.
+     * waiting for the previous file, whose error, if any, it throws. A process allowed
+     * one core only writes at once instead: there the background would take the core of
+     * the steps, and the steps it slowed would be measured as theirs (the automatic
+     * strategy's fall-back would read them as costing more than exact ones).
      */
     void write(unsigned int step, double time, std::vector<BodySnapshot> bodies);
+
+    /** Whether write() writes in the background: where this process may run on two cores or more. */
+    static bool writes_in_background();
 
     /** Wait until every file is written; throws the error of the last one, if any. */
     void finish();
