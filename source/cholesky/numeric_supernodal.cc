@@ -614,14 +614,14 @@ namespace warpchol::cholesky
     void scaled_solve(const SupernodalSymbolic &symbolic, const Stored *stored, const std::vector<Index> &copy_start,
                       const float *scale, const float *inverse_diagonal, float *x, const SolvePartition *partition)
     {
-      // work: the supernode's own entries of x, then its rows below, then padding (scaled_solve.h).
+      // work: x on the supernode's columns, on its rows below, then the last tile's rows past nr.
       solve_by_supernodes(
         symbolic, x, Index(1), partition,
         [&](const Index s, float *y, std::vector<float> &work, const auto &outside, float *gathered,
             const Index) {
           const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
           const Index *rows = symbolic.row_index.data() + symbolic.row_start[s];
-          work.resize(std::max<std::size_t>(work.size(), static_cast<std::size_t>(nr + scaled_solve_padding)));
+          work.resize(std::max<std::size_t>(work.size(), static_cast<std::size_t>(nr + scaled_tile_rows)));
           std::copy(y + f, y + f + nc, work.begin());
           std::fill(work.begin() + nc, work.begin() + nr + scaled_tile_rows, 0.f);
           forward_scaled(stored + copy_start[s], nr, nc, scale + f, inverse_diagonal + f, work.data());
@@ -639,7 +639,7 @@ namespace warpchol::cholesky
         [&](const Index s, float *y, std::vector<float> &work) {
           const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
           const Index *rows = symbolic.row_index.data() + symbolic.row_start[s];
-          work.resize(std::max<std::size_t>(work.size(), static_cast<std::size_t>(nr + scaled_solve_padding)));
+          work.resize(std::max<std::size_t>(work.size(), static_cast<std::size_t>(nr + scaled_tile_rows)));
           std::copy(y + f, y + f + nc, work.begin());
           for (Index i = 0; i < nr - nc; ++i)
             work[nc + i] = y[rows[nc + i]];
@@ -776,7 +776,7 @@ namespace warpchol::cholesky
         for (Index s = 0; s < ns; ++s)
           data.copy_start[s + 1] = data.copy_start[s] + scaled_copy_entries(symbolic.n_rows(s), symbolic.n_columns(s));
       }
-    const Index n_copy = copy == PreconditionerPrecision::full ? 0 : data.copy_start.back() + scaled_solve_padding;
+    const Index n_copy = copy == PreconditionerPrecision::full ? 0 : data.copy_start.back();
     const Index n_single = copy == PreconditionerPrecision::single ? n_copy : 0;
     const Index n_half   = copy == PreconditionerPrecision::half ? n_copy : 0;
     const Index n_scales = copy == PreconditionerPrecision::full ? 0 : symbolic.n;
@@ -901,17 +901,15 @@ namespace warpchol::cholesky
         return;
       }
     implementation->round_stale(symbolic);
-    std::vector<float> y(symbolic.n + scaled_solve_padding, 0.f);
+    std::vector<float> y(symbolic.n, 0.f);
     std::copy(x, x + symbolic.n, y.begin());
     const SolvePartition *partition = implementation->partition_for(symbolic, n_threads);
     if (data.copy == PreconditionerPrecision::single)
       scaled_solve(symbolic, data.single_values.data(), data.copy_start, data.column_scale.data(),
-                   data.inverse_diagonal.data(),
-                   y.data(), partition);
+                   data.inverse_diagonal.data(), y.data(), partition);
     else
       scaled_solve(symbolic, data.half_values.data(), data.copy_start, data.column_scale.data(),
-                   data.inverse_diagonal.data(),
-                   y.data(), partition);
+                   data.inverse_diagonal.data(), y.data(), partition);
     std::copy(y.begin(), y.begin() + symbolic.n, x);
   }
 

@@ -70,7 +70,6 @@ namespace warpchol::cholesky
       stored = half_from_float(x);
     }
 
-
     /** The tiles of block j0 of a supernode of @p nr rows: its rows from j0 on, padded to whole tiles. */
     inline Index block_tiles(const Index nr, const Index j0)
     {

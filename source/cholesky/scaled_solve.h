@@ -21,13 +21,6 @@ namespace warpchol::cholesky
   /** An IEEE half-precision number (Highway's portable type). */
   using Half = hwy::float16_t;
 
-  /**
-   * Entries of padding the kernels need after the copy's values, after x and after a
-   * supernode's work buffer: they read whole tiles past the last rows (and write back
-   * only the rows). The copy's padding must hold zeros.
-   */
-  constexpr Index scaled_solve_padding = 64;
-
   /** @p x rounded to the nearest half (ties to even; beyond the range: infinity). */
   Half  half_from_float(float x);
   float float_from_half(Half h);
@@ -62,8 +55,9 @@ namespace warpchol::cholesky
   /**
    * Forward substitution on one supernode of a column-scaled factor (round_columns()):
    * @p work holds the supernode's nc entries of x, then nr - nc zeros, then
-   * scaled_solve_padding entries of any finite value. On return its first nc entries are
-   * L11^-1 x, the next nr - nc are - L21 L11^-1 x, what the rows below it subtract.
+   * scaled_tile_rows zeros (the last tile's rows past nr, read and written whole). On
+   * return its first nc entries are L11^-1 x, the next nr - nc are - L21 L11^-1 x, what
+   * the rows below it subtract.
    */
   void forward_scaled(const Half *l, Index nr, Index nc, const float *scale, const float *inverse_diagonal,
                       float *work);
@@ -72,8 +66,8 @@ namespace warpchol::cholesky
 
   /**
    * Backward substitution on one supernode: @p work holds its nc entries of x, then the
-   * solution on the nr - nc rows below it, then scaled_solve_padding zeros; its first nc
-   * entries become L11^-T (x - L21^T below).
+   * solution on the nr - nc rows below it, then scaled_tile_rows zeros (the last tile's
+   * rows past nr); its first nc entries become L11^-T (x - L21^T below).
    */
   void backward_scaled(const Half *l, Index nr, Index nc, const float *scale, const float *inverse_diagonal,
                        float *work);
