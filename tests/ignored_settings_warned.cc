@@ -81,6 +81,11 @@ int main()
     {"Obstacle", "subsection Obstacle\n  set Type = sphere\n  set Point = 2, 0, 0\n  set Radius = 0.1\n"
                  "  set Normal = 1, 0, 0\nend\nsubsection Obstacle 2\n  set Friction = 0.3\nend\n"},
     {"Contact", "subsection Contact\n  set Tolerance = 1e-10\nend\n"},
+    {"Contact, penalty", "subsection Obstacle\n  set Type = plane\n  set Point = 0, -5, 0\n  set Normal = 0, 1, 0\n"
+                         "  set Friction = 0.5\nend\nsubsection Contact\n  set Method = penalty\n"
+                         "  set Max iterations = 50\n  set Compliance = full solves\nend\n"},
+    {"Contact, constraints", "subsection Obstacle\n  set Type = plane\n  set Point = 0, -5, 0\n"
+                             "  set Normal = 0, 1, 0\nend\nsubsection Contact\n  set Penalty stiffness = 1e5\nend\n"},
     {"Distributed, serial run", "subsection Distributed\n  set Linear solver = mumps\n  set Tolerance = 1e-10\nend\n"},
     {"Old names", "subsection Model\n  set Update threshold = 0.2\nend\n"
                   "subsection Bodies\n  set Update thresholds = 0.2\nend\n"}};

@@ -647,7 +647,8 @@ namespace warpchol::app
         const double seconds = s.stages.seconds(fem::stage::contact_detection) +
                                s.stages.seconds(fem::stage::contact_compliance) +
                                s.stages.seconds(fem::stage::contact_gauss_seidel) +
-                               s.stages.seconds(fem::stage::contact_correction);
+                               s.stages.seconds(fem::stage::contact_correction) +
+                               s.stages.seconds(fem::stage::contact_penalty);
         line << "," << std::setprecision(6) << c.n_contacts << ",";
         // "12;3": the contacts of obstacle 1, 2, ... (a semicolon keeps the CSV's columns).
         for (std::size_t o = 0; o < c.contacts_per_obstacle.size(); ++o)

@@ -309,8 +309,18 @@ namespace warpchol::app
             }
     if (std::none_of(obstacles.begin(), obstacles.end(), [](const auto &o) { return o.active(); }))
       warn_if_set(prm, "Contact",
-                  {"Alarm distance", "Contact distance", "Max iterations", "Tolerance", "Max contacts", "Compliance"},
+                  {"Method", "Penalty stiffness", "Alarm distance", "Contact distance", "Max iterations", "Tolerance",
+                   "Max contacts", "Compliance"},
                   "no obstacle (Obstacle/Type = none)");
+    else if (contact.settings.method == fem::ContactMethod::penalty)
+      {
+        warn_if_set(prm, "Contact", {"Max iterations", "Tolerance", "Compliance"}, "Contact/Method = penalty");
+        for (const auto &obstacle : obstacles)
+          if (obstacle.active())
+            warn_if_set(prm, obstacle.subsection, {"Friction"}, "Contact/Method = penalty");
+      }
+    else
+      warn_if_set(prm, "Contact", {"Penalty stiffness"}, "Contact/Method = constraints");
     if (output.vtu_interval == 0)
       warn_if_set(prm, "Output", {"VTU precision"}, "VTU interval = 0");
   }

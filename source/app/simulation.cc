@@ -368,6 +368,18 @@ namespace warpchol::app
                   << " (later steps not reported); the run goes on" << std::endl;
         simulated.warned_gauss_seidel = true;
       }
+    // Penalty springs yield: a penetration past the tolerance is said once a run, the run goes on.
+    if (const fem::ContactConstraints *contact = integrator.contact();
+        contact && contact->settings().method == fem::ContactMethod::penalty &&
+        contact->last_step().largest_penetration > contact->settings().tolerance && !simulated.warned_penetration)
+      {
+        std::cerr << "warpchol: warning: " << contact->settings().tolerance_origin << " = "
+                  << format_number(contact->settings().tolerance, 3) << ": the penalty springs left "
+                  << format_number(contact->last_step().largest_penetration, 3) << " m of penetration at step "
+                  << step << " (later steps not reported); a stiffer Contact/Penalty stiffness or "
+                  << "Contact/Method = constraints holds it; the run goes on" << std::endl;
+        simulated.warned_penetration = true;
+      }
 
     auto &t = simulated.totals;
     t.add_step(statistics, step_seconds);

@@ -12,6 +12,7 @@
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
+#include <unordered_set>
 
 namespace warpchol::fem
 {
@@ -396,23 +397,9 @@ namespace warpchol::fem
                                    const std::vector<Vector3> &positions, std::vector<Vector3> &velocities,
                                    const double time, const double time_step, StepStatistics &statistics)
   {
-    report            = ContactStepReport();
     previous_contacts = std::move(step_contacts);
-    forces.assign(body.n_vertices(), Vector3::Zero());
-    gaps.assign(body.n_vertices(), contact_settings.margin);
-    {
-      StageTimer timer(statistics.stages, stage::contact_detection);
-      step_contacts = detect(body, positions, velocities, time, time_step);
-    }
+    detect_for_step(body, positions, velocities, time, time_step, statistics);
     const std::size_t n_contacts = step_contacts.size();
-    report.n_contacts            = static_cast<unsigned int>(n_contacts);
-    report.contacts_per_obstacle.assign(obstacle_list.size(), 0);
-    for (const Contact &contact : step_contacts)
-      ++report.contacts_per_obstacle[contact.obstacle];
-    if (n_contacts > contact_settings.max_contacts)
-      throw InputError(contact_settings.max_contacts_origin + " = " + std::to_string(contact_settings.max_contacts) +
-                       ": " + std::to_string(n_contacts) + " contacts at time " + format_number(time + time_step) +
-                       " s exceed the cap");
     if (n_contacts == 0)
       {
         lambda.clear();
@@ -465,6 +452,160 @@ namespace warpchol::fem
     }
 
     record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
+    total_work += report.work_on_body;
+    total_dissipation += report.friction_dissipation;
+  }
+
+  void ContactConstraints::detect_for_step(const ElasticBody &body, const std::vector<Vector3> &positions,
+                                           const std::vector<Vector3> &velocities, const double time,
+                                           const double time_step, StepStatistics &statistics)
+  {
+    report = ContactStepReport();
+    forces.assign(body.n_vertices(), Vector3::Zero());
+    gaps.assign(body.n_vertices(), contact_settings.margin);
+    {
+      StageTimer timer(statistics.stages, stage::contact_detection);
+      step_contacts = detect(body, positions, velocities, time, time_step);
+    }
+    const std::size_t n_contacts = step_contacts.size();
+    report.n_contacts            = static_cast<unsigned int>(n_contacts);
+    report.contacts_per_obstacle.assign(obstacle_list.size(), 0);
+    for (const Contact &contact : step_contacts)
+      ++report.contacts_per_obstacle[contact.obstacle];
+    if (n_contacts > contact_settings.max_contacts)
+      throw InputError(contact_settings.max_contacts_origin + " = " + std::to_string(contact_settings.max_contacts) +
+                       ": " + std::to_string(n_contacts) + " contacts at time " + format_number(time + time_step) +
+                       " s exceed the cap");
+  }
+
+  ContactConstraints::PenaltyChange ContactConstraints::tie_penalty_springs(const ElasticBody          &body,
+                                                                            const std::vector<Vector3> &positions,
+                                                                            const std::vector<Vector3> &velocities,
+                                                                            const double time, const double time_step,
+                                                                            StepStatistics &statistics)
+  {
+    detect_for_step(body, positions, velocities, time, time_step, statistics);
+    StageTimer timer(statistics.stages, stage::contact_penalty);
+    penalty_time_step = time_step;
+    std::unordered_set<std::uint64_t> held;
+    for (const Contact &spring : springs)
+      held.insert(contact_key(spring));
+    springs.clear();
+    spring_obstacle_velocity.clear();
+    // A point that would be inside its obstacle at the step's end, at its velocity, ties a
+    // spring (its drag stops it short); one tied keeps it within the alarm distance.
+    for (const Contact &c : step_contacts)
+      {
+        const Vector3 obstacle_velocity = obstacle_list[c.obstacle].velocity(time, time + time_step);
+        const double  predicted_gap =
+          c.gap + time_step * c.normal.dot(point_value(c, velocities) - obstacle_velocity);
+        if (predicted_gap < 0 || (c.gap < contact_settings.margin && held.count(contact_key(c)) > 0))
+          {
+            springs.push_back(c);
+            spring_obstacle_velocity.push_back(obstacle_velocity);
+          }
+      }
+    if (spring_diagonal.size() != body.n_vertices())
+      spring_diagonal.assign(body.n_vertices(), 0.);
+    return springs_diagonal_change();
+  }
+
+  ContactConstraints::PenaltyChange ContactConstraints::tie_entering_springs(const std::vector<Vector3> &positions,
+                                                                             const std::vector<Vector3> &velocities,
+                                                                             const double time, const double time_step,
+                                                                             StepStatistics &statistics)
+  {
+    StageTimer                        timer(statistics.stages, stage::contact_penalty);
+    std::unordered_set<std::uint64_t> held;
+    for (const Contact &spring : springs)
+      held.insert(contact_key(spring));
+    bool tied = false;
+    for (const Contact &c : step_contacts)
+      if (held.count(contact_key(c)) == 0)
+        {
+          const Vector3 next = point_value(c, positions) + time_step * point_value(c, velocities);
+          if (obstacle_list[c.obstacle].proximity(next, time + time_step).distance < 0)
+            {
+              springs.push_back(c);
+              spring_obstacle_velocity.push_back(obstacle_list[c.obstacle].velocity(time, time + time_step));
+              tied = true;
+            }
+        }
+    return tied ? springs_diagonal_change() : PenaltyChange();
+  }
+
+  ContactConstraints::PenaltyChange ContactConstraints::springs_diagonal_change()
+  {
+    std::vector<double> diagonal(spring_diagonal.size(), 0.);
+    const double        spring = penalty_time_step * penalty_time_step * contact_settings.penalty_stiffness;
+    for (const Contact &c : springs)
+      for (unsigned int k = 0; k < c.n_vertices; ++k)
+        diagonal[c.vertex_of(k)] += spring * c.weights[k];
+    PenaltyChange change;
+    for (std::size_t v = 0; v < diagonal.size(); ++v)
+      if (diagonal[v] != spring_diagonal[v])
+        {
+          change.vertices.push_back(static_cast<unsigned int>(v));
+          change.old_diagonal.push_back(spring_diagonal[v]);
+          change.new_diagonal.push_back(diagonal[v]);
+        }
+    spring_diagonal = std::move(diagonal);
+    return change;
+  }
+
+  double ContactConstraints::penalty_diagonal(const unsigned int vertex) const
+  {
+    return vertex < spring_diagonal.size() ? spring_diagonal[vertex] : 0.;
+  }
+
+  void ContactConstraints::add_penalty_forces(std::vector<Vector3> &body_forces) const
+  {
+    const double k = contact_settings.penalty_stiffness;
+    for (std::size_t j = 0; j < springs.size(); ++j)
+      {
+        const Contact &c = springs[j];
+        const Vector3  force =
+          k * std::max(0., -c.gap) * c.normal + penalty_time_step * k * spring_obstacle_velocity[j];
+        for (unsigned int a = 0; a < c.n_vertices; ++a)
+          body_forces[c.vertex_of(a)] += c.weights[a] * force;
+      }
+  }
+
+  void ContactConstraints::finish_penalty_step(const std::vector<Vector3> &positions,
+                                               const std::vector<Vector3> &velocities, const double time,
+                                               const double time_step, StepStatistics &statistics)
+  {
+    StageTimer   timer(statistics.stages, stage::contact_penalty);
+    const double k = contact_settings.penalty_stiffness, drag = time_step * k;
+    for (std::size_t j = 0; j < springs.size(); ++j)
+      {
+        const Contact &c      = springs[j];
+        const Vector3  normal = k * std::max(0., -c.gap) * c.normal;
+        Vector3        total  = Vector3::Zero();
+        for (unsigned int a = 0; a < c.n_vertices; ++a)
+          {
+            // The vertex's share of the normal force and of the drag toward the obstacle's velocity.
+            const Vector3 relative = velocities[c.vertex_of(a)] - spring_obstacle_velocity[j];
+            const Vector3 force    = c.weights[a] * (normal - drag * relative);
+            const Vector3 sliding  = relative - relative.dot(c.normal) * c.normal;
+            forces[c.vertex_of(a)] += force;
+            total += force;
+            report.work_on_body += time_step * force.dot(velocities[c.vertex_of(a)]);
+            report.friction_dissipation += time_step * drag * c.weights[a] * sliding.squaredNorm();
+          }
+        report.total_force += total;
+        report.normal_force += std::abs(total.dot(c.normal));
+        report.friction_force += (total - total.dot(c.normal) * c.normal).norm();
+      }
+    // The penetration after the step, of every contact found, with a spring or not.
+    for (const Contact &c : step_contacts)
+      {
+        const Vector3 next = point_value(c, positions) + time_step * point_value(c, velocities);
+        const double  gap  = obstacle_list[c.obstacle].proximity(next, time + time_step).distance;
+        for (unsigned int a = 0; a < c.n_vertices; ++a)
+          gaps[c.vertex_of(a)] = std::min(gaps[c.vertex_of(a)], gap);
+        report.largest_penetration = std::max(report.largest_penetration, -gap);
+      }
     total_work += report.work_on_body;
     total_dissipation += report.friction_dissipation;
   }
@@ -538,6 +679,18 @@ namespace warpchol::fem
     writer.write(lambda);
     writer.write(total_work);
     writer.write(total_dissipation);
+    // Penalty: the springs (which the next step keeps while they stay near) and their diagonal.
+    std::vector<unsigned int> spring_vertices, spring_obstacles, spring_points;
+    for (const Contact &spring : springs)
+      {
+        spring_vertices.push_back(spring.vertex);
+        spring_obstacles.push_back(spring.obstacle);
+        spring_points.push_back(spring.n_vertices);
+      }
+    writer.write(spring_vertices);
+    writer.write(spring_obstacles);
+    writer.write(spring_points);
+    writer.write(spring_diagonal);
   }
 
   void ContactConstraints::load(BinaryReader &reader)
@@ -563,6 +716,24 @@ namespace warpchol::fem
       }
     reader.read(total_work);
     reader.read(total_dissipation);
+    std::vector<unsigned int> spring_vertices, spring_obstacles, spring_points;
+    reader.read(spring_vertices);
+    reader.read(spring_obstacles);
+    reader.read(spring_points);
+    reader.read(spring_diagonal);
+    if (spring_obstacles.size() != spring_vertices.size() || spring_points.size() != spring_vertices.size())
+      reader.fail("holds " + std::to_string(spring_vertices.size()) + " penalty springs with " +
+                  std::to_string(spring_obstacles.size()) + " obstacles");
+    springs.assign(spring_vertices.size(), Contact());
+    for (std::size_t j = 0; j < springs.size(); ++j)
+      {
+        if (spring_obstacles[j] >= obstacle_list.size())
+          reader.fail("a penalty spring names obstacle " + std::to_string(spring_obstacles[j] + 1) + " of " +
+                      std::to_string(obstacle_list.size()));
+        springs[j].vertex     = spring_vertices[j];
+        springs[j].obstacle   = spring_obstacles[j];
+        springs[j].n_vertices = spring_points[j];
+      }
   }
 
   const std::vector<Obstacle> &ContactConstraints::obstacles() const

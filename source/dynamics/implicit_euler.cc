@@ -176,10 +176,41 @@ namespace warpchol::fem
     for (std::size_t k = 0; k < tool_forces.size(); ++k)
       forces[loads.tool.vertices[k]] += tool_forces[k];
     operations.add_spring_forces(x, new_time, forces);
+    if (penalty_contact())
+      contact_constraints->add_penalty_forces(forces);
     body.add_mass_times(v, result);
     for (unsigned int i = 0; i < body.n_vertices(); ++i)
       result[i] += time_step * forces[i];
     return result;
+  }
+
+  bool ImplicitEuler::penalty_contact() const
+  {
+    return contact_constraints && contact_constraints->settings().method == ContactMethod::penalty;
+  }
+
+  void ImplicitEuler::add_penalty_springs(SystemChange &change, StepStatistics &statistics)
+  {
+    join_penalty_change(contact_constraints->tie_penalty_springs(body, x, v, current_time, time_step, statistics),
+                        change);
+  }
+
+  void ImplicitEuler::join_penalty_change(const ContactConstraints::PenaltyChange &springs, SystemChange &change) const
+  {
+    std::vector<char> listed(body.n_vertices(), 0);
+    for (std::size_t k = 0; k < change.vertices.size(); ++k)
+      {
+        listed[change.vertices[k]] = 1;
+        change.vertex_diagonal[k] += contact_constraints->penalty_diagonal(change.vertices[k]);
+      }
+    for (std::size_t k = 0; k < springs.vertices.size(); ++k)
+      if (!listed[springs.vertices[k]])
+        {
+          const unsigned int vertex = springs.vertices[k];
+          change.vertices.push_back(vertex);
+          change.vertex_diagonal.push_back(model.vertex_diagonal(vertex) - springs.old_diagonal[k] +
+                                           springs.new_diagonal[k]);
+        }
   }
 
   std::vector<Vector3> ImplicitEuler::initial_guess(StepStatistics &statistics) const
@@ -205,17 +236,17 @@ namespace warpchol::fem
         // What happens to the body in this step (a cut, a grasp, a material change), told
         // to the model before it prepares the step: the change's columns of A are then
         // refactorized with the step's own.
+        SystemChange change;
         if (operations.active())
-          {
-            const SystemChange change =
-              operations.changes_of_step(body, x, v, model.uses_rotations(), step, current_time, time_step,
-                                         tool_diagonal, statistics);
-            model.apply_change(change, statistics);
-            // A cut moves mass: gravity follows it.
-            for (const unsigned int e : change.elements)
-              for (const unsigned int i : body.element_vertices(e))
-                constant_forces[i] = constant_force(i);
-          }
+          change = operations.changes_of_step(body, x, v, model.uses_rotations(), step, current_time, time_step,
+                                              tool_diagonal, statistics);
+        if (penalty_contact())
+          add_penalty_springs(change, statistics);
+        model.apply_change(change, statistics);
+        // A cut moves mass: gravity follows it.
+        for (const unsigned int e : change.elements)
+          for (const unsigned int i : body.element_vertices(e))
+            constant_forces[i] = constant_force(i);
         model.prepare_step(x, v, statistics);
       }
     catch (const MatrixError &error)
@@ -229,7 +260,24 @@ namespace warpchol::fem
       {
         model.solve(rhs, new_velocities, statistics);
         // The free motion's velocities corrected by the contacts' impulses.
-        if (contact_constraints)
+        if (penalty_contact())
+          {
+            // What the step's acceleration carried in without a spring ties one, and the
+            // step is solved again (a few rounds at most: each ties only what enters).
+            for (unsigned int round = 0; round < max_penalty_rounds; ++round)
+              {
+                SystemChange entering;
+                join_penalty_change(
+                  contact_constraints->tie_entering_springs(x, new_velocities, current_time, time_step, statistics),
+                  entering);
+                if (entering.empty())
+                  break;
+                model.apply_change(entering, statistics);
+                model.solve_again(right_hand_side(new_time, statistics), new_velocities, statistics);
+              }
+            contact_constraints->finish_penalty_step(x, new_velocities, current_time, time_step, statistics);
+          }
+        else if (contact_constraints)
           contact_constraints->correct(body, model, x, new_velocities, current_time, time_step, statistics);
       }
     catch (const MatrixError &error)

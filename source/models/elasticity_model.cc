@@ -252,6 +252,11 @@ namespace warpchol::fem
     return false;
   }
 
+  double ElasticityModel::vertex_diagonal(const unsigned int vertex) const
+  {
+    return coefficients.vertex_diagonal.empty() ? 0. : coefficients.vertex_diagonal[vertex];
+  }
+
   void ElasticityModel::apply_change(const SystemChange &change, StepStatistics &statistics)
   {
     if (change.empty())

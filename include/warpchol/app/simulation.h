@@ -118,6 +118,8 @@ namespace warpchol::app
     std::string                stopped;
     /** Whether a Gauss-Seidel that stopped short of its tolerance was reported. */
     bool                       warned_gauss_seidel = false;
+    /** Penalty contact past Contact/Contact distance: said once a run. */
+    bool                       warned_penetration = false;
     /** "body 2 (warp_canceling, threshold 0.3)" when the scene has several, else "". */
     std::string                label;
     double                     setup_seconds = 0;

@@ -31,6 +31,8 @@ namespace warpchol::fem
     constexpr const char *contact_gauss_seidel = "contact Gauss-Seidel";
     /** The correction v += A^-1 H^T lambda (one solve). */
     constexpr const char *contact_correction = "contact correction";
+    /** Penalty contact: the springs tied and untied, their forces, the penetration after the step. */
+    constexpr const char *contact_penalty = "contact penalty";
   } // namespace stage
 
   /**
@@ -82,9 +84,29 @@ namespace warpchol::fem
   std::string obstacle_inside_body(const Obstacle &obstacle, const ElasticBody &body,
                                    const std::vector<Vector3> &positions, double tolerance);
 
+  /**
+   * How contact pushes back: constraints (SOFA's way: impulses by Gauss-Seidel on W, one
+   * correcting solve), or penalty springs carried in A and its factor (rank-k updates and
+   * downdates as contacts come and go).
+   */
+  enum class ContactMethod
+  {
+    constraints,
+    penalty
+  };
+
   /** What the contact step is told. */
   struct ContactSettings
   {
+    ContactMethod method = ContactMethod::constraints;
+    /**
+     * Penalty: the stiffness (N/m) of the spring a contact about to penetrate gets. Its force
+     * pushes along the obstacle's normal, k times the penetration; in A it adds dt^2 k to
+     * the vertex's 3 diagonal entries (as the grasps' springs: the same in every rotated
+     * frame, so a change of the diagonal the factor takes as an update), which also drags
+     * the vertex along the obstacle's surface as a viscous friction of coefficient dt k.
+     */
+    double penalty_stiffness = 1000;
     /** A surface vertex within this distance (m) of an obstacle is a contact (besides how far it may move in a step). */
     double margin = 1e-3;
     /** The penetration (m) a step may leave: the largest one is checked against it. */
@@ -96,6 +118,8 @@ namespace warpchol::fem
     std::string  max_contacts_origin = "Contact/Max contacts";
     /** Where Gauss-Seidel's iterations are set, for the warning when it stops short. */
     std::string  max_iterations_origin = "Contact/Max iterations";
+    /** Where the penetration's tolerance is set, for the warning when penalty springs pass it. */
+    std::string  tolerance_origin = "Contact/Contact distance";
     /**
      * How W is built from the factor: by paths, from the block of A^-1 among the contact
      * vertices' unknowns with the columns of the vertices that persist kept
@@ -195,11 +219,60 @@ namespace warpchol::fem
     /** Read what save() wrote; fails naming what does not fit these obstacles. */
     void load(BinaryReader &reader);
 
+    /**
+     * @name Penalty contact (ContactMethod::penalty)
+     *
+     * Before the step: the contacts at @p positions (detect()); a contact whose point would
+     * be inside its obstacle at the step's end, at its velocity, gets a spring, which it
+     * keeps while the point stays within the alarm distance (so that a resting contact does not tie and untie its spring every
+     * step). Returns the vertices whose springs' diagonal dt^2 sum k w changed, with
+     * their old and new values; the step's system change carries them to A and its
+     * factor. Then add_penalty_forces() adds the springs' forces to the step's, and after
+     * the solve finish_penalty_step() records forces, gaps, penetration and work.
+     */
+    /** @{ */
+    struct PenaltyChange
+    {
+      std::vector<unsigned int> vertices;
+      std::vector<double>       old_diagonal, new_diagonal;
+    };
+    PenaltyChange tie_penalty_springs(const ElasticBody &body, const std::vector<Vector3> &positions,
+                                      const std::vector<Vector3> &velocities, double time, double time_step,
+                                      StepStatistics &statistics);
+    /**
+     * After a solve that gave @p velocities: the step's contacts without a spring whose
+     * point would end the step inside its obstacle tie one (what the step's own
+     * acceleration carried in, which the velocity at its start did not foresee). Returns
+     * the changed diagonal as tie_penalty_springs() does; the step is then solved again.
+     */
+    PenaltyChange tie_entering_springs(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
+                                       double time, double time_step, StepStatistics &statistics);
+    /** The diagonal dt^2 sum k w of the springs on @p vertex now (0 without one). */
+    double penalty_diagonal(unsigned int vertex) const;
+    /**
+     * forces += the springs' forces for the step: k max(0, -gap) n per spring, and
+     * dt k times the obstacle's velocity (the drag is relative to the obstacle), each
+     * spread over the point's vertices by their weights.
+     */
+    void add_penalty_forces(std::vector<Vector3> &forces) const;
+    /** The report, the vertices' forces and gaps, and the work, after the step's solve gave @p velocities. */
+    void finish_penalty_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
+                             double time, double time_step, StepStatistics &statistics);
+    /** @} */
+
     /** H^T (A's unknowns x 3 contacts) for @p contacts, rotated by @p rotations (null: identity). */
     static sparse::CSCMatrix constraint_columns(const ElasticBody &body, const std::vector<Contact> &contacts,
                                                 const std::vector<Matrix3> *rotations);
 
   private:
+    /** The springs' diagonal dt^2 sum k w per vertex made anew: what changed, with the old and new values. */
+    PenaltyChange springs_diagonal_change();
+
+    /** The step's contacts (detect()) into step_contacts, counted in the report; throws InputError past the cap. */
+    void detect_for_step(const ElasticBody &body, const std::vector<Vector3> &positions,
+                         const std::vector<Vector3> &velocities, double time, double time_step,
+                         StepStatistics &statistics);
+
     /**
      * W = H A~^-1 H^T of the step's contacts from the block of A^-1 among their vertices'
      * unknowns (SparseCholesky::inverse_block(), which keeps the columns of the vertices
@@ -251,5 +324,11 @@ namespace warpchol::fem
     double                    total_work = 0, total_dissipation = 0;
     std::vector<Vector3>      forces;
     std::vector<double>       gaps;
+
+    /** Penalty: the contacts with a spring, their obstacles' velocities in the step, each vertex's dt^2 sum k w. */
+    std::vector<Contact>      springs;
+    std::vector<Vector3>      spring_obstacle_velocity;
+    std::vector<double>       spring_diagonal;
+    double                    penalty_time_step = 0;
   };
 } // namespace warpchol::fem

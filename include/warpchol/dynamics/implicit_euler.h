@@ -225,6 +225,18 @@ namespace warpchol::fem
 
     /** The step itself: advance() runs it on the threads the model allows. */
     void advance_step(StepStatistics &statistics);
+    /**
+     * Penalty contact: the springs tied and untied at the step's start joined to
+     * @p change (a vertex the surgery's change lists keeps its springs' diagonal on top of
+     * the tool's and the grasps').
+     */
+    void add_penalty_springs(SystemChange &change, StepStatistics &statistics);
+    /** @p springs joined to @p change (its vertices' springs' diagonal on top of what it lists). */
+    void join_penalty_change(const ContactConstraints::PenaltyChange &springs, SystemChange &change) const;
+    /** Penalty contact: rounds of springs tied after a solve, and the step solved again, at most. */
+    static constexpr unsigned int max_penalty_rounds = 3;
+    /** Whether the contacts push back by penalty springs. */
+    bool penalty_contact() const;
 
     /**
      * The step's right-hand side M v + dt (f_ext + f_el(x) + k (target(@p new_time) - x)).

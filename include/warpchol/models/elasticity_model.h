@@ -299,6 +299,9 @@ namespace warpchol::fem
      */
     virtual void apply_change(const SystemChange &change, StepStatistics &statistics);
 
+    /** What is added to each of @p vertex's 3 diagonal entries now (springs; SystemChange::vertex_diagonal). */
+    double vertex_diagonal(unsigned int vertex) const;
+
     /**
      * forces += the elastic forces at @p positions, which were given to the last
      * prepare_step(): exact corotated forces for every model but the linear one, as the

@@ -12,6 +12,14 @@ namespace warpchol::app
     void Contact::declare_parameters(ParameterHandler &prm)
     {
       prm.enter_subsection("Contact");
+      prm.declare_entry("Method", "constraints", Patterns::Selection("constraints|penalty"),
+                        "constraints: SOFA's way (impulses by projected Gauss-Seidel with the friction cone "
+                        "on W = H A^-1 H^T, one correcting solve); penalty: a spring per penetrating "
+                        "vertex carried in A and its factor (updates and downdates as contacts come and go)");
+      prm.declare_entry("Penalty stiffness", "1000", Patterns::Double(0),
+                        "Method = penalty: the spring's stiffness (N/m); a resting vertex sinks its "
+                        "share of the load over this, and the spring drags it along the obstacle as a "
+                        "viscous friction of dt times this (the obstacles' Friction is not used)");
       prm.declare_entry("Alarm distance", "0.001", Patterns::Double(0),
                         "A surface vertex closer than this (m) to an obstacle, besides how far it moves in "
                         "a step, is a contact (SOFA's alarmDistance)");
@@ -34,6 +42,10 @@ namespace warpchol::app
     void Contact::parse_parameters(ParameterHandler &prm, const ParameterFileLocator &file)
     {
       prm.enter_subsection("Contact");
+      settings.method = prm.get("Method") == "penalty" ? fem::ContactMethod::penalty : fem::ContactMethod::constraints;
+      settings.penalty_stiffness = prm.get_double("Penalty stiffness");
+      if (!(settings.penalty_stiffness > 0))
+        file.fail(prm, "Contact", "Penalty stiffness", "must be > 0");
       settings.margin                      = prm.get_double("Alarm distance");
       settings.tolerance                   = prm.get_double("Contact distance");
       settings.gauss_seidel.max_iterations = static_cast<unsigned int>(prm.get_integer("Max iterations"));
@@ -43,6 +55,7 @@ namespace warpchol::app
                                                                 cholesky::ComplianceMethod::full_solves;
       settings.max_contacts_origin   = file.where("Contact", "Max contacts");
       settings.max_iterations_origin = file.where("Contact", "Max iterations");
+      settings.tolerance_origin      = file.where("Contact", "Contact distance");
       prm.leave_subsection();
     }
 
