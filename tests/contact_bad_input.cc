@@ -2,7 +2,8 @@
 // and warpchol exits with status 2: an obstacle file that is missing, broken, empty or
 // holds NaN; a negative or NaN friction coefficient; an obstacle inside the body at the
 // start; a path file that ends before the run does; more contacts than the cap; a peer's
-// backend, which holds no factor of warpchol's to build W from. Gauss-Seidel stopping
+// backend, which holds no factor of warpchol's to build W from; penalty springs with a
+// stiffness of zero, or with a strategy whose CG would not see them. Gauss-Seidel stopping
 // short of its tolerance is a warning with the residual, and the run goes on.
 
 #include "simulation_tests.h"
@@ -81,6 +82,11 @@ int main()
   run_scene("more contacts than the cap", "cap.prm",
             scene("subsection Contact\n  set Alarm distance = 0.01\n  set Max contacts = 3\nend\n"));
   run_scene("a peer's backend", "peer.prm", scene("subsection Solver\n  set Backend = cholmod\nend\n"));
+  run_scene("penalty springs with a stiffness of zero", "zero_penalty.prm",
+            scene("subsection Contact\n  set Method = penalty\n  set Penalty stiffness = 0\nend\n"));
+  run_scene("penalty springs with a strategy that iterates", "penalty_cg.prm",
+            scene("subsection Model\n  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n"
+                  "  set Strategy = auto\nend\nsubsection Contact\n  set Method = penalty\nend\n"));
   {
     // A warning on the standard error stream, not an error: the run goes on.
     std::ostringstream warnings;

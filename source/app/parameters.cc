@@ -115,6 +115,19 @@ namespace warpchol::app
         file.fail(prm, "Solver", "Method",
                   "contact builds W = H A^-1 H^T from the supernodal factor's panels: needs Method = supernodal");
       }
+    // CG's relative tolerance, set against the step's momentum, stops before it sees the
+    // springs' stiff terms: penalty contact needs the step's direct solve.
+    if (touches && contact.settings.method == fem::ContactMethod::penalty && model.strategy.iterates())
+      for (const fem::ModelType type : model_types())
+        if (type == fem::ModelType::warp_canceling)
+          {
+            prm.enter_subsection("Contact");
+            file.fail(prm, "Contact", "Method",
+                      "penalty springs need a direct solve, and Model/Strategy = " +
+                        fem::to_string(model.strategy.kind) +
+                        " iterates (CG stops before it sees their stiff terms): use Strategy = partial, or "
+                        "Method = constraints");
+          }
     read_paths();
     warn_about_ignored_entries(prm);
     warn_about_old_names();

@@ -493,18 +493,12 @@ namespace warpchol::fem
     springs.clear();
     spring_obstacle_velocity.clear();
     // A point that would be inside its obstacle at the step's end, at its velocity, ties a
-    // spring (its drag stops it short); one tied keeps it within the alarm distance.
+    // spring (its drag stops it short); one tied keeps it within the alarm distance. The
+    // gap is already to where the obstacle is at the step's end.
     for (const Contact &c : step_contacts)
-      {
-        const Vector3 obstacle_velocity = obstacle_list[c.obstacle].velocity(time, time + time_step);
-        const double  predicted_gap =
-          c.gap + time_step * c.normal.dot(point_value(c, velocities) - obstacle_velocity);
-        if (predicted_gap < 0 || (c.gap < contact_settings.margin && held.count(contact_key(c)) > 0))
-          {
-            springs.push_back(c);
-            spring_obstacle_velocity.push_back(obstacle_velocity);
-          }
-      }
+      if (c.gap + time_step * c.normal.dot(point_value(c, velocities)) < 0 ||
+          (c.gap < contact_settings.margin && held.count(contact_key(c)) > 0))
+        tie_spring(c, time, time_step);
     if (spring_diagonal.size() != body.n_vertices())
       spring_diagonal.assign(body.n_vertices(), 0.);
     return springs_diagonal_change();
@@ -526,12 +520,20 @@ namespace warpchol::fem
           const Vector3 next = point_value(c, positions) + time_step * point_value(c, velocities);
           if (obstacle_list[c.obstacle].proximity(next, time + time_step).distance < 0)
             {
-              springs.push_back(c);
-              spring_obstacle_velocity.push_back(obstacle_list[c.obstacle].velocity(time, time + time_step));
+              tie_spring(c, time, time_step);
               tied = true;
             }
         }
     return tied ? springs_diagonal_change() : PenaltyChange();
+  }
+
+  void ContactConstraints::tie_spring(const Contact &contact, const double time, const double time_step)
+  {
+    // The gap is to the obstacle where it is at the step's end: along the normal the drag
+    // holds the point where it is; along the tangents it moves with the obstacle.
+    const Vector3 velocity = obstacle_list[contact.obstacle].velocity(time, time + time_step);
+    springs.push_back(contact);
+    spring_obstacle_velocity.push_back(velocity - velocity.dot(contact.normal) * contact.normal);
   }
 
   ContactConstraints::PenaltyChange ContactConstraints::springs_diagonal_change()

@@ -263,8 +263,9 @@ namespace warpchol::fem
         if (penalty_contact())
           {
             // What the step's acceleration carried in without a spring ties one, and the
-            // step is solved again (a few rounds at most: each ties only what enters).
-            for (unsigned int round = 0; round < max_penalty_rounds; ++round)
+            // step is solved again (a few rounds at most: each ties only what enters). Only
+            // where the solve is direct: CG's tolerance would not see the new springs.
+            for (unsigned int round = 0; round < max_penalty_rounds && !model.solves_iteratively(); ++round)
               {
                 SystemChange entering;
                 join_penalty_change(
@@ -272,7 +273,7 @@ namespace warpchol::fem
                   entering);
                 if (entering.empty())
                   break;
-                model.apply_change(entering, statistics);
+                model.change_within_step(entering, statistics);
                 model.solve_again(right_hand_side(new_time, statistics), new_velocities, statistics);
               }
             contact_constraints->finish_penalty_step(x, new_velocities, current_time, time_step, statistics);

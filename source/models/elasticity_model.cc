@@ -259,6 +259,16 @@ namespace warpchol::fem
 
   void ElasticityModel::apply_change(const SystemChange &change, StepStatistics &statistics)
   {
+    load_change(change, false, statistics);
+  }
+
+  void ElasticityModel::change_within_step(const SystemChange &change, StepStatistics &statistics)
+  {
+    load_change(change, true, statistics);
+  }
+
+  void ElasticityModel::load_change(const SystemChange &change, const bool within_step, StepStatistics &statistics)
+  {
     if (change.empty())
       return;
     StageTimer timer(statistics.stages, stage::change);
@@ -289,7 +299,7 @@ namespace warpchol::fem
       {
         if (change.topology)
           peer_solver->topology_changed();
-        if (!assembles_every_step())
+        if (within_step || !assembles_every_step())
           {
             system.reassemble_vertices(vertices, contribution_frames());
             peer_factor_stale = true;
@@ -297,7 +307,7 @@ namespace warpchol::fem
         return;
       }
     statistics.change_flops += cholesky_solver.predicted_flops(columns, cholesky::Refresh::all);
-    if (assembles_every_step())
+    if (!within_step && assembles_every_step())
       return;
     system.reassemble_vertices(vertices, contribution_frames());
     checked([&]() { cholesky_solver.refactorize(system.lower(), columns, cholesky::Refresh::none); });

@@ -106,7 +106,7 @@ namespace warpchol::fem
      * frame, so a change of the diagonal the factor takes as an update), which also drags
      * the vertex along the obstacle's surface as a viscous friction of coefficient dt k.
      */
-    double penalty_stiffness = 1000;
+    double penalty_stiffness = 1e5;
     /** A surface vertex within this distance (m) of an obstacle is a contact (besides how far it may move in a step). */
     double margin = 1e-3;
     /** The penetration (m) a step may leave: the largest one is checked against it. */
@@ -251,8 +251,9 @@ namespace warpchol::fem
     double penalty_diagonal(unsigned int vertex) const;
     /**
      * forces += the springs' forces for the step: k max(0, -gap) n per spring, and
-     * dt k times the obstacle's velocity (the drag is relative to the obstacle), each
-     * spread over the point's vertices by their weights.
+     * dt k times the obstacle's tangential velocity (the drag is relative to the obstacle
+     * where it is at the step's end, which the gap is measured to), each spread over the
+     * point's vertices by their weights.
      */
     void add_penalty_forces(std::vector<Vector3> &forces) const;
     /** The report, the vertices' forces and gaps, and the work, after the step's solve gave @p velocities. */
@@ -265,6 +266,8 @@ namespace warpchol::fem
                                                 const std::vector<Matrix3> *rotations);
 
   private:
+    /** Give @p contact a spring in the step from @p time. */
+    void tie_spring(const Contact &contact, double time, double time_step);
     /** The springs' diagonal dt^2 sum k w per vertex made anew: what changed, with the old and new values. */
     PenaltyChange springs_diagonal_change();
 
@@ -325,7 +328,10 @@ namespace warpchol::fem
     std::vector<Vector3>      forces;
     std::vector<double>       gaps;
 
-    /** Penalty: the contacts with a spring, their obstacles' velocities in the step, each vertex's dt^2 sum k w. */
+    /**
+     * Penalty: the contacts with a spring, the velocity each one's drag pulls toward (its
+     * obstacle's, along the tangents), each vertex's dt^2 sum k w.
+     */
     std::vector<Contact>      springs;
     std::vector<Vector3>      spring_obstacle_velocity;
     std::vector<double>       spring_diagonal;

@@ -299,6 +299,14 @@ namespace warpchol::fem
      */
     virtual void apply_change(const SystemChange &change, StepStatistics &statistics);
 
+    /**
+     * Take in @p change between prepare_step() and the step's solve (penalty springs tied
+     * after a first solve): its columns are re-assembled with the step's frames at once,
+     * also by a model that assembles A every step, and the next solve takes them (a direct
+     * solve refactors them first; CG iterates on the changed A).
+     */
+    void change_within_step(const SystemChange &change, StepStatistics &statistics);
+
     /** What is added to each of @p vertex's 3 diagonal entries now (springs; SystemChange::vertex_diagonal). */
     double vertex_diagonal(unsigned int vertex) const;
 
@@ -501,6 +509,9 @@ namespace warpchol::fem
     const std::vector<Matrix3> *solve_frame = nullptr;
 
     const ElasticBody       &body;
+    /** apply_change() and change_within_step(): the latter re-assembles at once, whatever the model. */
+    void load_change(const SystemChange &change, bool within_step, StepStatistics &statistics);
+
     /** A's coefficients; the vertex diagonal changes with apply_change(). */
     SystemCoefficients       coefficients;
     SystemMatrix             system;

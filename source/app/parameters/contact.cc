@@ -16,7 +16,7 @@ namespace warpchol::app
                         "constraints: SOFA's way (impulses by projected Gauss-Seidel with the friction cone "
                         "on W = H A^-1 H^T, one correcting solve); penalty: a spring per penetrating "
                         "vertex carried in A and its factor (updates and downdates as contacts come and go)");
-      prm.declare_entry("Penalty stiffness", "1000", Patterns::Double(0),
+      prm.declare_entry("Penalty stiffness", "1e5", Patterns::Double(0),
                         "Method = penalty: the spring's stiffness (N/m); a resting vertex sinks its "
                         "share of the load over this, and the spring drags it along the obstacle as a "
                         "viscous friction of dt times this (the obstacles' Friction is not used)");
