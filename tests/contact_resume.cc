@@ -5,7 +5,8 @@
 // impulses). Not to the bit: the resumed run's factor is a new revision, so the columns of
 // L^-1 the uninterrupted run kept are solved anew, which changes the last bits of W.
 // Scene: the tests' small torus, held on its far side, sagging under gravity onto a table
-// with friction 0.5.
+// with friction 0.5; then the same with penalty springs (Contact/Method = penalty), whose
+// checkpoint also holds the springs tied and their diagonal.
 
 #include "simulation_tests.h"
 
@@ -15,7 +16,8 @@
 
 namespace
 {
-  std::string scene(const std::string &directory, const unsigned int n_steps)
+  /** The scene, its contacts by constraints or, if @p penalty, by penalty springs. */
+  std::string scene(const std::string &directory, const unsigned int n_steps, const bool penalty)
   {
     return tests::without_subsection(tests::small_torus_scene("  set Type = corotational\n"), "Tool") +
            "subsection Time stepping\n"
@@ -23,15 +25,15 @@ namespace
            "end\n"
            "subsection Contact\n"
            "  set Alarm distance   = 0.002\n"
-           "  set Contact distance = 1e-4\n"
-           "  set Max iterations   = 500\n"
-           "  set Tolerance        = 1e-10\n"
+           "  set Contact distance = 1e-4\n" +
+           (penalty ? std::string("  set Method = penalty\n") :
+                      std::string("  set Max iterations   = 500\n  set Tolerance        = 1e-10\n")) +
            "end\n"
            "subsection Obstacle\n"
            "  set Type     = plane\n"
            "  set Point    = 0, -0.11, 0\n"
-           "  set Normal   = 0, 1, 0\n"
-           "  set Friction = 0.5\n"
+           "  set Normal   = 0, 1, 0\n" +
+           (penalty ? "" : "  set Friction = 0.5\n") +
            "end\n"
            "subsection Output\n"
            "  set Directory = " + directory + "\n"
@@ -73,20 +75,27 @@ namespace
 
 int main()
 {
-  tests::write_file("straight.prm", scene("straight", 20));
-  std::cout << "20 steps: " << tests::run_warpchol({"straight.prm"}) << std::endl;
-  // The same file (its name names the output folder), extended from 10 steps to 20.
-  tests::write_file("resumed.prm", scene("resumed", 10));
-  std::cout << "10 steps: " << tests::run_warpchol({"resumed.prm"}) << std::endl;
-  tests::write_file("resumed.prm", scene("resumed", 20));
-  std::cout << "resumed to 20: " << tests::run_warpchol({"resumed.prm", "--resume"}) << std::endl;
-
-  const auto straight = last_row("straight"), resumed = last_row("resumed");
-  tests::check("both logs end at step 20", straight.at("step") == "20" && resumed.at("step") == "20");
-  tests::check("the table holds the torus (contacts in the last step)", std::stod(straight.at("contacts")) > 0);
-  for (const std::string column : {"contact_work", "friction_dissipation", "kinetic_energy", "elastic_energy"})
+  for (const bool penalty : {false, true})
     {
-      const double a = std::stod(straight.at(column)), b = std::stod(resumed.at(column));
-      tests::check_below("|" + column + " resumed - straight| / |straight|", std::abs(b - a) / std::max(std::abs(a), 1e-300), 1e-9);
+      const std::string method = penalty ? "penalty" : "constraints";
+      std::cout << "-- contact by " << method << std::endl;
+      const std::string straight_directory = "straight_" + method, resumed_directory = "resumed_" + method;
+      tests::write_file(straight_directory + ".prm", scene(straight_directory, 20, penalty));
+      std::cout << "20 steps: " << tests::run_warpchol({straight_directory + ".prm"}) << std::endl;
+      // The same file (its name names the output folder), extended from 10 steps to 20.
+      tests::write_file(resumed_directory + ".prm", scene(resumed_directory, 10, penalty));
+      std::cout << "10 steps: " << tests::run_warpchol({resumed_directory + ".prm"}) << std::endl;
+      tests::write_file(resumed_directory + ".prm", scene(resumed_directory, 20, penalty));
+      std::cout << "resumed to 20: " << tests::run_warpchol({resumed_directory + ".prm", "--resume"}) << std::endl;
+
+      const auto straight = last_row(straight_directory), resumed = last_row(resumed_directory);
+      tests::check("both logs end at step 20", straight.at("step") == "20" && resumed.at("step") == "20");
+      tests::check("the table holds the torus (contacts in the last step)", std::stod(straight.at("contacts")) > 0);
+      for (const std::string column : {"contact_work", "friction_dissipation", "kinetic_energy", "elastic_energy"})
+        {
+          const double a = std::stod(straight.at(column)), b = std::stod(resumed.at(column));
+          tests::check_below("|" + column + " resumed - straight| / |straight|",
+                             std::abs(b - a) / std::max(std::abs(a), 1e-300), 1e-9);
+        }
     }
 }

@@ -669,7 +669,9 @@ namespace warpchol::fem
     writer.section("contact");
     // The last step's contacts as their warm start finds them again (contact_key()), their impulses.
     std::vector<unsigned int> vertices, obstacles, counts;
-    for (const Contact &contact : step_contacts)
+    // Penalty contact has no impulses to start from: its springs are written below.
+    const bool warm_start = contact_settings.method == ContactMethod::constraints;
+    for (const Contact &contact : warm_start ? step_contacts : std::vector<Contact>())
       {
         vertices.push_back(contact.vertex);
         obstacles.push_back(contact.obstacle);
