@@ -14,6 +14,7 @@
 #include <warpchol/mesh/mesh_generators.h>
 #include <warpchol/models/linear_model.h>
 
+#include "contact_tests.h"
 #include "tests.h"
 
 #include <deal.II/grid/tria.h>
@@ -43,13 +44,7 @@ namespace
   Outcome run_block(const double tilt_degrees, const unsigned int n_steps)
   {
     dealii::Triangulation<3> triangulation;
-    fem::BoxGeometry         geometry;
-    geometry.lower_corner = dealii::Point<3>(0, 0, 0);
-    geometry.upper_corner = dealii::Point<3>(0.1, 0.1, 0.05);
-    geometry.subdivisions = {{3, 3, 2}};
-    fem::create_box(triangulation, geometry);
-    fem::ElasticBody body(triangulation, fem::Material{1e5, 0.3, 1000}, fem::MassMatrix::lumped,
-                          std::vector<bool>(triangulation.n_vertices(), false));
+    fem::ElasticBody         body = tests::free_block(triangulation);
 
     const double tilt = tilt_degrees * M_PI / 180;
     fem::Loads   loads;

@@ -12,6 +12,7 @@
 #include <warpchol/mesh/mesh_generators.h>
 #include <warpchol/models/linear_model.h>
 
+#include "contact_tests.h"
 #include "tests.h"
 
 #include <deal.II/grid/tria.h>
@@ -25,13 +26,7 @@ int main()
 {
   constexpr double g = 9.81, time_step = 0.01, stiffness = 2e4;
   dealii::Triangulation<3> triangulation;
-  fem::BoxGeometry         geometry;
-  geometry.lower_corner = dealii::Point<3>(0, 0, 0);
-  geometry.upper_corner = dealii::Point<3>(0.1, 0.1, 0.05);
-  geometry.subdivisions = {{3, 3, 2}};
-  fem::create_box(triangulation, geometry);
-  fem::ElasticBody body(triangulation, fem::Material{1e5, 0.3, 1000}, fem::MassMatrix::lumped,
-                        std::vector<bool>(triangulation.n_vertices(), false));
+  fem::ElasticBody         body = tests::free_block(triangulation);
   fem::Loads loads;
   loads.gravity = Vector3(0, 0, -g);
   cholesky::SparseCholesky::Settings solver;

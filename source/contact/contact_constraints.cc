@@ -664,80 +664,75 @@ namespace warpchol::fem
     return lambda[3 * j] * c.normal + lambda[3 * j + 1] * c.tangent_1 + lambda[3 * j + 2] * c.tangent_2;
   }
 
+  namespace
+  {
+    /** A checkpoint's list of contacts as the next step finds them again: vertex, obstacle, points. */
+    void write_contact_keys(BinaryWriter &writer, const std::vector<Contact> &contacts)
+    {
+      std::vector<unsigned int> vertices, obstacles, counts;
+      for (const Contact &contact : contacts)
+        {
+          vertices.push_back(contact.vertex);
+          obstacles.push_back(contact.obstacle);
+          counts.push_back(contact.n_vertices);
+        }
+      writer.write(vertices);
+      writer.write(obstacles);
+      writer.write(counts);
+    }
+
+    /** What write_contact_keys() wrote; fails naming @p what that does not fit @p n_obstacles. */
+    std::vector<Contact> read_contact_keys(BinaryReader &reader, const std::size_t n_obstacles,
+                                           const std::string &what)
+    {
+      std::vector<unsigned int> vertices, obstacles, counts;
+      reader.read(vertices);
+      reader.read(obstacles);
+      reader.read(counts);
+      if (obstacles.size() != vertices.size() || counts.size() != vertices.size())
+        reader.fail("holds " + std::to_string(vertices.size()) + " " + what + "s with " +
+                    std::to_string(obstacles.size()) + " obstacles");
+      std::vector<Contact> contacts(vertices.size());
+      for (std::size_t j = 0; j < vertices.size(); ++j)
+        {
+          if (obstacles[j] >= n_obstacles)
+            reader.fail("a " + what + " names obstacle " + std::to_string(obstacles[j] + 1) + " of " +
+                        std::to_string(n_obstacles));
+          contacts[j].vertex     = vertices[j];
+          contacts[j].obstacle   = obstacles[j];
+          contacts[j].n_vertices = counts[j];
+        }
+      return contacts;
+    }
+  } // namespace
+
   void ContactConstraints::save(BinaryWriter &writer) const
   {
     writer.section("contact");
-    // The last step's contacts as their warm start finds them again (contact_key()), their impulses.
-    std::vector<unsigned int> vertices, obstacles, counts;
-    // Penalty contact has no impulses to start from: its springs are written below.
+    // The last step's contacts as their warm start finds them again (contact_key()), their
+    // impulses; penalty contact has no impulses to start from.
     const bool warm_start = contact_settings.method == ContactMethod::constraints;
-    for (const Contact &contact : warm_start ? step_contacts : std::vector<Contact>())
-      {
-        vertices.push_back(contact.vertex);
-        obstacles.push_back(contact.obstacle);
-        counts.push_back(contact.n_vertices);
-      }
-    writer.write(vertices);
-    writer.write(obstacles);
-    writer.write(counts);
+    write_contact_keys(writer, warm_start ? step_contacts : std::vector<Contact>());
     writer.write(lambda);
     writer.write(total_work);
     writer.write(total_dissipation);
     // Penalty: the springs (which the next step keeps while they stay near) and their diagonal.
-    std::vector<unsigned int> spring_vertices, spring_obstacles, spring_points;
-    for (const Contact &spring : springs)
-      {
-        spring_vertices.push_back(spring.vertex);
-        spring_obstacles.push_back(spring.obstacle);
-        spring_points.push_back(spring.n_vertices);
-      }
-    writer.write(spring_vertices);
-    writer.write(spring_obstacles);
-    writer.write(spring_points);
+    write_contact_keys(writer, springs);
     writer.write(spring_diagonal);
   }
 
   void ContactConstraints::load(BinaryReader &reader)
   {
     reader.expect_section("contact");
-    std::vector<unsigned int> vertices, obstacles, counts;
-    reader.read(vertices);
-    reader.read(obstacles);
-    reader.read(counts);
+    step_contacts = read_contact_keys(reader, obstacle_list.size(), "contact");
     reader.read(lambda);
-    if (obstacles.size() != vertices.size() || counts.size() != vertices.size() || lambda.size() != 3 * vertices.size())
-      reader.fail("holds " + std::to_string(vertices.size()) + " contacts and " + std::to_string(lambda.size()) +
+    if (lambda.size() != 3 * step_contacts.size())
+      reader.fail("holds " + std::to_string(step_contacts.size()) + " contacts and " + std::to_string(lambda.size()) +
                   " impulses (3 per contact)");
-    step_contacts.assign(vertices.size(), Contact());
-    for (std::size_t j = 0; j < vertices.size(); ++j)
-      {
-        if (obstacles[j] >= obstacle_list.size())
-          reader.fail("a contact names obstacle " + std::to_string(obstacles[j] + 1) + " of " +
-                      std::to_string(obstacle_list.size()));
-        step_contacts[j].vertex     = vertices[j];
-        step_contacts[j].obstacle   = obstacles[j];
-        step_contacts[j].n_vertices = counts[j];
-      }
     reader.read(total_work);
     reader.read(total_dissipation);
-    std::vector<unsigned int> spring_vertices, spring_obstacles, spring_points;
-    reader.read(spring_vertices);
-    reader.read(spring_obstacles);
-    reader.read(spring_points);
+    springs = read_contact_keys(reader, obstacle_list.size(), "penalty spring");
     reader.read(spring_diagonal);
-    if (spring_obstacles.size() != spring_vertices.size() || spring_points.size() != spring_vertices.size())
-      reader.fail("holds " + std::to_string(spring_vertices.size()) + " penalty springs with " +
-                  std::to_string(spring_obstacles.size()) + " obstacles");
-    springs.assign(spring_vertices.size(), Contact());
-    for (std::size_t j = 0; j < springs.size(); ++j)
-      {
-        if (spring_obstacles[j] >= obstacle_list.size())
-          reader.fail("a penalty spring names obstacle " + std::to_string(spring_obstacles[j] + 1) + " of " +
-                      std::to_string(obstacle_list.size()));
-        springs[j].vertex     = spring_vertices[j];
-        springs[j].obstacle   = spring_obstacles[j];
-        springs[j].n_vertices = spring_points[j];
-      }
   }
 
   const std::vector<Obstacle> &ContactConstraints::obstacles() const
