@@ -240,14 +240,21 @@ namespace warpchol::fem
                                        const std::vector<Vector3> &velocities, const double time,
                                        const double time_step, std::vector<Contact> &found) const
   {
-    // A tip smaller than the mesh's spacing passes between the vertices: where the point of
-    // a surface triangle closest to it lies inside the triangle, that point is a contact.
-    // Triangles with a vertex in contact with the same obstacle already are left out.
+    // A tip or an edge smaller than the mesh's spacing passes between the vertices: where
+    // the point of a surface triangle deepest in the obstacle lies inside the triangle,
+    // that point is a contact. The deepest point is the one nearest the obstacle's core
+    // (a sphere's centre, a capsule's axis) or one of its sharp edges (a box's, a triangle
+    // surface's). Triangles with a vertex in contact with the same obstacle already are
+    // left out.
     std::vector<char> touching(body.n_vertices(), 0);
     for (unsigned int o = 0; o < obstacle_list.size(); ++o)
       {
-        const ObstacleShape shape = obstacle_list[o].shape();
-        if (shape != ObstacleShape::sphere && shape != ObstacleShape::capsule)
+        const Obstacle     &obstacle = obstacle_list[o];
+        const ObstacleShape shape    = obstacle.shape();
+        const bool          cored    = shape == ObstacleShape::sphere || shape == ObstacleShape::capsule;
+        const std::vector<Obstacle::Segment> edges =
+          cored ? std::vector<Obstacle::Segment>() : obstacle.sharp_edges(time + time_step);
+        if (!cored && edges.empty())
           continue;
         std::fill(touching.begin(), touching.end(), 0);
         for (const Contact &contact : found)
@@ -260,27 +267,56 @@ namespace warpchol::fem
               continue;
             const Vector3 &a = positions[face[0]], &b = positions[face[1]], &c = positions[face[2]];
             // The obstacle's proximity at the triangle's centroid first: a cheap rejection.
-            const double size  = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
-            double       speed = 0;
+            const Vector3 centroid = (a + b + c) / 3;
+            const double  size     = std::max({(b - a).norm(), (c - a).norm(), (c - b).norm()});
+            double        speed    = 0;
             for (const unsigned int v : face)
               speed = std::max(speed, velocities[v].norm());
             const double reach = contact_settings.margin + time_step * speed;
-            if (obstacle_list[o].proximity((a + b + c) / 3, time + time_step).distance >= reach + size)
+            if (obstacle.proximity(centroid, time + time_step).distance >= reach + size)
               continue;
-            // The triangle's deepest point in the obstacle: the one nearest its core (a
-            // sphere's centre; for a capsule's axis, by alternating the two nearest-point
-            // projections, which converge for two convex sets).
-            Vector3               point = (a + b + c) / 3;
+            // The triangle's point nearest a core, by alternating the two nearest-point
+            // projections (which converge for two convex sets; one pass for a point).
+            const auto nearest_to = [&](const auto &core, const unsigned int passes) {
+              Vector3               point = centroid;
+              std::array<double, 3> weights{};
+              for (unsigned int pass = 0; pass < passes; ++pass)
+                {
+                  weights = closest_in_triangle(core(point), a, b, c);
+                  point   = weights[0] * a + weights[1] * b + weights[2] * c;
+                }
+              return weights;
+            };
             std::array<double, 3> weights{};
-            for (unsigned int pass = 0; pass < (shape == ObstacleShape::sphere ? 1 : 4); ++pass)
-              {
-                weights = closest_in_triangle(obstacle_list[o].core_point(point, time + time_step), a, b, c);
-                point   = weights[0] * a + weights[1] * b + weights[2] * c;
-              }
-            if (std::min({weights[0], weights[1], weights[2]}) <= 1e-3)
-              continue; // on an edge or at a vertex: the vertices' own contacts cover it
-            const Proximity proximity = obstacle_list[o].proximity(point, time + time_step);
-            if (proximity.distance >= reach)
+            Proximity             proximity;
+            proximity.distance = reach;
+            const auto keep_if_deeper = [&](const std::array<double, 3> &candidate) {
+              if (std::min({candidate[0], candidate[1], candidate[2]}) <= 1e-3)
+                return; // on an edge or at a vertex: the vertices' own contacts cover it
+              const Proximity here =
+                obstacle.proximity(candidate[0] * a + candidate[1] * b + candidate[2] * c, time + time_step);
+              if (here.distance < proximity.distance)
+                {
+                  proximity = here;
+                  weights   = candidate;
+                }
+            };
+            if (cored)
+              keep_if_deeper(nearest_to([&](const Vector3 &p) { return obstacle.core_point(p, time + time_step); },
+                                        shape == ObstacleShape::sphere ? 1 : 4));
+            else
+              for (const Obstacle::Segment &edge : edges)
+                {
+                  const Vector3 axis = edge[1] - edge[0];
+                  const auto on_edge = [&](const Vector3 &p) {
+                    const double along = std::clamp((p - edge[0]).dot(axis) / axis.squaredNorm(), 0., 1.);
+                    return Vector3(edge[0] + along * axis);
+                  };
+                  // An edge farther from the centroid than the triangle's size and the reach misses it.
+                  if ((on_edge(centroid) - centroid).norm() < size + reach)
+                    keep_if_deeper(nearest_to(on_edge, 4));
+                }
+            if (!(proximity.distance < reach))
               continue;
             Contact contact;
             contact.vertex     = face[0];

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 
 namespace warpchol::fem
 {
@@ -69,7 +70,39 @@ namespace warpchol::fem
     TriangleSurface       surface;
     std::vector<Triangle> triangles;
     Tree                  tree;
+    /** Obstacle::sharp_edges() at rest. */
+    std::vector<Obstacle::Segment> edges;
+    /** The points of triangles[i]; the pseudonormals of the points and of the edges (unnormalized). */
+    std::vector<std::array<unsigned int, 3>>                    corners;
+    std::vector<Vector3>                                        point_normals;
+    std::map<std::pair<unsigned int, unsigned int>, Vector3>    edge_normals;
+
+    /** The normal that tells the side of a point whose closest point is @p closest on triangles[@p i]. */
+    Vector3 side_normal(std::size_t i, const Vector3 &closest) const;
   };
+
+  Vector3 Obstacle::SurfaceTree::side_normal(const std::size_t i, const Vector3 &closest) const
+  {
+    // The closest point's barycentric coordinates: inside the triangle, its own normal;
+    // on an edge, the edge's; at a corner, the point's.
+    const auto    &t = corners[i];
+    const Vector3 &a = surface.points[t[0]], &b = surface.points[t[1]], &c = surface.points[t[2]];
+    const Vector3  normal = (b - a).cross(c - a);
+    const double   area   = normal.squaredNorm();
+    const std::array<double, 3> weight{(c - b).cross(closest - b).dot(normal) / area,
+                                       (a - c).cross(closest - c).dot(normal) / area,
+                                       (b - a).cross(closest - a).dot(normal) / area};
+    constexpr double  on_side = 1e-9;
+    std::vector<int>  zero;
+    for (int k = 0; k < 3; ++k)
+      if (weight[k] <= on_side)
+        zero.push_back(k);
+    if (zero.size() == 1)
+      return edge_normals.at(std::minmax(t[(zero[0] + 1) % 3], t[(zero[0] + 2) % 3]));
+    if (zero.size() == 2)
+      return point_normals[t[3 - zero[0] - zero[1]]];
+    return normal;
+  }
 
   Obstacle Obstacle::plane(const Vector3 &point, const Vector3 &normal)
   {
@@ -113,6 +146,18 @@ namespace warpchol::fem
     obstacle.kind   = ObstacleShape::box;
     obstacle.first  = centre;
     obstacle.second = size / 2;
+    // Each edge joins two corners that differ in one coordinate.
+    for (int axis = 0; axis < 3; ++axis)
+      for (int corner = 0; corner < 8; ++corner)
+        if (((corner >> axis) & 1) == 0)
+          {
+            Vector3 from, to;
+            for (int d = 0; d < 3; ++d)
+              from[d] = centre[d] + (((corner >> d) & 1) ? 1 : -1) * obstacle.second[d];
+            to       = from;
+            to[axis] = centre[axis] + obstacle.second[axis];
+            obstacle.edges_at_rest.push_back({from, to});
+          }
     return obstacle;
   }
 
@@ -121,12 +166,39 @@ namespace warpchol::fem
     auto tree = std::make_shared<SurfaceTree>();
     tree->surface = std::move(triangles);
     const auto &points = tree->surface.points;
+    // Per edge the unit normals of its triangles; per point the angle-weighted sum of
+    // theirs (Baerentzen and Aanaes' pseudonormals, which tell inside from outside off an
+    // edge or a corner, where the closest triangle's own plane may not).
+    std::map<std::pair<unsigned int, unsigned int>, std::vector<Vector3>> normals_at_edge;
+    tree->point_normals.assign(points.size(), Vector3::Zero());
     for (const auto &t : tree->surface.triangles)
       {
         const Vector3 &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
+        const Vector3  normal = (b - a).cross(c - a);
         // Triangles of no area have no side: CGAL's tree would return them as closest.
-        if ((b - a).cross(c - a).norm() > 0)
-          tree->triangles.emplace_back(Point(a[0], a[1], a[2]), Point(b[0], b[1], b[2]), Point(c[0], c[1], c[2]));
+        if (!(normal.norm() > 0))
+          continue;
+        tree->triangles.emplace_back(Point(a[0], a[1], a[2]), Point(b[0], b[1], b[2]), Point(c[0], c[1], c[2]));
+        tree->corners.push_back(t);
+        for (int k = 0; k < 3; ++k)
+          {
+            const Vector3 &at = points[t[k]], &next = points[t[(k + 1) % 3]], &last = points[t[(k + 2) % 3]];
+            const double   cosine = (next - at).normalized().dot((last - at).normalized());
+            tree->point_normals[t[k]] += std::acos(std::clamp(cosine, -1., 1.)) * normal.normalized();
+            normals_at_edge[std::minmax(t[k], t[(k + 1) % 3])].push_back(normal.normalized());
+          }
+      }
+    // The sharp edges: those of one triangle, or between two whose normals part by more
+    // than sharp_edge_degrees (an edge of more than two triangles is sharp too).
+    const double flat = std::cos(sharp_edge_degrees * M_PI / 180);
+    for (const auto &[edge, normals] : normals_at_edge)
+      {
+        Vector3 sum = Vector3::Zero();
+        for (const Vector3 &normal : normals)
+          sum += normal;
+        tree->edge_normals[edge] = sum;
+        if (normals.size() != 2 || normals[0].dot(normals[1]) < flat)
+          tree->edges.push_back({points[edge.first], points[edge.second]});
       }
     tree->tree.insert(tree->triangles.begin(), tree->triangles.end());
     tree->tree.build();
@@ -174,6 +246,16 @@ namespace warpchol::fem
   Proximity Obstacle::proximity(const Vector3 &point, const double time) const
   {
     return proximity_at_rest(point - offset(time));
+  }
+
+  std::vector<Obstacle::Segment> Obstacle::sharp_edges(const double time) const
+  {
+    std::vector<Segment> edges = tree ? tree->edges : edges_at_rest;
+    const Vector3        shift = offset(time);
+    for (Segment &edge : edges)
+      for (Vector3 &end : edge)
+        end += shift;
+    return edges;
   }
 
   Vector3 Obstacle::core_point(const Vector3 &point, const double time) const
@@ -229,7 +311,9 @@ namespace warpchol::fem
             const Vector3 face_normal = to_vector(CGAL::ORIGIN + triangle->supporting_plane().orthogonal_vector()).normalized();
             const Vector3 offset      = point - to_vector(closest);
             const double  length      = offset.norm();
-            const double  side        = offset.dot(face_normal) >= 0 ? 1. : -1.;
+            const Vector3 side_normal =
+              tree->side_normal(static_cast<std::size_t>(triangle - tree->triangles.begin()), to_vector(closest));
+            const double side = offset.dot(side_normal) >= 0 ? 1. : -1.;
             // Off an edge or a corner the normal is the direction to the closest point.
             const Vector3 normal = length > 1e-12 ? Vector3(side * offset / length) : face_normal;
             return {side * length, normal};

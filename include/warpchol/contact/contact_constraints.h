@@ -303,7 +303,8 @@ namespace warpchol::fem
     const std::vector<unsigned int> &current_surface(const ElasticBody &body);
 
     /**
-     * Points inside surface triangles near the instruments' tips (spheres, capsules) whose
+     * Points inside surface triangles near the instruments' tips (spheres, capsules) or
+     * the sharp edges of boxes and triangle surfaces (Obstacle::sharp_edges()), whose
      * vertices are not in @p found already: appended to @p found.
      */
     void detect_tips(const ElasticBody &body, const std::vector<Vector3> &positions,

@@ -5,6 +5,7 @@
 #include <warpchol/fem/small_dense.h>
 #include <warpchol/surgery/instrument_path.h>
 
+#include <array>
 #include <memory>
 
 /**
@@ -93,6 +94,20 @@ namespace warpchol::fem
      */
     Vector3 core_point(const Vector3 &point, double time) const;
 
+    /** A segment of an obstacle's boundary: its two ends. */
+    using Segment = std::array<Vector3, 2>;
+
+    /**
+     * The sharp edges at @p time, which a flat triangle of the body can pass over between
+     * its vertices: a box's 12; a triangle surface's edges that border one triangle, or
+     * where two meet at more than sharp_edge_degrees. None for the plane, and for the
+     * shapes grown from a core (core_point() serves them).
+     */
+    std::vector<Segment> sharp_edges(double time) const;
+
+    /** Faces of a triangle surface that meet at more than this angle make a sharp edge. */
+    static constexpr double sharp_edge_degrees = 30;
+
     /**
      * The surface at @p time as triangles, for output: the analytic shapes tessellated, a
      * plane as a square of side @p plane_size around its point.
@@ -113,6 +128,8 @@ namespace warpchol::fem
     double         radius = 0;
     double         coefficient = 0;
     InstrumentPath path;
+    /** sharp_edges() where the obstacle is at rest. */
+    std::vector<Segment> edges_at_rest;
     /** The triangle surface and its AABB tree (shared: an obstacle is copied with its tree). */
     struct SurfaceTree;
     std::shared_ptr<const SurfaceTree> tree;
