@@ -189,6 +189,23 @@ namespace warpchol::fem
     return contact_constraints && contact_constraints->settings().method == ContactMethod::penalty;
   }
 
+  void ImplicitEuler::solve_again_with_entering_springs(std::vector<Vector3> &new_velocities, const double new_time,
+                                                        StepStatistics &statistics)
+  {
+    // A few rounds at most: each ties only what enters. Only where the solve is direct:
+    // CG's tolerance would not see the new springs.
+    for (unsigned int round = 0; round < max_penalty_rounds && !model.solves_iteratively(); ++round)
+      {
+        SystemChange entering;
+        join_penalty_change(
+          contact_constraints->tie_entering_springs(x, new_velocities, current_time, time_step, statistics), entering);
+        if (entering.empty())
+          break;
+        model.change_within_step(entering, statistics);
+        model.solve_again(right_hand_side(new_time, statistics), new_velocities, statistics);
+      }
+  }
+
   void ImplicitEuler::add_penalty_springs(SystemChange &change, StepStatistics &statistics)
   {
     join_penalty_change(contact_constraints->tie_penalty_springs(body, x, v, current_time, time_step, statistics),
@@ -262,20 +279,7 @@ namespace warpchol::fem
         // The free motion's velocities corrected by the contacts' impulses.
         if (penalty_contact())
           {
-            // What the step's acceleration carried in without a spring ties one, and the
-            // step is solved again (a few rounds at most: each ties only what enters). Only
-            // where the solve is direct: CG's tolerance would not see the new springs.
-            for (unsigned int round = 0; round < max_penalty_rounds && !model.solves_iteratively(); ++round)
-              {
-                SystemChange entering;
-                join_penalty_change(
-                  contact_constraints->tie_entering_springs(x, new_velocities, current_time, time_step, statistics),
-                  entering);
-                if (entering.empty())
-                  break;
-                model.change_within_step(entering, statistics);
-                model.solve_again(right_hand_side(new_time, statistics), new_velocities, statistics);
-              }
+            solve_again_with_entering_springs(new_velocities, new_time, statistics);
             contact_constraints->finish_penalty_step(x, new_velocities, current_time, time_step, statistics);
           }
         else if (contact_constraints)

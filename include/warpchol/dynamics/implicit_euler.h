@@ -231,6 +231,12 @@ namespace warpchol::fem
      * the tool's and the grasps').
      */
     void add_penalty_springs(SystemChange &change, StepStatistics &statistics);
+    /**
+     * Penalty contact, after the step's solve gave @p new_velocities: what the step's
+     * acceleration carried in without a spring ties one, and the step is solved again.
+     */
+    void solve_again_with_entering_springs(std::vector<Vector3> &new_velocities, double new_time,
+                                           StepStatistics &statistics);
     /** @p springs joined to @p change (its vertices' springs' diagonal on top of what it lists). */
     void join_penalty_change(const ContactConstraints::PenaltyChange &springs, SystemChange &change) const;
     /** Penalty contact: rounds of springs tied after a solve, and the step solved again, at most. */
