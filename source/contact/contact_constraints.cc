@@ -12,7 +12,6 @@
 #include <cmath>
 #include <cstdint>
 #include <unordered_map>
-#include <unordered_set>
 
 namespace warpchol::fem
 {
@@ -80,29 +79,12 @@ namespace warpchol::fem
     }
   } // namespace
 
-  namespace
-  {
-    /** A field at a contact's point: sum_a weights[a] field[vertices[a]]. */
-    Vector3 point_value(const Contact &contact, const std::vector<Vector3> &field)
-    {
-      Vector3 value = Vector3::Zero();
-      for (unsigned int k = 0; k < contact.n_vertices; ++k)
-        value += contact.weights[k] * field[contact.vertex_of(k)];
-      return value;
-    }
-  } // namespace
 
   ContactConstraints::ContactConstraints(std::vector<Obstacle> obstacles, const ContactSettings &settings)
     : obstacle_list(std::move(obstacles))
     , contact_settings(settings)
+    , penalty(settings.penalty_stiffness, settings.margin)
   {}
-
-  std::uint64_t ContactConstraints::contact_key(const Contact &contact)
-  {
-    // A point in a triangle is keyed by its first vertex with the top bit set.
-    return (static_cast<std::uint64_t>(contact.vertex) << 32) | contact.obstacle |
-           (contact.n_vertices > 1 ? std::uint64_t(1) << 31 : 0);
-  }
 
   std::vector<std::array<unsigned int, 3>> surface_triangles(const ElasticBody &body)
   {
@@ -514,127 +496,42 @@ namespace warpchol::fem
                        " s exceed the cap");
   }
 
-  ContactConstraints::PenaltyChange ContactConstraints::tie_penalty_springs(const ElasticBody          &body,
-                                                                            const std::vector<Vector3> &positions,
-                                                                            const std::vector<Vector3> &velocities,
-                                                                            const double time, const double time_step,
-                                                                            StepStatistics &statistics)
+  PenaltySprings::Change ContactConstraints::tie_penalty_springs(const ElasticBody          &body,
+                                                                 const std::vector<Vector3> &positions,
+                                                                 const std::vector<Vector3> &velocities,
+                                                                 const double time, const double time_step,
+                                                                 StepStatistics &statistics)
   {
     detect_for_step(body, positions, velocities, time, time_step, statistics);
     StageTimer timer(statistics.stages, stage::contact_penalty);
-    penalty_time_step = time_step;
-    std::unordered_set<std::uint64_t> held;
-    for (const Contact &spring : springs)
-      held.insert(contact_key(spring));
-    springs.clear();
-    spring_obstacle_velocity.clear();
-    // A point that would be inside its obstacle at the step's end, at its velocity, ties a
-    // spring (its drag stops it short); one tied keeps it within the alarm distance. The
-    // gap is already to where the obstacle is at the step's end.
-    for (const Contact &c : step_contacts)
-      if (c.gap + time_step * c.normal.dot(point_value(c, velocities)) < 0 ||
-          (c.gap < contact_settings.margin && held.count(contact_key(c)) > 0))
-        tie_spring(c, time, time_step);
-    if (spring_diagonal.size() != body.n_vertices())
-      spring_diagonal.assign(body.n_vertices(), 0.);
-    return springs_diagonal_change();
+    return penalty.tie(step_contacts, obstacle_list, velocities, body.n_vertices(), time, time_step);
   }
 
-  ContactConstraints::PenaltyChange ContactConstraints::tie_entering_springs(const std::vector<Vector3> &positions,
-                                                                             const std::vector<Vector3> &velocities,
-                                                                             const double time, const double time_step,
-                                                                             StepStatistics &statistics)
+  PenaltySprings::Change ContactConstraints::tie_entering_springs(const std::vector<Vector3> &positions,
+                                                                  const std::vector<Vector3> &velocities,
+                                                                  const double time, const double time_step,
+                                                                  StepStatistics &statistics)
   {
-    StageTimer                        timer(statistics.stages, stage::contact_penalty);
-    std::unordered_set<std::uint64_t> held;
-    for (const Contact &spring : springs)
-      held.insert(contact_key(spring));
-    bool tied = false;
-    for (const Contact &c : step_contacts)
-      if (held.count(contact_key(c)) == 0)
-        {
-          const Vector3 next = point_value(c, positions) + time_step * point_value(c, velocities);
-          if (obstacle_list[c.obstacle].proximity(next, time + time_step).distance < 0)
-            {
-              tie_spring(c, time, time_step);
-              tied = true;
-            }
-        }
-    return tied ? springs_diagonal_change() : PenaltyChange();
-  }
-
-  void ContactConstraints::tie_spring(const Contact &contact, const double time, const double time_step)
-  {
-    // The gap is to the obstacle where it is at the step's end: along the normal the drag
-    // holds the point where it is; along the tangents it moves with the obstacle.
-    const Vector3 velocity = obstacle_list[contact.obstacle].velocity(time, time + time_step);
-    springs.push_back(contact);
-    spring_obstacle_velocity.push_back(velocity - velocity.dot(contact.normal) * contact.normal);
-  }
-
-  ContactConstraints::PenaltyChange ContactConstraints::springs_diagonal_change()
-  {
-    std::vector<double> diagonal(spring_diagonal.size(), 0.);
-    const double        spring = penalty_time_step * penalty_time_step * contact_settings.penalty_stiffness;
-    for (const Contact &c : springs)
-      for (unsigned int k = 0; k < c.n_vertices; ++k)
-        diagonal[c.vertex_of(k)] += spring * c.weights[k];
-    PenaltyChange change;
-    for (std::size_t v = 0; v < diagonal.size(); ++v)
-      if (diagonal[v] != spring_diagonal[v])
-        {
-          change.vertices.push_back(static_cast<unsigned int>(v));
-          change.old_diagonal.push_back(spring_diagonal[v]);
-          change.new_diagonal.push_back(diagonal[v]);
-        }
-    spring_diagonal = std::move(diagonal);
-    return change;
+    StageTimer timer(statistics.stages, stage::contact_penalty);
+    return penalty.tie_entering(step_contacts, obstacle_list, positions, velocities, time, time_step);
   }
 
   double ContactConstraints::penalty_diagonal(const unsigned int vertex) const
   {
-    return vertex < spring_diagonal.size() ? spring_diagonal[vertex] : 0.;
+    return penalty.diagonal(vertex);
   }
 
   void ContactConstraints::add_penalty_forces(std::vector<Vector3> &body_forces) const
   {
-    const double k = contact_settings.penalty_stiffness;
-    for (std::size_t j = 0; j < springs.size(); ++j)
-      {
-        const Contact &c = springs[j];
-        const Vector3  force =
-          k * std::max(0., -c.gap) * c.normal + penalty_time_step * k * spring_obstacle_velocity[j];
-        for (unsigned int a = 0; a < c.n_vertices; ++a)
-          body_forces[c.vertex_of(a)] += c.weights[a] * force;
-      }
+    penalty.add_forces(body_forces);
   }
 
   void ContactConstraints::finish_penalty_step(const std::vector<Vector3> &positions,
                                                const std::vector<Vector3> &velocities, const double time,
                                                const double time_step, StepStatistics &statistics)
   {
-    StageTimer   timer(statistics.stages, stage::contact_penalty);
-    const double k = contact_settings.penalty_stiffness, drag = time_step * k;
-    for (std::size_t j = 0; j < springs.size(); ++j)
-      {
-        const Contact &c      = springs[j];
-        const Vector3  normal = k * std::max(0., -c.gap) * c.normal;
-        Vector3        total  = Vector3::Zero();
-        for (unsigned int a = 0; a < c.n_vertices; ++a)
-          {
-            // The vertex's share of the normal force and of the drag toward the obstacle's velocity.
-            const Vector3 relative = velocities[c.vertex_of(a)] - spring_obstacle_velocity[j];
-            const Vector3 force    = c.weights[a] * (normal - drag * relative);
-            const Vector3 sliding  = relative - relative.dot(c.normal) * c.normal;
-            forces[c.vertex_of(a)] += force;
-            total += force;
-            report.work_on_body += time_step * force.dot(velocities[c.vertex_of(a)]);
-            report.friction_dissipation += time_step * drag * c.weights[a] * sliding.squaredNorm();
-          }
-        report.total_force += total;
-        report.normal_force += std::abs(total.dot(c.normal));
-        report.friction_force += (total - total.dot(c.normal) * c.normal).norm();
-      }
+    StageTimer timer(statistics.stages, stage::contact_penalty);
+    penalty.record(velocities, time_step, forces, report);
     // The penetration after the step, of every contact found, with a spring or not.
     for (const Contact &c : step_contacts)
       {
@@ -700,48 +597,6 @@ namespace warpchol::fem
     return lambda[3 * j] * c.normal + lambda[3 * j + 1] * c.tangent_1 + lambda[3 * j + 2] * c.tangent_2;
   }
 
-  namespace
-  {
-    /** A checkpoint's list of contacts as the next step finds them again: vertex, obstacle, points. */
-    void write_contact_keys(BinaryWriter &writer, const std::vector<Contact> &contacts)
-    {
-      std::vector<unsigned int> vertices, obstacles, counts;
-      for (const Contact &contact : contacts)
-        {
-          vertices.push_back(contact.vertex);
-          obstacles.push_back(contact.obstacle);
-          counts.push_back(contact.n_vertices);
-        }
-      writer.write(vertices);
-      writer.write(obstacles);
-      writer.write(counts);
-    }
-
-    /** What write_contact_keys() wrote; fails naming @p what that does not fit @p n_obstacles. */
-    std::vector<Contact> read_contact_keys(BinaryReader &reader, const std::size_t n_obstacles,
-                                           const std::string &what)
-    {
-      std::vector<unsigned int> vertices, obstacles, counts;
-      reader.read(vertices);
-      reader.read(obstacles);
-      reader.read(counts);
-      if (obstacles.size() != vertices.size() || counts.size() != vertices.size())
-        reader.fail("holds " + std::to_string(vertices.size()) + " " + what + "s with " +
-                    std::to_string(obstacles.size()) + " obstacles");
-      std::vector<Contact> contacts(vertices.size());
-      for (std::size_t j = 0; j < vertices.size(); ++j)
-        {
-          if (obstacles[j] >= n_obstacles)
-            reader.fail("a " + what + " names obstacle " + std::to_string(obstacles[j] + 1) + " of " +
-                        std::to_string(n_obstacles));
-          contacts[j].vertex     = vertices[j];
-          contacts[j].obstacle   = obstacles[j];
-          contacts[j].n_vertices = counts[j];
-        }
-      return contacts;
-    }
-  } // namespace
-
   void ContactConstraints::save(BinaryWriter &writer) const
   {
     writer.section("contact");
@@ -752,9 +607,7 @@ namespace warpchol::fem
     writer.write(lambda);
     writer.write(total_work);
     writer.write(total_dissipation);
-    // Penalty: the springs (which the next step keeps while they stay near) and their diagonal.
-    write_contact_keys(writer, springs);
-    writer.write(spring_diagonal);
+    penalty.save(writer);
   }
 
   void ContactConstraints::load(BinaryReader &reader)
@@ -767,8 +620,7 @@ namespace warpchol::fem
                   " impulses (3 per contact)");
     reader.read(total_work);
     reader.read(total_dissipation);
-    springs = read_contact_keys(reader, obstacle_list.size(), "penalty spring");
-    reader.read(spring_diagonal);
+    penalty.load(reader, obstacle_list.size());
   }
 
   const std::vector<Obstacle> &ContactConstraints::obstacles() const

@@ -212,7 +212,7 @@ namespace warpchol::fem
                         change);
   }
 
-  void ImplicitEuler::join_penalty_change(const ContactConstraints::PenaltyChange &springs, SystemChange &change) const
+  void ImplicitEuler::join_penalty_change(const PenaltySprings::Change &springs, SystemChange &change) const
   {
     std::vector<char> listed(body.n_vertices(), 0);
     for (std::size_t k = 0; k < change.vertices.size(); ++k)

@@ -2,8 +2,10 @@
 
 #include <warpchol/base/binary_io.h>
 #include <warpchol/cholesky/compliance.h>
+#include <warpchol/contact/contact.h>
 #include <warpchol/contact/friction_cone_solver.h>
 #include <warpchol/contact/obstacle.h>
+#include <warpchol/contact/penalty_springs.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/models/elasticity_model.h>
 
@@ -34,36 +36,6 @@ namespace warpchol::fem
     /** Penalty contact: the springs tied and untied, their forces, the penetration after the step. */
     constexpr const char *contact_penalty = "contact penalty";
   } // namespace stage
-
-  /**
-   * One contact: a surface vertex near an obstacle, or a point inside a surface triangle
-   * near an instrument's tip (a sphere or a capsule), which would otherwise pass between
-   * the vertices.
-   */
-  struct Contact
-  {
-    /** The vertex (the triangle's first vertex for a point in a triangle). */
-    unsigned int vertex   = 0;
-    unsigned int obstacle = 0;
-    /**
-     * The point is sum_a weights[a] x(vertices[a]) over the first n_vertices: 1 for a
-     * vertex (weight 1), 3 for a point in a triangle (its barycentric coordinates). Its
-     * rows of H touch the 3 dofs of each.
-     */
-    unsigned int                n_vertices = 1;
-    std::array<unsigned int, 3> vertices{};
-    std::array<double, 3>       weights{{1, 0, 0}};
-
-    /** The @p k-th vertex of the point (vertex itself for a vertex contact). */
-    unsigned int vertex_of(const unsigned int k) const
-    {
-      return n_vertices == 1 ? vertex : vertices[k];
-    }
-    /** The obstacle's outward normal and two tangents (an orthonormal frame). */
-    Vector3 normal, tangent_1, tangent_2;
-    /** The signed distance (m) at the start of the step from the obstacle where it is at the step's end. */
-    double gap = 0;
-  };
 
   /**
    * The vertices on the surface of @p body (sorted): those of the faces that belong to one
@@ -126,31 +98,6 @@ namespace warpchol::fem
      * (SparseCholesky::inverse_block()); by full solves, SOFA's way (the peer).
      */
     cholesky::ComplianceMethod compliance = cholesky::ComplianceMethod::paths;
-  };
-
-  /** What the last contact step did. */
-  struct ContactStepReport
-  {
-    unsigned int n_contacts = 0;
-    /** The contacts of each obstacle. */
-    std::vector<unsigned int> contacts_per_obstacle;
-    /** The largest penetration (m) after the step, over the contacts (0: none). */
-    double       largest_penetration = 0;
-    GaussSeidelResult gauss_seidel;
-    /** Sums over the contacts of |normal force| and |friction force| (N). */
-    double normal_force   = 0;
-    double friction_force = 0;
-    /** Sum of the contact forces (N), as a vector. */
-    Vector3 total_force = Vector3::Zero();
-    /** Work (J) of the contact impulses on the body in the step: lambda . H v(t+dt). */
-    double work_on_body = 0;
-    /** What friction dissipated (J, >= 0): -lambda_t . u_t, u_t the sliding velocity. */
-    double friction_dissipation = 0;
-    /**
-     * The columns of L^-1 (one per unknown of a contact's vertex) W was built from: kept
-     * from the step before (same factor, vertex still touching) and solved anew.
-     */
-    unsigned int kept_columns = 0, solved_columns = 0;
   };
 
   /**
@@ -220,45 +167,27 @@ namespace warpchol::fem
     void load(BinaryReader &reader);
 
     /**
-     * @name Penalty contact (ContactMethod::penalty)
+     * @name Penalty contact (ContactMethod::penalty, PenaltySprings)
      *
-     * Before the step: the contacts at @p positions (detect()); a contact whose point would
-     * be inside its obstacle at the step's end, at its velocity, gets a spring, which it
-     * keeps while the point stays within the alarm distance (so that a resting contact does not tie and untie its spring every
-     * step). Returns the vertices whose springs' diagonal dt^2 sum k w changed, with
-     * their old and new values; the step's system change carries them to A and its
-     * factor. Then add_penalty_forces() adds the springs' forces to the step's, and after
-     * the solve finish_penalty_step() records forces, gaps, penetration and work.
+     * Before the step: the contacts at @p positions (detect()) and the springs they tie or
+     * keep (PenaltySprings::tie()); the changed diagonal goes to A and its factor with the
+     * step's system change. Then add_penalty_forces() adds the springs' forces to the
+     * step's; after a solve, tie_entering_springs() ties what the step's acceleration
+     * carried in (the step is then solved again), and finish_penalty_step() records
+     * forces, gaps, penetration and work.
      */
     /** @{ */
-    struct PenaltyChange
-    {
-      std::vector<unsigned int> vertices;
-      std::vector<double>       old_diagonal, new_diagonal;
-    };
-    PenaltyChange tie_penalty_springs(const ElasticBody &body, const std::vector<Vector3> &positions,
-                                      const std::vector<Vector3> &velocities, double time, double time_step,
-                                      StepStatistics &statistics);
-    /**
-     * After a solve that gave @p velocities: the step's contacts without a spring whose
-     * point would end the step inside its obstacle tie one (what the step's own
-     * acceleration carried in, which the velocity at its start did not foresee). Returns
-     * the changed diagonal as tie_penalty_springs() does; the step is then solved again.
-     */
-    PenaltyChange tie_entering_springs(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
-                                       double time, double time_step, StepStatistics &statistics);
+    PenaltySprings::Change tie_penalty_springs(const ElasticBody &body, const std::vector<Vector3> &positions,
+                                               const std::vector<Vector3> &velocities, double time, double time_step,
+                                               StepStatistics &statistics);
+    PenaltySprings::Change tie_entering_springs(const std::vector<Vector3> &positions,
+                                                const std::vector<Vector3> &velocities, double time, double time_step,
+                                                StepStatistics &statistics);
     /** The diagonal dt^2 sum k w of the springs on @p vertex now (0 without one). */
     double penalty_diagonal(unsigned int vertex) const;
-    /**
-     * forces += the springs' forces for the step: k max(0, -gap) n per spring, and
-     * dt k times the obstacle's tangential velocity (the drag is relative to the obstacle
-     * where it is at the step's end, which the gap is measured to), each spread over the
-     * point's vertices by their weights.
-     */
-    void add_penalty_forces(std::vector<Vector3> &forces) const;
-    /** The report, the vertices' forces and gaps, and the work, after the step's solve gave @p velocities. */
-    void finish_penalty_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
-                             double time, double time_step, StepStatistics &statistics);
+    void   add_penalty_forces(std::vector<Vector3> &forces) const;
+    void   finish_penalty_step(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
+                               double time, double time_step, StepStatistics &statistics);
     /** @} */
 
     /** H^T (A's unknowns x 3 contacts) for @p contacts, rotated by @p rotations (null: identity). */
@@ -266,11 +195,6 @@ namespace warpchol::fem
                                                 const std::vector<Matrix3> *rotations);
 
   private:
-    /** Give @p contact a spring in the step from @p time. */
-    void tie_spring(const Contact &contact, double time, double time_step);
-    /** The springs' diagonal dt^2 sum k w per vertex made anew: what changed, with the old and new values. */
-    PenaltyChange springs_diagonal_change();
-
     /** The step's contacts (detect()) into step_contacts, counted in the report; throws InputError past the cap. */
     void detect_for_step(const ElasticBody &body, const std::vector<Vector3> &positions,
                          const std::vector<Vector3> &velocities, double time, double time_step,
@@ -316,8 +240,6 @@ namespace warpchol::fem
     std::vector<unsigned int> surface;
     std::vector<std::array<unsigned int, 3>> triangles;
     unsigned int              surface_of_cut_count = static_cast<unsigned int>(-1);
-    /** (vertex, obstacle) as one number: how a contact is found again in the next step. */
-    static std::uint64_t contact_key(const Contact &contact);
 
     std::vector<Contact>      step_contacts, previous_contacts;
     /** The columns of L^-1 of the last step's contact vertices, and their block of A^-1. */
@@ -329,13 +251,6 @@ namespace warpchol::fem
     std::vector<Vector3>      forces;
     std::vector<double>       gaps;
 
-    /**
-     * Penalty: the contacts with a spring, the velocity each one's drag pulls toward (its
-     * obstacle's, along the tangents), each vertex's dt^2 sum k w.
-     */
-    std::vector<Contact>      springs;
-    std::vector<Vector3>      spring_obstacle_velocity;
-    std::vector<double>       spring_diagonal;
-    double                    penalty_time_step = 0;
+    PenaltySprings            penalty;
   };
 } // namespace warpchol::fem

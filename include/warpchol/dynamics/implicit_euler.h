@@ -238,7 +238,7 @@ namespace warpchol::fem
     void solve_again_with_entering_springs(std::vector<Vector3> &new_velocities, double new_time,
                                            StepStatistics &statistics);
     /** @p springs joined to @p change (its vertices' springs' diagonal on top of what it lists). */
-    void join_penalty_change(const ContactConstraints::PenaltyChange &springs, SystemChange &change) const;
+    void join_penalty_change(const PenaltySprings::Change &springs, SystemChange &change) const;
     /** Penalty contact: rounds of springs tied after a solve, and the step solved again, at most. */
     static constexpr unsigned int max_penalty_rounds = 3;
     /** Whether the contacts push back by penalty springs. */
