@@ -189,8 +189,13 @@ namespace warpchol::app
             out << (cuts.size() > 1 ? " (the blades crossed no element)" : " (the blade crossed no element)");
           out << ", " << t.vertices_grasped << " vertices grasped, " << t.vertices_released << " released, "
               << t.elements_changed << " elements of changed material";
+          // Penalty springs that come and go change A's diagonal too, and count with it.
+          const fem::ContactConstraints *contact = scene.integrator().contact();
+          const bool springs = contact && contact->settings().method == fem::ContactMethod::penalty;
           if (t.change_steps > 0)
-            out << "; " << t.change_steps << " steps with a change, each touching "
+            out << "; " << t.change_steps
+                << (springs ? " steps with a change of A (the surgery's or the penalty springs')" : " steps with a change")
+                << ", each touching "
                 << figure(t.change_columns_pct / t.change_steps) << " % of the columns and "
                 << figure(t.change_flops_pct / t.change_steps) << " % of a full factorization's flops (mean)";
           out << "\n";
