@@ -79,7 +79,6 @@ namespace warpchol::fem
     }
   } // namespace
 
-
   ContactConstraints::ContactConstraints(std::vector<Obstacle> obstacles, const ContactSettings &settings)
     : obstacle_list(std::move(obstacles))
     , contact_settings(settings)
@@ -470,8 +469,6 @@ namespace warpchol::fem
     }
 
     record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
-    total_work += report.work_on_body;
-    total_dissipation += report.friction_dissipation;
   }
 
   void ContactConstraints::detect_for_step(const ElasticBody &body, const std::vector<Vector3> &positions,
@@ -532,17 +529,7 @@ namespace warpchol::fem
   {
     StageTimer timer(statistics.stages, stage::contact_penalty);
     penalty.record(velocities, time_step, forces, report);
-    // The penetration after the step, of every contact found, with a spring or not.
-    for (const Contact &c : step_contacts)
-      {
-        const Vector3 next = point_value(c, positions) + time_step * point_value(c, velocities);
-        const double  gap  = obstacle_list[c.obstacle].proximity(next, time + time_step).distance;
-        for (unsigned int a = 0; a < c.n_vertices; ++a)
-          gaps[c.vertex_of(a)] = std::min(gaps[c.vertex_of(a)], gap);
-        report.largest_penetration = std::max(report.largest_penetration, -gap);
-      }
-    total_work += report.work_on_body;
-    total_dissipation += report.friction_dissipation;
+    record_gaps_and_totals(positions, velocities, time, time_step);
   }
 
   void ContactConstraints::solve_for_impulses(const std::vector<double> &w, const std::vector<double> &free_velocity,
@@ -583,12 +570,25 @@ namespace warpchol::fem
         report.friction_force += std::hypot(lambda[3 * j + 1], lambda[3 * j + 2]) / time_step;
         report.work_on_body += impulse.dot(velocity);
         report.friction_dissipation += std::max(0., sliding);
-        const Vector3 next = point_value(c, positions) + time_step * velocity;
+      }
+    record_gaps_and_totals(positions, velocities, time, time_step);
+  }
+
+  void ContactConstraints::record_gaps_and_totals(const std::vector<Vector3> &positions,
+                                                  const std::vector<Vector3> &velocities, const double time,
+                                                  const double time_step)
+  {
+    // The penetration after the step, of every contact found (with a spring or not).
+    for (const Contact &c : step_contacts)
+      {
+        const Vector3 next = point_value(c, positions) + time_step * point_value(c, velocities);
         const double  gap  = obstacle_list[c.obstacle].proximity(next, time + time_step).distance;
         for (unsigned int k = 0; k < c.n_vertices; ++k)
           gaps[c.vertex_of(k)] = std::min(gaps[c.vertex_of(k)], gap);
         report.largest_penetration = std::max(report.largest_penetration, -gap);
       }
+    total_work += report.work_on_body;
+    total_dissipation += report.friction_dissipation;
   }
 
   Vector3 ContactConstraints::impulse_of(const std::size_t j) const

@@ -70,8 +70,6 @@ namespace warpchol::fem
     TriangleSurface       surface;
     std::vector<Triangle> triangles;
     Tree                  tree;
-    /** Obstacle::sharp_edges() at rest. */
-    std::vector<Obstacle::Segment> edges;
     /** The points of triangles[i]; the pseudonormals of the points and of the edges (unnormalized). */
     std::vector<std::array<unsigned int, 3>>                    corners;
     std::vector<Vector3>                                        point_normals;
@@ -92,15 +90,17 @@ namespace warpchol::fem
     const std::array<double, 3> weight{(c - b).cross(closest - b).dot(normal) / area,
                                        (a - c).cross(closest - c).dot(normal) / area,
                                        (b - a).cross(closest - a).dot(normal) / area};
-    constexpr double  on_side = 1e-9;
-    std::vector<int>  zero;
+    constexpr double on_side = 1e-9;
+    int              n_zero = 0, zero = 0, other = 0;
     for (int k = 0; k < 3; ++k)
       if (weight[k] <= on_side)
-        zero.push_back(k);
-    if (zero.size() == 1)
-      return edge_normals.at(std::minmax(t[(zero[0] + 1) % 3], t[(zero[0] + 2) % 3]));
-    if (zero.size() == 2)
-      return point_normals[t[3 - zero[0] - zero[1]]];
+        ++n_zero, zero = k;
+      else
+        other = k;
+    if (n_zero == 1)
+      return edge_normals.at(std::minmax(t[(zero + 1) % 3], t[(zero + 2) % 3]));
+    if (n_zero == 2)
+      return point_normals[t[other]];
     return normal;
   }
 
@@ -190,7 +190,8 @@ namespace warpchol::fem
       }
     // The sharp edges: those of one triangle, or between two whose normals part by more
     // than sharp_edge_degrees (an edge of more than two triangles is sharp too).
-    const double flat = std::cos(sharp_edge_degrees * M_PI / 180);
+    const double         flat = std::cos(sharp_edge_degrees * M_PI / 180);
+    std::vector<Segment> edges;
     for (const auto &[edge, normals] : normals_at_edge)
       {
         Vector3 sum = Vector3::Zero();
@@ -198,14 +199,15 @@ namespace warpchol::fem
           sum += normal;
         tree->edge_normals[edge] = sum;
         if (normals.size() != 2 || normals[0].dot(normals[1]) < flat)
-          tree->edges.push_back({points[edge.first], points[edge.second]});
+          edges.push_back({points[edge.first], points[edge.second]});
       }
     tree->tree.insert(tree->triangles.begin(), tree->triangles.end());
     tree->tree.build();
     tree->tree.accelerate_distance_queries();
     Obstacle obstacle;
-    obstacle.kind = ObstacleShape::surface;
-    obstacle.tree = std::move(tree);
+    obstacle.kind          = ObstacleShape::surface;
+    obstacle.tree          = std::move(tree);
+    obstacle.edges_at_rest = std::move(edges);
     return obstacle;
   }
 
@@ -250,7 +252,7 @@ namespace warpchol::fem
 
   std::vector<Obstacle::Segment> Obstacle::sharp_edges(const double time) const
   {
-    std::vector<Segment> edges = tree ? tree->edges : edges_at_rest;
+    std::vector<Segment> edges = edges_at_rest;
     const Vector3        shift = offset(time);
     for (Segment &edge : edges)
       for (Vector3 &end : edge)

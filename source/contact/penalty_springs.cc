@@ -93,6 +93,11 @@ namespace warpchol::fem
     return change;
   }
 
+  Vector3 PenaltySprings::pushing_force(const Contact &spring) const
+  {
+    return stiffness * std::max(0., -spring.gap) * spring.normal;
+  }
+
   double PenaltySprings::diagonal(const unsigned int vertex) const
   {
     return vertex < spring_diagonal.size() ? spring_diagonal[vertex] : 0.;
@@ -103,8 +108,7 @@ namespace warpchol::fem
     for (std::size_t j = 0; j < springs.size(); ++j)
       {
         const Contact &c = springs[j];
-        const Vector3  force =
-          stiffness * std::max(0., -c.gap) * c.normal + time_step * stiffness * drag_velocity[j];
+        const Vector3  force = pushing_force(c) + time_step * stiffness * drag_velocity[j];
         for (unsigned int a = 0; a < c.n_vertices; ++a)
           forces[c.vertex_of(a)] += c.weights[a] * force;
       }
@@ -117,7 +121,7 @@ namespace warpchol::fem
     for (std::size_t j = 0; j < springs.size(); ++j)
       {
         const Contact &c      = springs[j];
-        const Vector3  normal = stiffness * std::max(0., -c.gap) * c.normal;
+        const Vector3  normal = pushing_force(c);
         Vector3        total  = Vector3::Zero();
         for (unsigned int a = 0; a < c.n_vertices; ++a)
           {

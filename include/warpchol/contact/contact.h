@@ -19,8 +19,8 @@ namespace warpchol::fem
 {
   /**
    * One contact: a surface vertex near an obstacle, or a point inside a surface triangle
-   * near an instrument's tip (a sphere or a capsule), which would otherwise pass between
-   * the vertices.
+   * near an instrument's tip (a sphere or a capsule) or an obstacle's sharp edge, which
+   * would otherwise pass between the vertices.
    */
   struct Contact
   {

@@ -223,6 +223,13 @@ namespace warpchol::fem
     void record_forces_and_gaps(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
                                 const std::vector<Vector3> &obstacle_velocity, double time, double time_step);
 
+    /**
+     * The gaps after the step at @p velocities of every contact found, the largest
+     * penetration, and the run's totals of work and dissipation from the step's report.
+     */
+    void record_gaps_and_totals(const std::vector<Vector3> &positions, const std::vector<Vector3> &velocities,
+                                double time, double time_step);
+
     /** surface_vertices(), recomputed when the number of cut elements changes. */
     const std::vector<unsigned int> &current_surface(const ElasticBody &body);
 

@@ -128,7 +128,7 @@ namespace warpchol::fem
     double         radius = 0;
     double         coefficient = 0;
     InstrumentPath path;
-    /** sharp_edges() where the obstacle is at rest. */
+    /** sharp_edges() where the obstacle is at rest (a box's, a triangle surface's). */
     std::vector<Segment> edges_at_rest;
     /** The triangle surface and its AABB tree (shared: an obstacle is copied with its tree). */
     struct SurfaceTree;

@@ -78,6 +78,8 @@ namespace warpchol::fem
   private:
     /** Give @p contact a spring in the step from @p time. */
     void tie_spring(const Contact &contact, const Obstacle &obstacle, double time, double time_step);
+    /** k max(0, -gap) n: what @p spring pushes along its normal at the step's start. */
+    Vector3 pushing_force(const Contact &spring) const;
     /** The springs' diagonal per vertex made anew: what changed. */
     Change diagonal_change();
 

@@ -502,6 +502,9 @@ namespace warpchol::fem
     void evaluate_elastic_state(const std::vector<Vector3> &positions,
                                 ElasticBody::Rotations rotations, StepStatistics &statistics);
 
+    /** apply_change() and change_within_step(): the latter re-assembles at once, whatever the model. */
+    void load_change(const SystemChange &change, bool within_step, StepStatistics &statistics);
+
     /**
      * The nodal rotations R in which solve() works; null means the identity. Set by the
      * models that warp (stiffness warping, warp-canceling corotation).
@@ -509,9 +512,6 @@ namespace warpchol::fem
     const std::vector<Matrix3> *solve_frame = nullptr;
 
     const ElasticBody       &body;
-    /** apply_change() and change_within_step(): the latter re-assembles at once, whatever the model. */
-    void load_change(const SystemChange &change, bool within_step, StepStatistics &statistics);
-
     /** A's coefficients; the vertex diagonal changes with apply_change(). */
     SystemCoefficients       coefficients;
     SystemMatrix             system;
