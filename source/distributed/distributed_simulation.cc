@@ -559,6 +559,10 @@ namespace warpchol::distributed
         data_out.add_data_vector(last_rerotated, "rerotated", dealii::DataOut<3>::type_cell_data);
       }
     data_out.build_patches(distributed.mapping());
+    // Without the writing time in its header, a step's file is the same bytes on every run.
+    dealii::DataOutBase::VtkFlags flags;
+    flags.print_date_and_time = false;
+    data_out.set_flags(flags);
 
     std::ostringstream base;
     base << all.scene_name() << "-" << std::setw(5) << std::setfill('0') << step;
