@@ -6,7 +6,9 @@
 // computed anew to 1e-12); an unchanged set keeps every column; a refactorize() that
 // changes nothing keeps them, a refactorize() that changes a column, an update() and a
 // full factorize() drop them all (factor_revision() changes), and the block then is the new
-// matrix's. A copy of the solver has its revision. An unknown out of range is refused.
+// matrix's. Columns that outlive the factor's changes (a lagged W) are kept as they were
+// and new ones solved with the new factor. A copy of the solver has its revision. An
+// unknown out of range is refused.
 
 #include <warpchol/cholesky/sparse_cholesky.h>
 
@@ -121,6 +123,35 @@ int main()
 
   solver.factorize(matrix);
   check_block("after a factorize()", solver, unknowns_of(second), columns);
+
+  // Columns that outlive the factor's changes (a lagged W): after an update() the same set
+  // keeps every column and G as it was, one change behind; the new vertices' columns, and
+  // so their block of G, are the factor's as it is.
+  cholesky::KeptInverseColumns lagged;
+  lagged.outlive_factor_changes = true;
+  solver.inverse_block(unknowns_of(first), lagged);
+  const std::vector<double> before = lagged.gram;
+  solver.update(spring);
+  solver.inverse_block(unknowns_of(first), lagged);
+  tests::check("lagged: the same set after an update() keeps G, one change behind",
+               lagged.kept == 60 && lagged.solved == 0 && lagged.factor_changes_behind == 1 && lagged.gram == before);
+  solver.inverse_block(unknowns_of(second), lagged);
+  std::cout << "lagged, 14 vertices kept, 8 new: " << lagged.kept << " kept, " << lagged.solved << " solved, "
+            << lagged.factor_changes_behind << " change behind" << std::endl;
+  cholesky::KeptInverseColumns fresh;
+  solver.inverse_block(unknowns_of(second), fresh);
+  const std::size_t   m = unknowns_of(second).size(), first_new = m - 24;
+  std::vector<double> new_block, new_block_fresh;
+  for (std::size_t j = first_new; j < m; ++j)
+    for (std::size_t i = first_new; i < m; ++i)
+      {
+        new_block.push_back(lagged.gram[i + j * m]);
+        new_block_fresh.push_back(fresh.gram[i + j * m]);
+      }
+  tests::check_below("  the new vertices' block of G against G anew", relative_difference(new_block, new_block_fresh),
+                     1e-12);
+  tests::check("  the kept ones' block differs from G anew (it is the old factor's)",
+               relative_difference(lagged.gram, fresh.gram) > 1e-8);
 
   tests::expect_error("an unknown out of range", [&] { solver.inverse_block({0, n}, columns); });
 }

@@ -628,7 +628,7 @@ namespace warpchol::app
       names += (k == 0 ? "" : ",") + std::string(columns[k].name);
     if (with_contact)
       names += ",contacts,contacts_per_obstacle,largest_penetration,gs_iterations,gs_residual,normal_force,"
-               "friction_force,t_contact,contact_work,friction_dissipation";
+               "friction_force,t_contact,contact_work,friction_dissipation,compliance_lag,aim_error";
     return names;
   }
 
@@ -658,7 +658,7 @@ namespace warpchol::app
         line << "," << c.largest_penetration << ","
              << c.gauss_seidel.iterations << "," << c.gauss_seidel.residual << "," << c.normal_force << ","
              << c.friction_force << "," << seconds << "," << std::setprecision(10) << row.contact_work << ","
-             << row.friction_dissipation;
+             << row.friction_dissipation << std::setprecision(6) << "," << c.compliance_lag << "," << c.aim_error;
       }
     rows.push_back(line.str());
     // Rewriting the whole file costs more as the rows pile up (a third of a 100-step run

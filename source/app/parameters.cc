@@ -323,17 +323,22 @@ namespace warpchol::app
     if (std::none_of(obstacles.begin(), obstacles.end(), [](const auto &o) { return o.active(); }))
       warn_if_set(prm, "Contact",
                   {"Method", "Penalty stiffness", "Alarm distance", "Contact distance", "Max iterations", "Tolerance",
-                   "Max contacts", "Compliance"},
+                   "Max contacts", "Compliance", "Compliance lag"},
                   "no obstacle (Obstacle/Type = none)");
     else if (contact.settings.method == fem::ContactMethod::penalty)
       {
-        warn_if_set(prm, "Contact", {"Max iterations", "Tolerance", "Compliance"}, "Contact/Method = penalty");
+        warn_if_set(prm, "Contact", {"Max iterations", "Tolerance", "Compliance", "Compliance lag"},
+                    "Contact/Method = penalty");
         for (const auto &obstacle : obstacles)
           if (obstacle.active())
             warn_if_set(prm, obstacle.subsection, {"Friction"}, "Contact/Method = penalty");
       }
     else
-      warn_if_set(prm, "Contact", {"Penalty stiffness"}, "Contact/Method = constraints");
+      {
+        warn_if_set(prm, "Contact", {"Penalty stiffness"}, "Contact/Method = constraints");
+        if (contact.settings.compliance != cholesky::ComplianceMethod::paths)
+          warn_if_set(prm, "Contact", {"Compliance lag"}, "Contact/Compliance = full solves");
+      }
     if (output.vtu_interval == 0)
       warn_if_set(prm, "Output", {"VTU precision"}, "VTU interval = 0");
   }

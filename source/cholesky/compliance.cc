@@ -330,7 +330,19 @@ namespace warpchol::cholesky
   {
     const Index m = static_cast<Index>(rows.size());
     if (columns.factor_revision != factor_revision)
-      columns = KeptInverseColumns();
+      {
+        if (columns.outlive_factor_changes && columns.factor_revision != 0)
+          {
+            columns.factor_revision = factor_revision;
+            ++columns.factor_changes_behind;
+          }
+        else
+          {
+            const bool outlive = columns.outlive_factor_changes;
+            columns            = KeptInverseColumns();
+            columns.outlive_factor_changes = outlive;
+          }
+      }
     if (columns.factor_revision != 0 && rows == columns.rows)
       {
         // The same unknowns in the same order (the same contacts): everything is kept.
@@ -353,7 +365,8 @@ namespace warpchol::cholesky
     // The new unknowns' columns, on their paths.
     const PathForwardSolve solved = forward_solve_on_paths(symbolic, values, unit_columns(symbolic.n, rows, fresh));
     KeptInverseColumns     next;
-    next.factor_revision = factor_revision;
+    next.factor_revision        = factor_revision;
+    next.outlive_factor_changes = columns.outlive_factor_changes;
     next.rows            = rows;
     next.kept            = m - static_cast<Index>(fresh.size());
     next.solved          = static_cast<Index>(fresh.size());
@@ -366,6 +379,7 @@ namespace warpchol::cholesky
         return;
       }
 
+    next.factor_changes_behind = columns.factor_changes_behind;
     next.solve = merged_paths(symbolic, rows, was, fresh, columns.solve, solved);
     extend_gram(symbolic, was, fresh, columns, next);
     next.solve.solve_flops = solved.solve_flops;

@@ -347,7 +347,8 @@ namespace warpchol::fem
   }
 
   std::vector<double> ContactConstraints::compliance_from_kept_columns(const ElasticBody     &body,
-                                                                       const ElasticityModel &model)
+                                                                       const ElasticityModel &model,
+                                                                       const bool             lag)
   {
     // The contacts' vertices that have unknowns, each once: S, 3 unknowns per vertex.
     const std::vector<Matrix3> *rotations = model.solve_rotations();
@@ -381,6 +382,7 @@ namespace warpchol::fem
             part.rows = contact.weights[k] * (rotations ? Matrix3((*rotations)[v].transpose() * directions) : directions);
           }
       }
+    kept_columns.outlive_factor_changes = lag;
     model.solver().inverse_block(unknowns, kept_columns);
     report.kept_columns   = static_cast<unsigned int>(kept_columns.kept);
     report.solved_columns = static_cast<unsigned int>(kept_columns.solved);
@@ -425,50 +427,135 @@ namespace warpchol::fem
     if (model.solver().state() != cholesky::SparseCholesky::State::factorized)
       throw InputError("contact needs warpchol's own factor of A, not a peer's (Solver/Backend)");
 
-    std::vector<double> w;
-    {
-      StageTimer timer(statistics.stages, stage::contact_compliance);
-      w = contact_settings.compliance == cholesky::ComplianceMethod::paths ?
-            compliance_from_kept_columns(body, model) :
-            model.solver().compliance(constraint_columns(body, step_contacts, model.solve_rotations()),
-                                      contact_settings.compliance);
-    }
-
-    // u = H v_free + the targets: u_n >= 0 keeps the next position out of the obstacle,
-    // u_t is the sliding velocity relative to the obstacle.
-    std::vector<double> free_velocity(3 * n_contacts), friction(n_contacts);
+    std::vector<double>  friction(n_contacts);
     std::vector<Vector3> obstacle_velocity(n_contacts);
     for (std::size_t j = 0; j < n_contacts; ++j)
       {
-        const Contact  &c = step_contacts[j];
-        const Obstacle &o = obstacle_list[c.obstacle];
-        obstacle_velocity[j]     = o.velocity(time, time + time_step);
-        const Vector3 relative   = point_value(c, velocities) - obstacle_velocity[j];
-        free_velocity[3 * j]     = c.normal.dot(point_value(c, velocities)) + c.gap / time_step;
-        free_velocity[3 * j + 1] = c.tangent_1.dot(relative);
-        free_velocity[3 * j + 2] = c.tangent_2.dot(relative);
-        friction[j]              = o.friction();
+        const Obstacle &o    = obstacle_list[step_contacts[j].obstacle];
+        obstacle_velocity[j] = o.velocity(time, time + time_step);
+        friction[j]          = o.friction();
       }
-    solve_for_impulses(w, free_velocity, friction, statistics);
+    // A lagged W is checked by the correction's direct solve; CG's own tolerance would blur
+    // that check, so an iterating step renews W at every change of the factor.
+    const bool by_paths = contact_settings.compliance == cholesky::ComplianceMethod::paths;
+    const bool may_lag  = by_paths && contact_settings.keep_compliance_across_factor_changes &&
+                         !model.solves_iteratively();
+    const auto compliance = [&]() {
+      StageTimer timer(statistics.stages, stage::contact_compliance);
+      return by_paths ? compliance_from_kept_columns(body, model, may_lag) :
+                        model.solver().compliance(constraint_columns(body, step_contacts, model.solve_rotations()),
+                                                  contact_settings.compliance);
+    };
+    if (renew_compliance)
+      kept_columns = cholesky::KeptInverseColumns();
+    renew_compliance      = false;
+    std::vector<double> w = compliance();
+    report.compliance_lag = by_paths ? kept_columns.factor_changes_behind : 0;
 
-    // v += A~^-1 H^T lambda: the impulses as forces on the vertices, one solve.
-    std::vector<Vector3> impulses(body.n_vertices(), Vector3::Zero());
-    for (std::size_t j = 0; j < n_contacts; ++j)
-      {
-        const Contact &c       = step_contacts[j];
-        const Vector3  impulse = impulse_of(j);
-        for (unsigned int k = 0; k < c.n_vertices; ++k)
-          impulses[c.vertex_of(k)] += c.weights[k] * impulse;
-      }
+    // u = free + W lambda is where Gauss-Seidel aims the contacts (u_n >= 0 keeps the next
+    // position out of the obstacle, u_t is the sliding velocity relative to it).
+    std::vector<double> free_velocity = contact_velocities(velocities, obstacle_velocity, time_step);
+    solve_for_impulses(w, free_velocity, friction, statistics);
+    apply_impulses(body, model, lambda, velocities, statistics);
+    const auto aim_error = [&]() {
+      const std::vector<double> reached = contact_velocities(velocities, obstacle_velocity, time_step);
+      const std::size_t         m       = reached.size();
+      double                    largest = 0;
+      for (std::size_t i = 0; i < m; ++i)
+        {
+          double aimed = free_velocity[i];
+          for (std::size_t k = 0; k < m; ++k)
+            aimed += w[k + i * m] * lambda[k]; // W is symmetric: its column i, contiguous
+          largest = std::max(largest, std::abs(reached[i] - aimed));
+        }
+      return largest;
+    };
     {
-      StageTimer           timer(statistics.stages, stage::contact_correction);
-      std::vector<Vector3> change;
-      model.solve_again(impulses, change, statistics);
-      for (unsigned int v = 0; v < body.n_vertices(); ++v)
-        velocities[v] += change[v];
+      StageTimer timer(statistics.stages, stage::contact_correction);
+      report.aim_error = aim_error();
     }
 
+    // A lagged W aims the contacts slightly off. Where they end further than a quarter of
+    // the tolerance from their aim, Gauss-Seidel solves again from where the correction
+    // left them (u = reached + W (lambda_new - lambda)), with the same W (each round cuts
+    // the miss by about W's relative error), then with W renewed.
+    // A W that lags so far that it missed is renewed at the next step: a renewal costs
+    // about what a few rounds do, and the factor has left it behind for good.
+    constexpr unsigned int rounds_with_lagged_w = 2;
+    renew_compliance = report.compliance_lag > 0 && report.aim_error * time_step > contact_settings.tolerance / 4;
+    for (unsigned int round = 0;
+         report.compliance_lag > 0 && report.aim_error * time_step > contact_settings.tolerance / 4; ++round)
+      {
+        if (round == rounds_with_lagged_w)
+          {
+            kept_columns              = cholesky::KeptInverseColumns();
+            w                         = compliance();
+            report.compliance_lag     = 0;
+            report.compliance_renewed = true;
+          }
+        const std::vector<double> reached = contact_velocities(velocities, obstacle_velocity, time_step);
+        const std::size_t         m       = reached.size();
+        for (std::size_t i = 0; i < m; ++i)
+          {
+            free_velocity[i] = reached[i];
+            for (std::size_t k = 0; k < m; ++k)
+              free_velocity[i] -= w[k + i * m] * lambda[k];
+          }
+        const std::vector<double> before     = lambda;
+        const unsigned int        iterations = report.gauss_seidel.iterations;
+        {
+          StageTimer timer(statistics.stages, stage::contact_gauss_seidel);
+          report.gauss_seidel = solve_friction_cone(w, free_velocity, friction, contact_settings.gauss_seidel, lambda);
+        }
+        report.gauss_seidel.iterations += iterations;
+        ++report.correction_rounds;
+        std::vector<double> change(m);
+        for (std::size_t i = 0; i < m; ++i)
+          change[i] = lambda[i] - before[i];
+        apply_impulses(body, model, change, velocities, statistics);
+        StageTimer timer(statistics.stages, stage::contact_correction);
+        report.aim_error = aim_error();
+      }
+
     record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
+  }
+
+  std::vector<double> ContactConstraints::contact_velocities(const std::vector<Vector3> &velocities,
+                                                             const std::vector<Vector3> &obstacle_velocity,
+                                                             const double                time_step) const
+  {
+    std::vector<double> u(3 * step_contacts.size());
+    for (std::size_t j = 0; j < step_contacts.size(); ++j)
+      {
+        const Contact &c        = step_contacts[j];
+        const Vector3  velocity = point_value(c, velocities);
+        const Vector3  relative = velocity - obstacle_velocity[j];
+        u[3 * j]                = c.normal.dot(velocity) + c.gap / time_step;
+        u[3 * j + 1]            = c.tangent_1.dot(relative);
+        u[3 * j + 2]            = c.tangent_2.dot(relative);
+      }
+    return u;
+  }
+
+  void ContactConstraints::apply_impulses(const ElasticBody &body, ElasticityModel &model,
+                                          const std::vector<double> &impulses, std::vector<Vector3> &velocities,
+                                          StepStatistics &statistics) const
+  {
+    // The impulses as forces on the vertices, one solve.
+    std::vector<Vector3> on_vertices(body.n_vertices(), Vector3::Zero());
+    for (std::size_t j = 0; j < step_contacts.size(); ++j)
+      {
+        const Contact &c       = step_contacts[j];
+        const Vector3  impulse = impulses[3 * j] * c.normal + impulses[3 * j + 1] * c.tangent_1 +
+                                impulses[3 * j + 2] * c.tangent_2;
+        for (unsigned int k = 0; k < c.n_vertices; ++k)
+          on_vertices[c.vertex_of(k)] += c.weights[k] * impulse;
+      }
+    StageTimer           timer(statistics.stages, stage::contact_correction);
+    std::vector<Vector3> change;
+    model.solve_again(on_vertices, change, statistics);
+    for (unsigned int v = 0; v < body.n_vertices(); ++v)
+      velocities[v] += change[v];
   }
 
   void ContactConstraints::detect_for_step(const ElasticBody &body, const std::vector<Vector3> &positions,
@@ -599,6 +686,9 @@ namespace warpchol::fem
 
   void ContactConstraints::save(BinaryWriter &writer) const
   {
+    // A resumed run solves the columns of A^-1 anew: so does this one at its next step,
+    // and the two go on alike (a lagged W would differ).
+    kept_columns = cholesky::KeptInverseColumns();
     writer.section("contact");
     // The last step's contacts as their warm start finds them again (contact_key()), their
     // impulses; penalty contact has no impulses to start from.

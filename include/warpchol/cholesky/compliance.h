@@ -102,8 +102,17 @@ namespace warpchol::cholesky
    */
   struct KeptInverseColumns
   {
-    /** The factor Y was solved with (SparseCholesky::factor_revision(); 0: none). */
+    /** The factor Y was last brought to (SparseCholesky::factor_revision(); 0: none). */
     std::uint64_t factor_revision = 0;
+    /**
+     * Whether the kept columns outlive a change of the factor: a lagged compliance, the
+     * block of A^-1 as an earlier factor had it (Courtecuisse et al. 2014 take W from a
+     * factor refreshed asynchronously). A new unknown's column is solved with the factor
+     * as it is. False: every change of the factor drops what was kept.
+     */
+    bool outlive_factor_changes = false;
+    /** The changes of the factor since the oldest kept column was solved (0: all are the factor's as it is). */
+    unsigned int factor_changes_behind = 0;
     /** The unknowns S in the factor's numbering (rows of P^T A P), in the order of G's rows. */
     std::vector<Index> rows;
     /** Y, one constraint (a unit column) per unknown of S. */
@@ -117,7 +126,8 @@ namespace warpchol::cholesky
   /**
    * Bring @p columns to the unknowns @p rows (the factor's numbering, distinct) with the
    * factor @p values of @p symbolic, whose revision is @p factor_revision: all of it
-   * anew if the revision differs from the kept one, else only the unknowns not kept.
+   * anew if the revision differs from the kept one (unless the columns outlive factor
+   * changes), else only the unknowns not kept.
    */
   void update_inverse_columns(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
                               std::uint64_t factor_revision, const std::vector<Index> &rows,

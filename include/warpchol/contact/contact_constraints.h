@@ -98,6 +98,14 @@ namespace warpchol::fem
      * (SparseCholesky::inverse_block()); by full solves, SOFA's way (the peer).
      */
     cholesky::ComplianceMethod compliance = cholesky::ComplianceMethod::paths;
+    /**
+     * By paths, with direct solves: the kept columns of A^-1 outlive the factor's changes
+     * (a re-rotation's partial refactorization, an update), so that W lags behind the
+     * factor, and the correction, by the factor as it is, checks it: a step whose contacts
+     * end further than a quarter of the tolerance from where Gauss-Seidel aimed them is
+     * solved again with W renewed. False: W is renewed at every change of the factor.
+     */
+    bool keep_compliance_across_factor_changes = true;
   };
 
   /**
@@ -159,8 +167,8 @@ namespace warpchol::fem
      * Write to a checkpoint what the next steps read: the last step's contacts as the warm
      * start finds them again (vertex, obstacle, a vertex or a point in a triangle), their
      * impulses, and the totals of the contact work and friction's dissipation. The kept
-     * columns of L^-1 are not written: the resumed run's factor is another revision, and
-     * solves them anew.
+     * columns of L^-1 are not written: they are dropped, so that this run solves them anew
+     * at its next step as the resumed one does (a lagged W would make the two differ).
      */
     void save(BinaryWriter &writer) const;
     /** Read what save() wrote; fails naming what does not fit these obstacles. */
@@ -205,9 +213,11 @@ namespace warpchol::fem
      * unknowns (SparseCholesky::inverse_block(), which keeps the columns of the vertices
      * that persist while the factor does not change): W's 3 x 3 block of contacts i and j
      * is the sum over their vertices u, v of D_iu^T (A^-1)_uv D_jv, D_iu = w_iu R_u^T
-     * [n t_1 t_2] (the contact's directions, its weight on u, the nodal rotation).
+     * [n t_1 t_2] (the contact's directions, its weight on u, the nodal rotation). With
+     * @p lag the kept columns outlive the factor's changes (KeptInverseColumns).
      */
-    std::vector<double> compliance_from_kept_columns(const ElasticBody &body, const ElasticityModel &model);
+    std::vector<double> compliance_from_kept_columns(const ElasticBody &body, const ElasticityModel &model,
+                                                     bool lag);
 
     /**
      * lambda: the impulses of the step's contacts by projected Gauss-Seidel on @p w, warm
@@ -215,6 +225,18 @@ namespace warpchol::fem
      */
     void solve_for_impulses(const std::vector<double> &w, const std::vector<double> &free_velocity,
                             const std::vector<double> &friction, StepStatistics &statistics);
+
+    /**
+     * u = H v + the targets at @p velocities, 3 rows per contact of the step: the normal
+     * velocity plus gap / dt (>= 0 keeps the next position out), the tangential velocities
+     * relative to @p obstacle_velocity.
+     */
+    std::vector<double> contact_velocities(const std::vector<Vector3> &velocities,
+                                           const std::vector<Vector3> &obstacle_velocity, double time_step) const;
+
+    /** v += A~^-1 H^T (@p impulses, 3 per contact of the step): one solve with the model. */
+    void apply_impulses(const ElasticBody &body, ElasticityModel &model, const std::vector<double> &impulses,
+                        std::vector<Vector3> &velocities, StepStatistics &statistics) const;
 
     /** The impulse of contact @p j of the step, lambda in world coordinates. */
     Vector3 impulse_of(std::size_t j) const;
@@ -249,8 +271,13 @@ namespace warpchol::fem
     unsigned int              surface_of_cut_count = static_cast<unsigned int>(-1);
 
     std::vector<Contact>      step_contacts, previous_contacts;
-    /** The columns of L^-1 of the last step's contact vertices, and their block of A^-1. */
-    cholesky::KeptInverseColumns kept_columns;
+    /**
+     * The columns of L^-1 of the last step's contact vertices, and their block of A^-1: a
+     * cache of the factor, which save() drops.
+     */
+    mutable cholesky::KeptInverseColumns kept_columns;
+    /** Whether the next step renews W (this one's lagged W missed its aim). */
+    bool                      renew_compliance = false;
     /** The impulses of the last step's contacts (3 per contact), the next one's warm start. */
     std::vector<double>       lambda;
     ContactStepReport         report;

@@ -36,6 +36,12 @@ namespace warpchol::app
       prm.declare_entry("Compliance", "paths", Patterns::Selection("paths|full solves"),
                         "How W = H A^-1 H^T is built from the factor: forward solves on the contacts' "
                         "elimination-tree paths, or SOFA's way (a full forward solve per row)");
+      prm.declare_entry("Compliance lag", "true", Patterns::Bool(),
+                        "Compliance = paths, direct solves: the kept columns of A^-1 outlive the factor's "
+                        "changes, W lagging behind the factor (as an asynchronously refreshed factor "
+                        "gives it); a step whose contacts end more than a quarter of Contact distance "
+                        "from where Gauss-Seidel aimed them is solved again with W renewed. false: W "
+                        "renewed at every change of the factor");
       prm.leave_subsection();
     }
 
@@ -53,6 +59,7 @@ namespace warpchol::app
       settings.max_contacts                = static_cast<unsigned int>(prm.get_integer("Max contacts"));
       settings.compliance = prm.get("Compliance") == "paths" ? cholesky::ComplianceMethod::paths :
                                                                 cholesky::ComplianceMethod::full_solves;
+      settings.keep_compliance_across_factor_changes = prm.get_bool("Compliance lag");
       settings.max_contacts_origin   = file.where("Contact", "Max contacts");
       settings.max_iterations_origin = file.where("Contact", "Max iterations");
       settings.tolerance_origin      = file.where("Contact", "Contact distance");
