@@ -5,8 +5,8 @@
 // the sphere's work is counted in the energy balance (held <= put in). The same run with
 // SOFA's way of building W (Contact/Compliance = full solves) gives the same velocities
 // (step 18, pressing) to 1e-10 relative as W by paths renewed at every change of the
-// factor; the default, W lagging behind the factor (the corotational model refactors every
-// step), keeps the penetration within the tolerance and the velocities within 1e-3.
+// factor. The checks of the run hold with W lagging behind the factor (Compliance lag;
+// the corotational model refactors every step), its velocities within 1e-3.
 
 #include <warpchol/contact/contact_constraints.h>
 #include <warpchol/dynamics/energy_balance.h>

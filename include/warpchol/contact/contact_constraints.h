@@ -103,9 +103,10 @@ namespace warpchol::fem
      * (a re-rotation's partial refactorization, an update), so that W lags behind the
      * factor, and the correction, by the factor as it is, checks it: a step whose contacts
      * end further than a quarter of the tolerance from where Gauss-Seidel aimed them is
-     * solved again with W renewed. False: W is renewed at every change of the factor.
+     * solved again, and W renewed at the next step. False: W is renewed at every change of
+     * the factor.
      */
-    bool keep_compliance_across_factor_changes = true;
+    bool keep_compliance_across_factor_changes = false;
   };
 
   /**

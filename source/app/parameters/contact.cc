@@ -36,12 +36,14 @@ namespace warpchol::app
       prm.declare_entry("Compliance", "paths", Patterns::Selection("paths|full solves"),
                         "How W = H A^-1 H^T is built from the factor: forward solves on the contacts' "
                         "elimination-tree paths, or SOFA's way (a full forward solve per row)");
-      prm.declare_entry("Compliance lag", "true", Patterns::Bool(),
-                        "Compliance = paths, direct solves: the kept columns of A^-1 outlive the factor's "
-                        "changes, W lagging behind the factor (as an asynchronously refreshed factor "
-                        "gives it); a step whose contacts end more than a quarter of Contact distance "
-                        "from where Gauss-Seidel aimed them is solved again with W renewed. false: W "
-                        "renewed at every change of the factor");
+      prm.declare_entry("Compliance lag", "false", Patterns::Bool(),
+                        "Compliance = paths, direct solves: true, the kept columns of A^-1 outlive the "
+                        "factor's changes, W lagging behind the factor (as an asynchronously refreshed "
+                        "factor gives it); a step whose contacts end more than a quarter of Contact "
+                        "distance from where Gauss-Seidel aimed them is solved again, and W renewed at "
+                        "the next step. Pays where W is dear and the factor changes often (a large "
+                        "contact patch on a re-rotating body); costs Gauss-Seidel sweeps where contacts "
+                        "rest on a cheap W. false: W renewed at every change of the factor");
       prm.leave_subsection();
     }
 
