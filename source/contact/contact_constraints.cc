@@ -447,7 +447,10 @@ namespace warpchol::fem
                                                   contact_settings.compliance);
     };
     if (renew_compliance)
-      kept_columns = cholesky::KeptInverseColumns();
+      {
+        kept_columns         = cholesky::KeptInverseColumns();
+        rounds_since_renewal = 0;
+      }
     renew_compliance      = false;
     std::vector<double> w = compliance();
     report.compliance_lag = by_paths ? kept_columns.factor_changes_behind : 0;
@@ -479,10 +482,9 @@ namespace warpchol::fem
     // the tolerance from their aim, Gauss-Seidel solves again from where the correction
     // left them (u = reached + W (lambda_new - lambda)), with the same W (each round cuts
     // the miss by about W's relative error), then with W renewed.
-    // A W that lags so far that it missed is renewed at the next step: a renewal costs
-    // about what a few rounds do, and the factor has left it behind for good.
+    // Once the rounds since W was renewed have cost about what a renewal does, W is
+    // renewed at the next step.
     constexpr unsigned int rounds_with_lagged_w = 2;
-    renew_compliance = report.compliance_lag > 0 && report.aim_error * time_step > contact_settings.tolerance / 4;
     for (unsigned int round = 0;
          report.compliance_lag > 0 && report.aim_error * time_step > contact_settings.tolerance / 4; ++round)
       {
@@ -492,6 +494,7 @@ namespace warpchol::fem
             w                         = compliance();
             report.compliance_lag     = 0;
             report.compliance_renewed = true;
+            rounds_since_renewal      = 0;
           }
         const std::vector<double> reached = contact_velocities(velocities, obstacle_velocity, time_step);
         const std::size_t         m       = reached.size();
@@ -516,6 +519,8 @@ namespace warpchol::fem
         StageTimer timer(statistics.stages, stage::contact_correction);
         report.aim_error = aim_error();
       }
+    rounds_since_renewal += report.compliance_renewed ? 0 : report.correction_rounds;
+    renew_compliance = rounds_since_renewal >= rounds_worth_a_renewal;
 
     record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
   }

@@ -103,8 +103,8 @@ namespace warpchol::fem
      * (a re-rotation's partial refactorization, an update), so that W lags behind the
      * factor, and the correction, by the factor as it is, checks it: a step whose contacts
      * end further than a quarter of the tolerance from where Gauss-Seidel aimed them is
-     * solved again, and W renewed at the next step. False: W is renewed at every change of
-     * the factor.
+     * solved again from there, and W is renewed once such rounds have cost about a
+     * renewal. False: W is renewed at every change of the factor.
      */
     bool keep_compliance_across_factor_changes = false;
   };
@@ -277,8 +277,12 @@ namespace warpchol::fem
      * cache of the factor, which save() drops.
      */
     mutable cholesky::KeptInverseColumns kept_columns;
-    /** Whether the next step renews W (this one's lagged W missed its aim). */
+    /** Whether the next step renews W (the rounds of the lagged one cost about a renewal). */
     bool                      renew_compliance = false;
+    /** Gauss-Seidel's rounds after a lagged W's miss since W was renewed. */
+    unsigned int              rounds_since_renewal = 0;
+    /** The rounds (a warm Gauss-Seidel and a solve each) that cost about a renewal of W. */
+    static constexpr unsigned int rounds_worth_a_renewal = 6;
     /** The impulses of the last step's contacts (3 per contact), the next one's warm start. */
     std::vector<double>       lambda;
     ContactStepReport         report;

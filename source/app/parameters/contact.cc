@@ -40,9 +40,9 @@ namespace warpchol::app
                         "Compliance = paths, direct solves: true, the kept columns of A^-1 outlive the "
                         "factor's changes, W lagging behind the factor (as an asynchronously refreshed "
                         "factor gives it); a step whose contacts end more than a quarter of Contact "
-                        "distance from where Gauss-Seidel aimed them is solved again, and W renewed at "
-                        "the next step. Pays where W is dear and the factor changes often (a large "
-                        "contact patch on a re-rotating body); costs Gauss-Seidel sweeps where contacts "
+                        "distance from where Gauss-Seidel aimed them is solved again from there, and W "
+                        "is renewed after six such rounds. Pays where W is dear and the factor changes "
+                        "often (a large contact patch on a re-rotating body); costs Gauss-Seidel sweeps where contacts "
                         "rest on a cheap W. false: W renewed at every change of the factor");
       prm.leave_subsection();
     }
