@@ -122,27 +122,11 @@ namespace warpchol::fem
   {
     if (iterating_overhead < 0 || !(seconds_per_iteration > 0))
       return -1;
-    // Past the last staleness measured, the iterations go on growing as they grew up to
-    // it (the least-squares slope over the measured ones, never falling): a factor ages
-    // further than the cycles of late have shown.
-    const unsigned int wanted = std::min(std::max(staleness, 1u), longest_staleness);
-    unsigned int       last   = 0;
-    double             n = 0, sum_s = 0, sum_i = 0, sum_ss = 0, sum_si = 0;
-    for (unsigned int s = 1; s <= wanted; ++s)
+    // The last staleness measured at or before this one stands for it.
+    for (unsigned int s = std::min(std::max(staleness, 1u), longest_staleness); s >= 1; --s)
       if (iterations_at[s - 1] >= 0)
-        {
-          last = s;
-          n += 1;
-          sum_s += s;
-          sum_i += iterations_at[s - 1];
-          sum_ss += double(s) * s;
-          sum_si += s * iterations_at[s - 1];
-        }
-    if (last == 0)
-      return -1;
-    const double spread = n * sum_ss - sum_s * sum_s;
-    const double slope  = spread > 0 ? std::max(0., (n * sum_si - sum_s * sum_i) / spread) : 0.;
-    return iterating_overhead + (iterations_at[last - 1] + slope * (wanted - last)) * seconds_per_iteration;
+        return iterating_overhead + iterations_at[s - 1] * seconds_per_iteration;
+    return -1;
   }
 
   bool StepCostModel::exact_step_is_due(const unsigned int staleness) const
