@@ -86,6 +86,9 @@ int main()
                          "  set Max iterations = 50\n  set Compliance = full solves\nend\n"},
     {"Contact, constraints", "subsection Obstacle\n  set Type = plane\n  set Point = 0, -5, 0\n"
                              "  set Normal = 0, 1, 0\nend\nsubsection Contact\n  set Penalty stiffness = 1e5\nend\n"},
+    {"Contact, full solves", "subsection Obstacle\n  set Type = plane\n  set Point = 0, -5, 0\n"
+                             "  set Normal = 0, 1, 0\nend\nsubsection Contact\n  set Compliance = full solves\n"
+                             "  set Compliance lag = true\nend\n"},
     {"Distributed, serial run", "subsection Distributed\n  set Linear solver = mumps\n  set Tolerance = 1e-10\nend\n"},
     {"Old names", "subsection Model\n  set Update threshold = 0.2\nend\n"
                   "subsection Bodies\n  set Update thresholds = 0.2\nend\n"}};
