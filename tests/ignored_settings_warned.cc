@@ -89,6 +89,10 @@ int main()
     {"Contact, full solves", "subsection Obstacle\n  set Type = plane\n  set Point = 0, -5, 0\n"
                              "  set Normal = 0, 1, 0\nend\nsubsection Contact\n  set Compliance = full solves\n"
                              "  set Compliance lag = true\nend\n"},
+    {"Contact, an iterating strategy",
+     "subsection Model\n  set Type = warp_canceling\n  set Strategy = preconditioned\nend\n"
+     "subsection Obstacle\n  set Type = plane\n  set Point = 0, -5, 0\n  set Normal = 0, 1, 0\nend\n"
+     "subsection Contact\n  set Compliance lag = true\nend\n"},
     {"Distributed, serial run", "subsection Distributed\n  set Linear solver = mumps\n  set Tolerance = 1e-10\nend\n"},
     {"Old names", "subsection Model\n  set Update threshold = 0.2\nend\n"
                   "subsection Bodies\n  set Update thresholds = 0.2\nend\n"}};

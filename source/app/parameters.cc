@@ -338,6 +338,15 @@ namespace warpchol::app
         warn_if_set(prm, "Contact", {"Penalty stiffness"}, "Contact/Method = constraints");
         if (contact.settings.compliance != cholesky::ComplianceMethod::paths)
           warn_if_set(prm, "Contact", {"Compliance lag"}, "Contact/Compliance = full solves");
+        // The lag is checked by the correction's direct solve: a strategy that always
+        // iterates (auto solves directly in its exact steps) never uses it.
+        const auto types          = model_types();
+        const bool always_iterate = model.strategy.iterates() && model.strategy.kind != fem::StepStrategy::Kind::automatic &&
+                                    std::all_of(types.begin(), types.end(), [](const fem::ModelType type) {
+                                      return type == fem::ModelType::warp_canceling;
+                                    });
+        if (always_iterate)
+          warn_if_set(prm, "Contact", {"Compliance lag"}, "Model/Strategy = " + fem::to_string(model.strategy.kind));
       }
     if (output.vtu_interval == 0)
       warn_if_set(prm, "Output", {"VTU precision"}, "VTU interval = 0");
