@@ -11,10 +11,20 @@
 #include <array>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 
 namespace warpchol::fem
 {
+  namespace
+  {
+    /** A contact's impulse in world coordinates from its 3 rows (normal, tangents). */
+    Vector3 world_impulse(const Contact &c, const double *rows)
+    {
+      return rows[0] * c.normal + rows[1] * c.tangent_1 + rows[2] * c.tangent_2;
+    }
+  } // namespace
+
   namespace
   {
     /** Whether @p point lies in the tetrahedron @p corners (barycentric coordinates all >= 0). */
@@ -460,44 +470,54 @@ namespace warpchol::fem
     std::vector<double> free_velocity = contact_velocities(velocities, obstacle_velocity, time_step);
     solve_for_impulses(w, free_velocity, friction, statistics);
     apply_impulses(body, model, lambda, velocities, statistics);
-    const auto aim_error = [&]() {
-      const std::vector<double> reached = contact_velocities(velocities, obstacle_velocity, time_step);
-      const std::size_t         m       = reached.size();
-      double                    largest = 0;
-      for (std::size_t i = 0; i < m; ++i)
-        {
-          double aimed = free_velocity[i];
-          for (std::size_t k = 0; k < m; ++k)
-            aimed += w[k + i * m] * lambda[k]; // W is symmetric: its column i, contiguous
-          largest = std::max(largest, std::abs(reached[i] - aimed));
-        }
-      return largest;
-    };
     {
       StageTimer timer(statistics.stages, stage::contact_correction);
-      report.aim_error = aim_error();
+      report.aim_error = aim_miss(w, free_velocity, contact_velocities(velocities, obstacle_velocity, time_step));
     }
+    if (report.compliance_lag > 0)
+      aim_again(body, model, compliance, w, friction, obstacle_velocity, time_step, velocities, statistics);
 
-    // A lagged W aims the contacts slightly off. Where they end further than a quarter of
-    // the tolerance from their aim, Gauss-Seidel solves again from where the correction
-    // left them (u = reached + W (lambda_new - lambda)), with the same W (each round cuts
-    // the miss by about W's relative error), then with W renewed.
-    // Once the rounds since W was renewed have cost about what a renewal does, W is
-    // renewed at the next step.
+    record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
+  }
+
+  double ContactConstraints::aim_miss(const std::vector<double> &w, const std::vector<double> &free_velocity,
+                                     const std::vector<double> &reached) const
+  {
+    const std::size_t m       = reached.size();
+    double            largest = 0;
+    for (std::size_t i = 0; i < m; ++i)
+      {
+        double aimed = free_velocity[i];
+        for (std::size_t k = 0; k < m; ++k)
+          aimed += w[k + i * m] * lambda[k]; // W is symmetric: its column i, contiguous
+        largest = std::max(largest, std::abs(reached[i] - aimed));
+      }
+    return largest;
+  }
+
+  void ContactConstraints::aim_again(const ElasticBody &body, ElasticityModel &model,
+                                     const std::function<std::vector<double>()> &renewed_compliance,
+                                     std::vector<double> &w, const std::vector<double> &friction,
+                                     const std::vector<Vector3> &obstacle_velocity, const double time_step,
+                                     std::vector<Vector3> &velocities, StepStatistics &statistics)
+  {
+    // Each round with the same W cuts the miss by about W's relative error; the third
+    // renews W.
     constexpr unsigned int rounds_with_lagged_w = 2;
-    for (unsigned int round = 0;
-         report.compliance_lag > 0 && report.aim_error * time_step > contact_settings.tolerance / 4; ++round)
+    for (unsigned int round = 0; report.aim_error * time_step > contact_settings.tolerance / 4; ++round)
       {
         if (round == rounds_with_lagged_w)
           {
             kept_columns              = cholesky::KeptInverseColumns();
-            w                         = compliance();
+            w                         = renewed_compliance();
             report.compliance_lag     = 0;
             report.compliance_renewed = true;
             rounds_since_renewal      = 0;
           }
+        // u = reached + W (lambda_new - lambda): the free velocities that aim from here.
         const std::vector<double> reached = contact_velocities(velocities, obstacle_velocity, time_step);
         const std::size_t         m       = reached.size();
+        std::vector<double>       free_velocity(m);
         for (std::size_t i = 0; i < m; ++i)
           {
             free_velocity[i] = reached[i];
@@ -517,12 +537,12 @@ namespace warpchol::fem
           change[i] = lambda[i] - before[i];
         apply_impulses(body, model, change, velocities, statistics);
         StageTimer timer(statistics.stages, stage::contact_correction);
-        report.aim_error = aim_error();
+        report.aim_error = aim_miss(w, free_velocity, contact_velocities(velocities, obstacle_velocity, time_step));
       }
+    // Once the rounds since W was renewed have cost about what a renewal does, the next
+    // step renews it.
     rounds_since_renewal += report.compliance_renewed ? 0 : report.correction_rounds;
     renew_compliance = rounds_since_renewal >= rounds_worth_a_renewal;
-
-    record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
   }
 
   std::vector<double> ContactConstraints::contact_velocities(const std::vector<Vector3> &velocities,
@@ -551,8 +571,7 @@ namespace warpchol::fem
     for (std::size_t j = 0; j < step_contacts.size(); ++j)
       {
         const Contact &c       = step_contacts[j];
-        const Vector3  impulse = impulses[3 * j] * c.normal + impulses[3 * j + 1] * c.tangent_1 +
-                                impulses[3 * j + 2] * c.tangent_2;
+        const Vector3  impulse = world_impulse(c, impulses.data() + 3 * j);
         for (unsigned int k = 0; k < c.n_vertices; ++k)
           on_vertices[c.vertex_of(k)] += c.weights[k] * impulse;
       }
@@ -685,8 +704,7 @@ namespace warpchol::fem
 
   Vector3 ContactConstraints::impulse_of(const std::size_t j) const
   {
-    const Contact &c = step_contacts[j];
-    return lambda[3 * j] * c.normal + lambda[3 * j + 1] * c.tangent_1 + lambda[3 * j + 2] * c.tangent_2;
+    return world_impulse(step_contacts[j], lambda.data() + 3 * j);
   }
 
   void ContactConstraints::save(BinaryWriter &writer) const

@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -234,6 +235,20 @@ namespace warpchol::fem
      */
     std::vector<double> contact_velocities(const std::vector<Vector3> &velocities,
                                            const std::vector<Vector3> &obstacle_velocity, double time_step) const;
+
+    /** The largest |reached - (free + W lambda)| over the contacts' rows: how far a correction missed Gauss-Seidel's aim. */
+    double aim_miss(const std::vector<double> &w, const std::vector<double> &free_velocity,
+                    const std::vector<double> &reached) const;
+
+    /**
+     * A lagged W's miss past a quarter of the tolerance: Gauss-Seidel again from where the
+     * correction left the contacts, and another correcting solve; twice with @p w, then
+     * with W renewed (@p renewed_compliance). Counts the rounds toward the next renewal.
+     */
+    void aim_again(const ElasticBody &body, ElasticityModel &model,
+                   const std::function<std::vector<double>()> &renewed_compliance, std::vector<double> &w,
+                   const std::vector<double> &friction, const std::vector<Vector3> &obstacle_velocity,
+                   double time_step, std::vector<Vector3> &velocities, StepStatistics &statistics);
 
     /** v += A~^-1 H^T (@p impulses, 3 per contact of the step): one solve with the model. */
     void apply_impulses(const ElasticBody &body, ElasticityModel &model, const std::vector<double> &impulses,
