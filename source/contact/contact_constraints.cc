@@ -468,14 +468,20 @@ namespace warpchol::fem
     // u = free + W lambda is where Gauss-Seidel aims the contacts (u_n >= 0 keeps the next
     // position out of the obstacle, u_t is the sliding velocity relative to it).
     std::vector<double> free_velocity = contact_velocities(velocities, obstacle_velocity, time_step);
-    solve_for_impulses(w, free_velocity, friction, statistics);
+    // Gauss-Seidel need not resolve a lagged W finer than the check lets its correction
+    // miss: a tenth of that, or Tolerance if larger.
+    GaussSeidelSettings gauss_seidel = contact_settings.gauss_seidel;
+    if (report.compliance_lag > 0)
+      gauss_seidel.tolerance = std::max(gauss_seidel.tolerance, contact_settings.tolerance / (40 * time_step));
+    solve_for_impulses(w, free_velocity, friction, gauss_seidel, statistics);
     apply_impulses(body, model, lambda, velocities, statistics);
     {
       StageTimer timer(statistics.stages, stage::contact_correction);
       report.aim_error = aim_miss(w, free_velocity, contact_velocities(velocities, obstacle_velocity, time_step));
     }
     if (report.compliance_lag > 0)
-      aim_again(body, model, compliance, w, friction, obstacle_velocity, time_step, velocities, statistics);
+      aim_again(body, model, compliance, w, friction, gauss_seidel, obstacle_velocity, time_step, velocities,
+                statistics);
 
     record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
   }
@@ -498,6 +504,7 @@ namespace warpchol::fem
   void ContactConstraints::aim_again(const ElasticBody &body, ElasticityModel &model,
                                      const std::function<std::vector<double>()> &renewed_compliance,
                                      std::vector<double> &w, const std::vector<double> &friction,
+                                     const GaussSeidelSettings  &gauss_seidel,
                                      const std::vector<Vector3> &obstacle_velocity, const double time_step,
                                      std::vector<Vector3> &velocities, StepStatistics &statistics)
   {
@@ -528,7 +535,10 @@ namespace warpchol::fem
         const unsigned int        iterations = report.gauss_seidel.iterations;
         {
           StageTimer timer(statistics.stages, stage::contact_gauss_seidel);
-          report.gauss_seidel = solve_friction_cone(w, free_velocity, friction, contact_settings.gauss_seidel, lambda);
+          report.gauss_seidel = solve_friction_cone(w, free_velocity, friction,
+                                                    report.compliance_lag > 0 ? gauss_seidel :
+                                                                                contact_settings.gauss_seidel,
+                                                    lambda);
         }
         report.gauss_seidel.iterations += iterations;
         ++report.correction_rounds;
@@ -644,7 +654,8 @@ namespace warpchol::fem
   }
 
   void ContactConstraints::solve_for_impulses(const std::vector<double> &w, const std::vector<double> &free_velocity,
-                                              const std::vector<double> &friction, StepStatistics &statistics)
+                                              const std::vector<double> &friction, const GaussSeidelSettings &settings,
+                                              StepStatistics &statistics)
   {
     const std::size_t n_contacts = step_contacts.size();
     StageTimer timer(statistics.stages, stage::contact_gauss_seidel);
@@ -658,7 +669,7 @@ namespace warpchol::fem
         for (std::size_t d = 0; d < 3; ++d)
           start[3 * j + d] = lambda[3 * found->second + d];
     lambda              = std::move(start);
-    report.gauss_seidel = solve_friction_cone(w, free_velocity, friction, contact_settings.gauss_seidel, lambda);
+    report.gauss_seidel = solve_friction_cone(w, free_velocity, friction, settings, lambda);
   }
 
   void ContactConstraints::record_forces_and_gaps(const std::vector<Vector3> &positions,

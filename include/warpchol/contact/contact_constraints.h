@@ -105,7 +105,8 @@ namespace warpchol::fem
      * factor, and the correction, by the factor as it is, checks it: a step whose contacts
      * end further than a quarter of the tolerance from where Gauss-Seidel aimed them is
      * solved again from there, and W is renewed once such rounds have cost about a
-     * renewal. False: W is renewed at every change of the factor.
+     * renewal. Gauss-Seidel then stops at a tenth of the miss the check allows, if that
+     * is above its tolerance. False: W is renewed at every change of the factor.
      */
     bool keep_compliance_across_factor_changes = false;
   };
@@ -223,10 +224,12 @@ namespace warpchol::fem
 
     /**
      * lambda: the impulses of the step's contacts by projected Gauss-Seidel on @p w, warm
-     * started from those of the contacts that persist (same vertex, same obstacle).
+     * started from those of the contacts that persist (same vertex, same obstacle), to
+     * @p settings.
      */
     void solve_for_impulses(const std::vector<double> &w, const std::vector<double> &free_velocity,
-                            const std::vector<double> &friction, StepStatistics &statistics);
+                            const std::vector<double> &friction, const GaussSeidelSettings &settings,
+                            StepStatistics &statistics);
 
     /**
      * u = H v + the targets at @p velocities, 3 rows per contact of the step: the normal
@@ -247,7 +250,8 @@ namespace warpchol::fem
      */
     void aim_again(const ElasticBody &body, ElasticityModel &model,
                    const std::function<std::vector<double>()> &renewed_compliance, std::vector<double> &w,
-                   const std::vector<double> &friction, const std::vector<Vector3> &obstacle_velocity,
+                   const std::vector<double> &friction, const GaussSeidelSettings &gauss_seidel,
+                   const std::vector<Vector3> &obstacle_velocity,
                    double time_step, std::vector<Vector3> &velocities, StepStatistics &statistics);
 
     /** v += A~^-1 H^T (@p impulses, 3 per contact of the step): one solve with the model. */

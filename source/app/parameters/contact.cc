@@ -39,11 +39,12 @@ namespace warpchol::app
       prm.declare_entry("Compliance lag", "false", Patterns::Bool(),
                         "Compliance = paths, direct solves: true, the kept columns of A^-1 outlive the "
                         "factor's changes, W lagging behind the factor (as an asynchronously refreshed "
-                        "factor gives it); a step whose contacts end more than a quarter of Contact "
+                        "factor gives it), Gauss-Seidel stopping at Contact distance / (40 dt) if that "
+                        "is above Tolerance; a step whose contacts end more than a quarter of Contact "
                         "distance from where Gauss-Seidel aimed them is solved again from there, and W "
-                        "is renewed after six such rounds. Pays where W is dear and the factor changes "
-                        "often (a large contact patch on a re-rotating body); costs Gauss-Seidel sweeps where contacts "
-                        "rest on a cheap W. false: W renewed at every change of the factor");
+                        "is renewed after six such rounds. Faster steps, penetrations within a quarter "
+                        "of Contact distance instead of the exact compliance's. false: W renewed at "
+                        "every change of the factor");
       prm.leave_subsection();
     }
 
