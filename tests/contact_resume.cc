@@ -5,8 +5,10 @@
 // impulses). Not to the bit: the resumed run's factor is a new revision, so the columns of
 // L^-1 the uninterrupted run kept are solved anew, which changes the last bits of W.
 // Scene: the tests' small torus, held on its far side, sagging under gravity onto a table
-// with friction 0.5; then the same with penalty springs (Contact/Method = penalty), whose
-// checkpoint also holds the springs tied and their diagonal.
+// with friction 0.5; the same with W lagging behind the factor (Contact/Compliance lag: a
+// checkpoint drops the kept columns, and the run that wrote it renews W as the resumed one
+// does); then with penalty springs (Contact/Method = penalty), whose checkpoint also holds
+// the springs tied and their diagonal.
 
 #include "simulation_tests.h"
 
@@ -16,8 +18,8 @@
 
 namespace
 {
-  /** The scene, its contacts by constraints or, if @p penalty, by penalty springs. */
-  std::string scene(const std::string &directory, const unsigned int n_steps, const bool penalty)
+  /** The scene, its contacts by constraints (W lagging if @p lag) or, if @p penalty, by penalty springs. */
+  std::string scene(const std::string &directory, const unsigned int n_steps, const bool penalty, const bool lag)
   {
     return tests::without_subsection(tests::small_torus_scene("  set Type = corotational\n"), "Tool") +
            "subsection Time stepping\n"
@@ -28,6 +30,7 @@ namespace
            "  set Contact distance = 1e-4\n" +
            (penalty ? std::string("  set Method = penalty\n") :
                       std::string("  set Max iterations   = 500\n  set Tolerance        = 1e-10\n")) +
+           (lag ? "  set Compliance lag = true\n" : "") +
            "end\n"
            "subsection Obstacle\n"
            "  set Type     = plane\n"
@@ -75,17 +78,17 @@ namespace
 
 int main()
 {
-  for (const bool penalty : {false, true})
+  for (const std::string method : {"constraints", "lagged", "penalty"})
     {
-      const std::string method = penalty ? "penalty" : "constraints";
+      const bool penalty = method == "penalty", lag = method == "lagged";
       std::cout << "-- contact by " << method << std::endl;
       const std::string straight_directory = "straight_" + method, resumed_directory = "resumed_" + method;
-      tests::write_file(straight_directory + ".prm", scene(straight_directory, 20, penalty));
+      tests::write_file(straight_directory + ".prm", scene(straight_directory, 20, penalty, lag));
       std::cout << "20 steps: " << tests::run_warpchol({straight_directory + ".prm"}) << std::endl;
       // The same file (its name names the output folder), extended from 10 steps to 20.
-      tests::write_file(resumed_directory + ".prm", scene(resumed_directory, 10, penalty));
+      tests::write_file(resumed_directory + ".prm", scene(resumed_directory, 10, penalty, lag));
       std::cout << "10 steps: " << tests::run_warpchol({resumed_directory + ".prm"}) << std::endl;
-      tests::write_file(resumed_directory + ".prm", scene(resumed_directory, 20, penalty));
+      tests::write_file(resumed_directory + ".prm", scene(resumed_directory, 20, penalty, lag));
       std::cout << "resumed to 20: " << tests::run_warpchol({resumed_directory + ".prm", "--resume"}) << std::endl;
 
       const auto straight = last_row(straight_directory), resumed = last_row(resumed_directory);

@@ -722,7 +722,9 @@ namespace warpchol::fem
   {
     // A resumed run solves the columns of A^-1 anew: so does this one at its next step,
     // and the two go on alike (a lagged W would differ).
-    kept_columns = cholesky::KeptInverseColumns();
+    kept_columns         = cholesky::KeptInverseColumns();
+    renew_compliance     = false;
+    rounds_since_renewal = 0;
     writer.section("contact");
     // The last step's contacts as their warm start finds them again (contact_key()), their
     // impulses; penalty contact has no impulses to start from.

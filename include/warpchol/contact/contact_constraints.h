@@ -296,10 +296,13 @@ namespace warpchol::fem
      * cache of the factor, which save() drops.
      */
     mutable cholesky::KeptInverseColumns kept_columns;
-    /** Whether the next step renews W (the rounds of the lagged one cost about a renewal). */
-    bool                      renew_compliance = false;
-    /** Gauss-Seidel's rounds after a lagged W's miss since W was renewed. */
-    unsigned int              rounds_since_renewal = 0;
+    /**
+     * Whether the next step renews W (the rounds of the lagged one cost about a renewal),
+     * and Gauss-Seidel's rounds after a lagged W's miss since W was renewed: save() renews
+     * W as a resumed run does, and counts from zero.
+     */
+    mutable bool              renew_compliance     = false;
+    mutable unsigned int      rounds_since_renewal = 0;
     /** The rounds (a warm Gauss-Seidel and a solve each) that cost about a renewal of W. */
     static constexpr unsigned int rounds_worth_a_renewal = 6;
     /** The impulses of the last step's contacts (3 per contact), the next one's warm start. */
