@@ -475,83 +475,79 @@ namespace warpchol::fem
       gauss_seidel.tolerance = std::max(gauss_seidel.tolerance, contact_settings.tolerance / (40 * time_step));
     solve_for_impulses(w, free_velocity, friction, gauss_seidel, statistics);
     apply_impulses(body, model, lambda, velocities, statistics);
-    {
-      StageTimer timer(statistics.stages, stage::contact_correction);
-      report.aim_error = aim_miss(w, free_velocity, contact_velocities(velocities, obstacle_velocity, time_step));
-    }
+    // W as the factor has it aims where the direct solve goes: only a lagged one is checked.
     if (report.compliance_lag > 0)
-      aim_again(body, model, compliance, w, friction, gauss_seidel, obstacle_velocity, time_step, velocities,
-                statistics);
+      aim_again(body, model, compliance, w, free_velocity, friction, gauss_seidel, obstacle_velocity, time_step,
+                velocities, statistics);
 
     record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
   }
 
-  double ContactConstraints::aim_miss(const std::vector<double> &w, const std::vector<double> &free_velocity,
-                                     const std::vector<double> &reached) const
+  std::vector<double> ContactConstraints::times_lambda(const std::vector<double> &w) const
   {
-    const std::size_t m       = reached.size();
-    double            largest = 0;
+    const std::size_t   m = lambda.size();
+    std::vector<double> product(m, 0.);
     for (std::size_t i = 0; i < m; ++i)
-      {
-        double aimed = free_velocity[i];
-        for (std::size_t k = 0; k < m; ++k)
-          aimed += w[k + i * m] * lambda[k]; // W is symmetric: its column i, contiguous
-        largest = std::max(largest, std::abs(reached[i] - aimed));
-      }
-    return largest;
+      for (std::size_t k = 0; k < m; ++k)
+        product[i] += w[k + i * m] * lambda[k]; // W is symmetric: its column i, contiguous
+    return product;
   }
 
   void ContactConstraints::aim_again(const ElasticBody &body, ElasticityModel &model,
                                      const std::function<std::vector<double>()> &renewed_compliance,
-                                     std::vector<double> &w, const std::vector<double> &friction,
-                                     const GaussSeidelSettings  &gauss_seidel,
+                                     std::vector<double> &w, std::vector<double> free_velocity,
+                                     const std::vector<double> &friction, const GaussSeidelSettings &gauss_seidel,
                                      const std::vector<Vector3> &obstacle_velocity, const double time_step,
                                      std::vector<Vector3> &velocities, StepStatistics &statistics)
   {
+    // The miss: reached - (free + W lambda), largest over the rows; u = reached - W lambda
+    // are then the free velocities that aim from where the correction left the contacts.
+    std::vector<double> reached, w_lambda;
+    const auto          measure_miss = [&]() {
+      StageTimer timer(statistics.stages, stage::contact_correction);
+      reached          = contact_velocities(velocities, obstacle_velocity, time_step);
+      w_lambda         = times_lambda(w);
+      report.aim_error = 0;
+      for (std::size_t i = 0; i < reached.size(); ++i)
+        report.aim_error = std::max(report.aim_error, std::abs(reached[i] - free_velocity[i] - w_lambda[i]));
+    };
+    measure_miss();
     // Each round with the same W cuts the miss by about W's relative error; the third
     // renews W.
     constexpr unsigned int rounds_with_lagged_w = 2;
-    for (unsigned int round = 0; report.aim_error * time_step > contact_settings.tolerance / 4; ++round)
+    unsigned int           round = 0;
+    bool                   renewed = false;
+    for (; report.aim_error * time_step > contact_settings.tolerance / 4; ++round)
       {
         if (round == rounds_with_lagged_w)
           {
-            kept_columns              = cholesky::KeptInverseColumns();
-            w                         = renewed_compliance();
-            report.compliance_lag     = 0;
-            report.compliance_renewed = true;
-            rounds_since_renewal      = 0;
+            kept_columns          = cholesky::KeptInverseColumns();
+            w                     = renewed_compliance();
+            w_lambda              = times_lambda(w);
+            report.compliance_lag = 0;
+            renewed               = true;
+            rounds_since_renewal  = 0;
           }
-        // u = reached + W (lambda_new - lambda): the free velocities that aim from here.
-        const std::vector<double> reached = contact_velocities(velocities, obstacle_velocity, time_step);
-        const std::size_t         m       = reached.size();
-        std::vector<double>       free_velocity(m);
+        const std::size_t m = reached.size();
         for (std::size_t i = 0; i < m; ++i)
-          {
-            free_velocity[i] = reached[i];
-            for (std::size_t k = 0; k < m; ++k)
-              free_velocity[i] -= w[k + i * m] * lambda[k];
-          }
+          free_velocity[i] = reached[i] - w_lambda[i];
         const std::vector<double> before     = lambda;
         const unsigned int        iterations = report.gauss_seidel.iterations;
         {
           StageTimer timer(statistics.stages, stage::contact_gauss_seidel);
           report.gauss_seidel = solve_friction_cone(w, free_velocity, friction,
-                                                    report.compliance_lag > 0 ? gauss_seidel :
-                                                                                contact_settings.gauss_seidel,
-                                                    lambda);
+                                                    renewed ? contact_settings.gauss_seidel : gauss_seidel, lambda);
         }
         report.gauss_seidel.iterations += iterations;
-        ++report.correction_rounds;
         std::vector<double> change(m);
         for (std::size_t i = 0; i < m; ++i)
           change[i] = lambda[i] - before[i];
         apply_impulses(body, model, change, velocities, statistics);
-        StageTimer timer(statistics.stages, stage::contact_correction);
-        report.aim_error = aim_miss(w, free_velocity, contact_velocities(velocities, obstacle_velocity, time_step));
+        measure_miss();
       }
     // Once the rounds since W was renewed have cost about what a renewal does, the next
     // step renews it.
-    rounds_since_renewal += report.compliance_renewed ? 0 : report.correction_rounds;
+    rounds_since_renewal += renewed ? 0 : round;
     renew_compliance = rounds_since_renewal >= rounds_worth_a_renewal;
   }
 

@@ -85,14 +85,10 @@ namespace warpchol::fem
     /** The changes of the factor W lags behind (0: W is the factor's as it is). */
     unsigned int compliance_lag = 0;
     /**
-     * The largest difference (m/s) between the contacts' velocities after the correction
-     * and those Gauss-Seidel aimed at, over their rows: what a lagged W (or CG's tolerance)
-     * leaves; times the step, a distance.
+     * With a lagged W, the largest difference (m/s) between the contacts' velocities after
+     * the correction and those Gauss-Seidel aimed at, over their rows; times the step, a
+     * distance. 0 where W is the factor's own (the direct solve goes where it aims).
      */
     double aim_error = 0;
-    /** Gauss-Seidel's rounds after the first, each from where the last correction left the contacts. */
-    unsigned int correction_rounds = 0;
-    /** Whether the step renewed W, the lagged one having missed by too much. */
-    bool compliance_renewed = false;
   };
 } // namespace warpchol::fem

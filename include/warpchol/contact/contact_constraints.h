@@ -239,19 +239,21 @@ namespace warpchol::fem
     std::vector<double> contact_velocities(const std::vector<Vector3> &velocities,
                                            const std::vector<Vector3> &obstacle_velocity, double time_step) const;
 
-    /** The largest |reached - (free + W lambda)| over the contacts' rows: how far a correction missed Gauss-Seidel's aim. */
-    double aim_miss(const std::vector<double> &w, const std::vector<double> &free_velocity,
-                    const std::vector<double> &reached) const;
+    /** W lambda (@p w m x m, symmetric). */
+    std::vector<double> times_lambda(const std::vector<double> &w) const;
 
     /**
-     * A lagged W's miss past a quarter of the tolerance: Gauss-Seidel again from where the
-     * correction left the contacts, and another correcting solve; twice with @p w, then
-     * with W renewed (@p renewed_compliance). Counts the rounds toward the next renewal.
+     * The check of a lagged W after the correction: the miss (report's aim_error) between
+     * the contacts' velocities and Gauss-Seidel's aim, @p free_velocity + W lambda. Past a
+     * quarter of the tolerance in the step, Gauss-Seidel again from where the correction
+     * left the contacts, and another correcting solve; twice with @p w (to @p gauss_seidel),
+     * then with W renewed (@p renewed_compliance). Counts the rounds toward the next
+     * renewal.
      */
     void aim_again(const ElasticBody &body, ElasticityModel &model,
                    const std::function<std::vector<double>()> &renewed_compliance, std::vector<double> &w,
-                   const std::vector<double> &friction, const GaussSeidelSettings &gauss_seidel,
-                   const std::vector<Vector3> &obstacle_velocity,
+                   std::vector<double> free_velocity, const std::vector<double> &friction,
+                   const GaussSeidelSettings &gauss_seidel, const std::vector<Vector3> &obstacle_velocity,
                    double time_step, std::vector<Vector3> &velocities, StepStatistics &statistics);
 
     /** v += A~^-1 H^T (@p impulses, 3 per contact of the step): one solve with the model. */
