@@ -250,12 +250,17 @@ namespace warpchol::cholesky
         const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
         return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
       };
+      // Per supernode, where each of its constraints' rows comes from; then the panel
+      // column by column, so that reads and writes both run down the rows.
+      std::vector<const double *> from;
+      std::vector<Index>          from_ld;
       for (std::size_t k = 0; k < merged.supernodes.size(); ++k)
         {
           const Index s  = merged.supernodes[k];
           const Index nc = symbolic.n_columns(s);
           const Index kc = merged.constraint_start[k + 1] - merged.constraint_start[k];
-          double     *to = merged.panels.data() + merged.panel_start[k];
+          from.resize(kc);
+          from_ld.resize(kc);
           for (Index a = 0; a < kc; ++a)
             {
               const Index             i      = merged.constraints[merged.constraint_start[k] + a];
@@ -263,11 +268,13 @@ namespace warpchol::cholesky
               const PathForwardSolve &source = is_new ? solved : kept;
               const Index             ks     = is_new ? solved_at[s] : kept_at[s];
               const Index             b      = column_of(source, ks, is_new ? fresh_index[i] : was[i]);
-              const Index             ld     = source.constraint_start[ks + 1] - source.constraint_start[ks];
-              const double           *from   = source.panels.data() + source.panel_start[ks];
-              for (Index c = 0; c < nc; ++c)
-                to[a + c * kc] = from[b + c * ld];
+              from[a]    = source.panels.data() + source.panel_start[ks] + b;
+              from_ld[a] = source.constraint_start[ks + 1] - source.constraint_start[ks];
             }
+          double *to = merged.panels.data() + merged.panel_start[k];
+          for (Index c = 0; c < nc; ++c)
+            for (Index a = 0; a < kc; ++a)
+              to[a + static_cast<std::size_t>(c) * kc] = from[a][static_cast<std::size_t>(c) * from_ld[a]];
         }
       return merged;
     }
