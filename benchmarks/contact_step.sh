@@ -4,8 +4,10 @@
 # scene's run on one core:
 #   sh benchmarks/contact_step.sh        (liver_palpation, 3 runs, about 15 s)
 # Environment: BUILD (default build), SCENE (default liver_palpation), RUNS (default 3),
-# CORE (default 1). Per run: the contact stages' ms per step (the summary's stage table),
-# the rest of the step's, their ratio, and the rows of H per step (3 per contact, log.csv).
+# CORE (default 1), REFINEMENTS (default: the scene's Mesh/Refinements; 0 runs SOFA's liver
+# as SOFA ships it, 596 tets, about a quarter of the rows). Per run: the contact stages' ms
+# per step (the summary's stage table), the rest of the step's, their ratio, and the rows of
+# H per step (3 per contact, log.csv).
 set -eu
 cd "$(dirname "$0")/.."
 build=${BUILD:-build}
@@ -14,6 +16,13 @@ runs=${RUNS:-3}
 core=${CORE:-1}
 summary=$(mktemp)
 trap 'rm -f "$summary"' EXIT
+if [ -n "${REFINEMENTS:-}" ]; then
+  # The scene with its mesh refined REFINEMENTS times, beside it (its paths are relative).
+  variant="${scene}_refined_$REFINEMENTS"
+  sed "s/^\( *set Refinements *=\).*/\1 $REFINEMENTS/" "parameters/$scene.prm" > "parameters/$variant.prm"
+  trap 'rm -f "$summary" "parameters/$variant.prm"' EXIT
+  scene=$variant
+fi
 echo "$scene, one core (taskset -c $core), $runs runs"
 for run in $(seq "$runs"); do
   OMP_THREAD_LIMIT=1 OPENBLAS_NUM_THREADS=1 taskset -c "$core" "$build/warpchol" "parameters/$scene.prm" > "$summary"
