@@ -18,6 +18,13 @@ summary=$(mktemp)
 trap 'rm -f "$summary"' EXIT
 if [ -n "${REFINEMENTS:-}" ]; then
   # The scene with its mesh refined REFINEMENTS times, beside it (its paths are relative).
+  case $REFINEMENTS in
+    *[!0-9]*) echo "contact_step.sh: REFINEMENTS=$REFINEMENTS is not a number of refinements" >&2; exit 1 ;;
+  esac
+  if ! grep -q '^ *set Refinements *=' "parameters/$scene.prm"; then
+    echo "contact_step.sh: parameters/$scene.prm sets no Mesh/Refinements for REFINEMENTS to replace" >&2
+    exit 1
+  fi
   variant="${scene}_refined_$REFINEMENTS"
   sed "s/^\( *set Refinements *=\).*/\1 $REFINEMENTS/" "parameters/$scene.prm" > "parameters/$variant.prm"
   trap 'rm -f "$summary" "parameters/$variant.prm"' EXIT
