@@ -455,16 +455,21 @@ namespace warpchol::cholesky::HWY_NAMESPACE
         const Index     whole_end    = q + (nr - q) / target_lanes * target_lanes;
         constexpr Index side_by_side = groups * target_lanes;
         // The diagonal block's rows a panel at a time: the reflectors of the columns before
-        // the panel with groups side by side, then group by group those of the panel's
-        // columns (one group at a time: each group's rows make the next reflectors).
+        // the panel with groups side by side; then group by group, each group makes its
+        // columns' reflectors, which go at once to the panel's rows below it, side by side
+        // (not one group at a time as each group reaches them).
         constexpr Index panel_rows = 4 * side_by_side;
         Index           i0         = q;
         while (i0 < nc && i0 < whole_end)
           {
             const Index panel_end = std::min(i0 + panel_rows, whole_end);
             apply_to_rows(i0, panel_end, q, i0);
-            for (const Index panel = i0; i0 < panel_end; i0 += target_lanes)
-              diagonal_group(l + i0, nr, i0, panel, q, tolerance, first_column);
+            for (; i0 < panel_end; i0 += target_lanes)
+              {
+                diagonal_group(l + i0, nr, i0, i0, q, tolerance, first_column);
+                if (i0 < nc)
+                  apply_to_rows(i0 + target_lanes, panel_end, i0, std::min(i0 + target_lanes, nc));
+              }
           }
         const Index rows_below = whole_end - i0;
         if (threaded && rows_below > 4 * side_by_side)
