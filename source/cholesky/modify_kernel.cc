@@ -111,14 +111,17 @@ namespace warpchol::cholesky::HWY_NAMESPACE
      * applied: per local column j, tau_j, v_j (K values) and S v_j (K values).
      *
      * Rows go a vector at a time (a group: target_lanes rows, one register per column of L
-     * and of W), from the supernode's first changing column q on. A group that meets the
-     * diagonal block first takes the reflectors of the columns before it, then makes its
-     * own from its rows one by one, each applied at once to the group's rows below it (the
-     * others masked); the groups below the diagonal block take every reflector, a few side
-     * by side; the rows past the last whole group go through a copy padded with zeros to a
-     * group. Every row is computed by the same operations in the same order, whatever its
-     * place, group or target: the same bits for any split of the rows, and on every target
-     * with fused multiply-adds.
+     * and of W), from the supernode's first changing column q on. The diagonal block goes a
+     * panel of groups at a time: the panel takes the reflectors of the columns before it,
+     * a few groups side by side; then each of its groups makes its own from its rows one by
+     * one, each applied at once to the group's rows below it (the others masked), and these
+     * go to the panel's groups below, side by side. The groups below the diagonal block take
+     * every reflector, a few side by side; the rows past the last whole group go through a
+     * copy padded with zeros to a group. Every row is computed by the same operations in
+     * the same order whatever the split of the rows over threads: the same bits for any
+     * number of threads. Across targets the results agree to rounding: the targets of 16
+     * registers keep W in memory below a group (apply_to_block()), and form the next
+     * reflector's dot product from it rather than by the look-ahead of apply_to_groups().
      */
     template <int K>
     struct ChunkKernel
