@@ -4,9 +4,11 @@
 // an exact step fall back (a probe of two exact steps while only the estimate is known,
 // then a stretch whose retry costs 1 % of it), the stretch doubles while the own steps
 // keep losing and starts from their loss again once they won; own steps that pay never
-// fall back, a tie within the margin does not, nor one own step held up among steps that
-// pay; over runs of 1000 and 10000 steps that lose by 30 % throughout, the steps before the
-// first fall-back and the retries cost under 1 % (2 % over 100 steps).
+// fall back, a tie within the margin does not (its probes come at doubling intervals), nor
+// one own step held up among steps that pay; a probe that measured the exact step on a slow
+// stretch of the machine is measured again soon; over runs of 1000 and 10000 steps that
+// lose by 30 % throughout, the steps before the first fall-back and the retries cost under
+// 1 % (2 % over 100 steps).
 //
 // Then on scenes. Where nothing pays (every element's error over the re-rotation threshold, so
 // every step re-rotates all of them, and CG to 1e-10: no step of auto's own is cheaper than an
@@ -100,8 +102,25 @@ namespace
                  feed(held_up, 1, 2.0, 1.0) == 0 && feed(held_up, 100, 0.1, 1.0) == 0 && held_up.exact_steps() == 0);
     fem::ExactFallback tie;
     tie.set_exact_estimate(0.5);
-    tests::check("  a tie within the margin (own 1.015x exact): the probe only",
-                 feed(tie, 130, 1.015, 1.0) == fem::ExactFallback::probe && tie.fallbacks() == 0);
+    // A probe once the estimate is lost (steps 5, 6), then after 16, 32 and 64 own steps.
+    tests::check("  a tie within the margin (own 1.015x exact): probes at doubling intervals only",
+                 feed(tie, 130, 1.015, 1.0) == 4 * fem::ExactFallback::probe && tie.fallbacks() == 0);
+
+    // The probe ran on a slow stretch of the machine (its exact steps 1.2, not 1.0): the own
+    // steps (1.1) seem to win; the next probe, 24 own steps later (3 windows: the interval
+    // whose probe costs 1 %, 19 steps), measures 1.0.
+    fem::ExactFallback misled;
+    misled.set_exact_estimate(0.5);
+    feed(misled, 12, 1.1, 1.2);
+    const unsigned int misled_exact = misled.exact_steps();
+    tests::check("  a probe measured on a slow stretch: measured again and a stretch within 30 steps",
+                 misled_exact == fem::ExactFallback::probe && misled.fallbacks() == 0 &&
+                   feed(misled, 30, 1.1, 1.0) > fem::ExactFallback::probe && misled.fallbacks() == 1);
+    fem::ExactFallback winning;
+    winning.set_exact_estimate(0.5);
+    feed(winning, 6, 1.0, 2.0); // the probe: steps 5, 6
+    tests::check("  own steps at half an exact step after a probe: the next probe 200 steps later",
+                 feed(winning, 199, 1.0, 2.0) == 0 && feed(winning, 10, 1.0, 2.0) == fem::ExactFallback::probe);
 
     // The price of never losing: own steps that lose by 30 % throughout, against the exact
     // path on every step.

@@ -310,8 +310,23 @@ namespace warpchol::fem
       length = std::max<double>(length, 2. * stretch);
     stretch       = static_cast<unsigned int>(std::min<double>(length, longest_stretch));
     phase_length  = stretch;
+    // The stretch measures the exact path anew: no probe is due after it.
+    probe_interval        = 0;
+    own_steps_since_probe = 0;
     after_stretch = false;
     ++fallback_count;
+  }
+
+  void ExactFallback::schedule_probe()
+  {
+    // A probe while the own steps win costs probe (exact / own - 1) own steps: the
+    // interval that makes that retry_budget of its time, at least twice the last one, so
+    // that a reference measured on a slow stretch of the machine is measured again soon,
+    // and one that keeps holding costs ever less.
+    const double cost   = own_seconds > 0 ? probe * std::max(0., exact_seconds / own_seconds - 1) : 0.;
+    const double length = std::max<double>({shortest_stretch, 2. * probe_interval, std::ceil(cost / retry_budget)});
+    probe_interval        = static_cast<unsigned int>(std::min<double>(length, longest_stretch));
+    own_steps_since_probe = 0;
   }
 
   void ExactFallback::record_step(const double seconds)
@@ -334,12 +349,15 @@ namespace warpchol::fem
         if (probing)
           {
             // The probe measured the reference: a stretch if the own steps lose to it, else
-            // they go on as if nothing happened.
+            // they go on, and a probe again after a while (schedule_probe()).
             probing = false;
             if (own_steps_lose(own_seconds, exact_seconds))
               start_stretch();
             else
-              exact = false;
+              {
+                exact = false;
+                schedule_probe();
+              }
             return;
           }
         // A stretch is over: the strategy's own steps get a window again.
@@ -360,20 +378,30 @@ namespace warpchol::fem
     const bool lost_an_exact_step = reference > 0 && excess > reference && losing_steps >= 2;
     if (phase_steps < window && !lost_an_exact_step)
       return;
-    own_seconds   = phase_seconds / phase_steps;
-    phase_seconds = 0;
-    phase_steps   = 0;
-    losing_steps  = 0;
+    own_seconds                  = phase_seconds / phase_steps;
+    const unsigned int in_window = phase_steps;
+    phase_seconds                = 0;
+    phase_steps                  = 0;
+    losing_steps                 = 0;
+    bool probe_due               = false;
     if (!lost_an_exact_step && !own_steps_lose(own_seconds, reference))
       {
-        // The own steps won (again): a later fall-back starts from its own loss.
+        // The own steps won (again): a later fall-back starts from its own loss. The exact
+        // path, once measured, is measured again from time to time (schedule_probe()).
         after_stretch = false;
         stretch       = 0;
-        return;
+        if (!measured)
+          return;
+        if (probe_interval == 0)
+          schedule_probe();
+        own_steps_since_probe += in_window;
+        probe_due = own_steps_since_probe >= probe_interval;
+        if (!probe_due)
+          return;
       }
     excess = 0;
     exact  = true;
-    if (!measured)
+    if (!measured || probe_due)
       {
         probing      = true;
         phase_length = probe;
@@ -399,6 +427,8 @@ namespace warpchol::fem
     writer.write(estimate);
     writer.write(exact_count);
     writer.write(fallback_count);
+    writer.write(probe_interval);
+    writer.write(own_steps_since_probe);
   }
 
   void ExactFallback::load(BinaryReader &reader)
@@ -418,5 +448,7 @@ namespace warpchol::fem
     reader.read(estimate);
     reader.read(exact_count);
     reader.read(fallback_count);
+    reader.read(probe_interval);
+    reader.read(own_steps_since_probe);
   }
 } // namespace warpchol::fem

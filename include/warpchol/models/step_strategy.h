@@ -290,7 +290,10 @@ namespace warpchol::fem
    * smaller of a full factorization at the measured flop rate and auto's own exact steps,
    * which do more). Own steps that lose to it run a probe of a few exact steps, which
    * measures the reference; the stretch follows if they still lose, the own steps go on
-   * if they do not.
+   * if they do not. While they win against a measured exact step, a probe measures it
+   * again after an interval whose probe costs retry_budget of it, at least
+   * shortest_stretch, doubling while they keep winning: one exact step measured on a
+   * slow stretch of the machine does not keep the own steps on for the rest of the run.
    */
   class ExactFallback
   {
@@ -338,6 +341,8 @@ namespace warpchol::fem
     bool own_steps_lose(double seconds, double reference) const;
     /** Run exact steps for a stretch, its length from the own steps' loss. */
     void start_stretch();
+    /** The own steps won against a measured exact step: when to measure it again (probe_interval). */
+    void schedule_probe();
 
     bool         exact          = false;
     unsigned int steps          = 0;
@@ -362,5 +367,8 @@ namespace warpchol::fem
     double       estimate       = -1;
     unsigned int exact_count    = 0;
     unsigned int fallback_count = 0;
+    /** Own steps between a won comparison and the next probe (0: none due), and those run since. */
+    unsigned int probe_interval        = 0;
+    unsigned int own_steps_since_probe = 0;
   };
 } // namespace warpchol::fem
