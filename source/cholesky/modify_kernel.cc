@@ -47,6 +47,17 @@ namespace warpchol::cholesky::HWY_NAMESPACE
 
     using Lanes = double __attribute__((vector_size(sizeof(double) * target_lanes)));
 
+    /**
+     * The most columns of W that ChunkKernel::run_by_columns() takes, on the targets that
+     * keep W in memory. At rank 1 an update reads and writes each entry of L on its paths
+     * once, with a few operations each: memory decides, and a walk down each column whole,
+     * which the hardware prefetchers follow, moves L faster than blocks of rows across the
+     * columns, pieces of a few cache lines a column apart. From two columns on, the walk
+     * reads and writes each column's rows of W from the second-level cache, and the blocks
+     * are faster.
+     */
+    constexpr int most_columns_by_columns = w_in_memory ? 1 : 0;
+
     /** How many columns ahead of the one being modified a group's rows are prefetched. */
     constexpr Index prefetch_columns = 12;
 
@@ -122,6 +133,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
      * number of threads. Across targets the results agree to rounding: the targets of 16
      * registers keep W in memory below a group (apply_to_block()), and form the next
      * reflector's dot product from it rather than by the look-ahead of apply_to_groups().
+     * At rank 1 those targets go column by column instead (run_by_columns()).
      */
     template <int K>
     struct ChunkKernel
@@ -450,11 +462,86 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       }
 
       /**
+       * Modify the supernode from its local column q on, column by column: each column's
+       * reflector from its row, then applied to every row below it, down the column. One
+       * thread, whatever @p threaded says of run(): each row is computed the same way
+       * whatever the number of threads.
+       */
+      void run_by_columns(const Index q, const double tolerance, const Index first_column) const
+      {
+        for (Index j = q; j < nc; ++j)
+          {
+            double *column = l + j * nr;
+            double  row_w[K];
+            for (int t = 0; t < K; ++t)
+              row_w[t] = w[t * ldw + j];
+            const double       r         = make_reflector(j, q, column[j], row_w, tolerance, first_column);
+            const Coefficient *reflector = reflectors + j * stride;
+            column[j]                    = r;
+            for (int t = 0; t < K; ++t)
+              w[t * ldw + j] = 0.;
+            Index i = j + 1;
+            for (; i + target_lanes <= nr; i += target_lanes)
+              {
+                Lanes carried[K];
+                for (int t = 0; t < K; ++t)
+                  carried[t] = load(w + t * ldw + i);
+                const Lanes old     = load(column + i);
+                const Lanes changed = reflector[0] * dot(old, carried, reflector + 1 + K) - old;
+                const Lanes sum     = old + changed;
+                store(column + i, changed);
+                for (int t = 0; t < K; ++t)
+                  store(w + t * ldw + i, carried[t] - sum * reflector[1 + t]);
+              }
+            for (; i < nr; ++i)
+              {
+                double carried[K], scaled[K];
+                for (int t = 0; t < K; ++t)
+                  {
+                    carried[t] = w[t * ldw + i];
+                    scaled[t]  = scalar_of(reflector[1 + K + t]);
+                  }
+                const double old     = column[i];
+                const double changed = scalar_of(reflector[0]) * dot_of_row(old, carried, scaled) - old;
+                const double sum     = old + changed;
+                column[i]            = changed;
+                for (int t = 0; t < K; ++t)
+                  w[t * ldw + i] = carried[t] - sum * scalar_of(reflector[1 + t]);
+              }
+          }
+      }
+
+      /** dot() of one row, in its order. */
+      static double dot_of_row(const double old, const double *carried, const double *scaled)
+      {
+        double even = old + carried[0] * scaled[0];
+        if constexpr (K == 1)
+          return even;
+        else
+          {
+            double odd = carried[1] * scaled[1];
+            for (int t = 2; t + 1 < K; t += 2)
+              {
+                even += carried[t] * scaled[t];
+                odd += carried[t + 1] * scaled[t + 1];
+              }
+            if constexpr (K % 2 == 1)
+              even += carried[K - 1] * scaled[K - 1];
+            return even + odd;
+          }
+      }
+
+      /**
        * Modify the supernode from its local column q on, the rows below the diagonal
        * block split over threads if @p threaded.
        */
       void run(const Index q, const double tolerance, const Index first_column, const bool threaded) const
       {
+        if constexpr (K <= most_columns_by_columns)
+          {
+            run_by_columns(q, tolerance, first_column);
+            return;
+          }
         const Index     whole_end    = q + (nr - q) / target_lanes * target_lanes;
         constexpr Index side_by_side = groups * target_lanes;
         // The diagonal block's rows a panel at a time: the reflectors of the columns before
