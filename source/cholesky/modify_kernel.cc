@@ -165,8 +165,8 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       static constexpr int groups = std::clamp((vector_registers - 2) / (K + 2), 1, 8);
 
       /** s = l + w . S v for one reflector, in two interleaved sums (the same order everywhere). */
-      template <typename Value>
-      static Value dot(const Value &old, const Value *carried, const Coefficient *scaled)
+      template <typename Value, typename Scaled>
+      static Value dot(const Value &old, const Value *carried, const Scaled *scaled)
       {
         Value even = old;
         if constexpr (K == 1)
@@ -502,32 +502,12 @@ namespace warpchol::cholesky::HWY_NAMESPACE
                     scaled[t]  = scalar_of(reflector[1 + K + t]);
                   }
                 const double old     = column[i];
-                const double changed = scalar_of(reflector[0]) * dot_of_row(old, carried, scaled) - old;
+                const double changed = scalar_of(reflector[0]) * dot(old, carried, scaled) - old;
                 const double sum     = old + changed;
                 column[i]            = changed;
                 for (int t = 0; t < K; ++t)
                   w[t * ldw + i] = carried[t] - sum * scalar_of(reflector[1 + t]);
               }
-          }
-      }
-
-      /** dot() of one row, in its order. */
-      static double dot_of_row(const double old, const double *carried, const double *scaled)
-      {
-        double even = old + carried[0] * scaled[0];
-        if constexpr (K == 1)
-          return even;
-        else
-          {
-            double odd = carried[1] * scaled[1];
-            for (int t = 2; t + 1 < K; t += 2)
-              {
-                even += carried[t] * scaled[t];
-                odd += carried[t + 1] * scaled[t + 1];
-              }
-            if constexpr (K % 2 == 1)
-              even += carried[K - 1] * scaled[K - 1];
-            return even + odd;
           }
       }
 
