@@ -486,29 +486,37 @@ namespace warpchol::cholesky::HWY_NAMESPACE
                 Lanes carried[K];
                 for (int t = 0; t < K; ++t)
                   carried[t] = load(w + t * ldw + i);
-                const Lanes old     = load(column + i);
-                const Lanes changed = reflector[0] * dot(old, carried, reflector + 1 + K) - old;
-                const Lanes sum     = old + changed;
-                store(column + i, changed);
+                store(column + i, reflected(load(column + i), carried, reflector));
                 for (int t = 0; t < K; ++t)
-                  store(w + t * ldw + i, carried[t] - sum * reflector[1 + t]);
+                  store(w + t * ldw + i, carried[t]);
               }
+            double scalar[1 + 2 * K];
+            for (int k = 0; k < 1 + 2 * K; ++k)
+              scalar[k] = scalar_of(reflector[k]);
             for (; i < nr; ++i)
               {
-                double carried[K], scaled[K];
+                double carried[K];
                 for (int t = 0; t < K; ++t)
-                  {
-                    carried[t] = w[t * ldw + i];
-                    scaled[t]  = scalar_of(reflector[1 + K + t]);
-                  }
-                const double old     = column[i];
-                const double changed = scalar_of(reflector[0]) * dot(old, carried, scaled) - old;
-                const double sum     = old + changed;
-                column[i]            = changed;
+                  carried[t] = w[t * ldw + i];
+                column[i] = reflected(column[i], carried, scalar);
                 for (int t = 0; t < K; ++t)
-                  w[t * ldw + i] = carried[t] - sum * scalar_of(reflector[1 + t]);
+                  w[t * ldw + i] = carried[t];
               }
           }
+      }
+
+      /**
+       * Reflector @p r (tau, v, S v) on a row group or a row, @p old of L and its columns of
+       * W @p carried (moved in place): returns the new entries of L.
+       */
+      template <typename Value, typename Scaled>
+      static Value reflected(const Value &old, Value *carried, const Scaled *r)
+      {
+        const Value changed = r[0] * dot(old, carried, r + 1 + K) - old;
+        const Value sum     = old + changed;
+        for (int t = 0; t < K; ++t)
+          carried[t] -= sum * r[1 + t];
+        return changed;
       }
 
       /**
