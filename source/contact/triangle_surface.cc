@@ -8,6 +8,7 @@
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <limits>
 #include <sstream>
 
 namespace warpchol::fem
@@ -36,6 +37,21 @@ namespace warpchol::fem
             fail(file_name, line, "coordinate " + quote(word) + " is not a finite number");
         }
       return point;
+    }
+
+    /**
+     * A count from the file (of points, polygons, corners): digits only and below 2^31, so
+     * that the count times three and plus one stay in range; a larger count cannot be met
+     * by the lines that follow anyway.
+     */
+    long read_count(const std::string &word, const std::string &what, const std::string &file_name, const int line)
+    {
+      const bool digits = !word.empty() && word.size() <= 10 &&
+                          word.find_first_not_of("0123456789") == std::string::npos;
+      const long count = digits ? std::strtol(word.c_str(), nullptr, 10) : -1;
+      if (count < 0 || count > std::numeric_limits<int>::max())
+        fail(file_name, line, what + " " + quote(word) + " is not a count");
+      return count;
     }
 
     std::vector<std::string> split(const std::string &text)
@@ -170,7 +186,7 @@ namespace warpchol::fem
             continue;
           if (words[0] == "POINTS" && words.size() >= 2)
             {
-              const long n = std::strtol(words[1].c_str(), nullptr, 10);
+              const long n = read_count(words[1], "POINTS: the number of points", file_name, line_number);
               std::vector<std::string> values;
               while (static_cast<long>(values.size()) < 3 * n)
                 {
@@ -185,11 +201,11 @@ namespace warpchol::fem
             }
           else if (words[0] == "POLYGONS" && words.size() >= 2)
             {
-              const long n = std::strtol(words[1].c_str(), nullptr, 10);
+              const long n = read_count(words[1], "POLYGONS: the number of polygons", file_name, line_number);
               for (long k = 0; k < n; ++k)
                 {
                   const std::vector<std::string> polygon = next_words();
-                  const long count = std::strtol(polygon[0].c_str(), nullptr, 10);
+                  const long count = read_count(polygon[0], "the number of corners", file_name, line_number);
                   if (count < 3 || static_cast<long>(polygon.size()) != count + 1)
                     fail(file_name, line_number, "a polygon of " + polygon[0] + " points over " +
                                                    std::to_string(polygon.size() - 1) + " indices");
