@@ -1,8 +1,9 @@
 // Every SIMD target this CPU runs gives the results of the baseline (scalar) kernels to
 // 1e-13 relative: the batched polar decomposition, the fused element pass (forces and
-// energy), the corotated product, the assembly of A (rest, rotated, warped) and the update
+// energy), the corotated product, the assembly of A (rest, rotated, warped), the update
 // kernel of the factor (ranks 1 to 64: every number of columns a chunk carries on any
-// target, and several chunks; a matrix whose top supernodes span several panels). The targets are
+// target, and several chunks; a matrix whose top supernodes span several panels) and the
+// solve with one right-hand side (which also agrees with BLAS's solve of two). The targets are
 // forced as WARPCHOL_SIMD_TARGET forces them (simd::use_target()); the list the machine
 // runs is not printed (it differs by CPU), only that the baseline is among them.
 
@@ -29,6 +30,8 @@ namespace
   struct Results
   {
     std::vector<double> rotations, forces, energies, product, rest, rotated, warped, factors;
+    /** The solve of one right-hand side by the solver's kernel, and of two by BLAS. */
+    std::vector<double> solution, blas_solutions;
   };
 
   double relative_difference(const std::vector<double> &a, const std::vector<double> &b)
@@ -108,6 +111,13 @@ namespace
     cholesky::SparseCholesky base(tests::supernodal_metis());
     base.analyze(spd);
     base.factorize(spd);
+    std::vector<double> b(2 * spd.n_cols);
+    for (double &value : b)
+      value = 2 * random.uniform() - 1;
+    results.solution.resize(spd.n_cols);
+    base.solve(b.data(), results.solution.data(), 1);
+    results.blas_solutions.resize(b.size());
+    base.solve(b.data(), results.blas_solutions.data(), 2);
     const sparse::CSCMatrix full = sparse::to_full_storage(spd);
     for (const Index rank : {1, 2, 3, 5, 8, 9, 12, 13, 16, 17, 33, 64})
       {
@@ -159,7 +169,8 @@ int main()
         {"assembly at rest", relative_difference(results.rest, reference.rest)},
         {"assembly rotated", relative_difference(results.rotated, reference.rotated)},
         {"assembly warped", relative_difference(results.warped, reference.warped)},
-        {"updated factors", relative_difference(results.factors, reference.factors)}};
+        {"updated factors", relative_difference(results.factors, reference.factors)},
+        {"solution", relative_difference(results.solution, reference.solution)}};
       for (const auto &[what, difference] : differences)
         if (!(difference <= 1e-13))
           {
@@ -168,6 +179,10 @@ int main()
           }
     }
   tests::check("every target agrees with the baseline to 1e-13", all_agree);
+  const std::vector<double> blas_first(reference.blas_solutions.begin(),
+                                       reference.blas_solutions.begin() + static_cast<long>(reference.solution.size()));
+  tests::check("the solve of one right-hand side agrees with BLAS's to 1e-13",
+               relative_difference(reference.solution, blas_first) <= 1e-13);
 
   // A target the CPU cannot run (or that does not exist) is refused, naming the available ones.
   try

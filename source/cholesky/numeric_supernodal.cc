@@ -3,6 +3,7 @@
 #include <warpchol/cholesky/numeric_supernodal.h>
 
 #include "scaled_solve.h"
+#include "supernode_solve_kernel.h"
 
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
@@ -477,21 +478,32 @@ namespace warpchol::cholesky
       const int    rows_below = static_cast<int>(nr - nc);
       const Real  *ls         = values + symbolic.value_start[s];
       const Index *rows       = symbolic.row_index.data() + symbolic.row_start[s];
-      // One right-hand side (CG's preconditioner): the BLAS-2 kernels, which skip BLAS-3's
-      // set-up, a large part of the time of the many small supernodes.
       if (n_rhs == 1)
-        blas::trsv_lower(false, static_cast<int>(nc), ls, static_cast<int>(nr), x + f);
-      else
-        blas::trsm_left_lower(false, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
+        {
+          // One right-hand side: the supernode's own kernel (supernode_solve_kernel.h),
+          // without a BLAS call's set-up per supernode.
+          below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(nr)));
+          std::copy(x + f, x + f + nc, below.begin());
+          std::fill(below.begin() + nc, below.begin() + nr, Real(0));
+          forward_supernode_double(ls, nr, nc, below.data());
+          std::copy(below.begin(), below.begin() + nc, x + f);
+          // The rows below hold - L21 y_s: what the rows below (or the top's gathered rows) take.
+          for (Index i = 0; i < rows_below; ++i)
+            {
+              const Index position = outside(rows[nc + i]);
+              if (position < 0)
+                x[rows[nc + i]] += below[nc + i];
+              else
+                gathered[position] -= below[nc + i];
+            }
+          return;
+        }
+      blas::trsm_left_lower(false, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
       if (rows_below == 0)
         return;
       below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(rows_below) * n_rhs));
-      if (n_rhs == 1)
-        blas::gemv(false, rows_below, static_cast<int>(nc), Real(1), ls + nc, static_cast<int>(nr), x + f, Real(0),
-                   below.data());
-      else
-        blas::gemm(false, false, rows_below, m, static_cast<int>(nc), Real(1), ls + nc, static_cast<int>(nr), x + f,
-                   n, Real(0), below.data(), rows_below);
+      blas::gemm(false, false, rows_below, m, static_cast<int>(nc), Real(1), ls + nc, static_cast<int>(nr), x + f, n,
+                 Real(0), below.data(), rows_below);
       for (Index r = 0; r < n_rhs; ++r)
         for (Index i = 0; i < rows_below; ++i)
           {
@@ -514,23 +526,26 @@ namespace warpchol::cholesky
       const int    rows_below = static_cast<int>(nr - nc);
       const Real  *ls         = values + symbolic.value_start[s];
       const Index *rows       = symbolic.row_index.data() + symbolic.row_start[s];
+      if (n_rhs == 1)
+        {
+          below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(nr)));
+          std::copy(x + f, x + f + nc, below.begin());
+          for (Index i = 0; i < rows_below; ++i)
+            below[nc + i] = x[rows[nc + i]];
+          backward_supernode_double(ls, nr, nc, below.data());
+          std::copy(below.begin(), below.begin() + nc, x + f);
+          return;
+        }
       if (rows_below > 0)
         {
           below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(rows_below) * n_rhs));
           for (Index r = 0; r < n_rhs; ++r)
             for (Index i = 0; i < rows_below; ++i)
               below[i + r * rows_below] = x[rows[nc + i] + r * n];
-          if (n_rhs == 1)
-            blas::gemv(true, rows_below, static_cast<int>(nc), Real(-1), ls + nc, static_cast<int>(nr), below.data(),
-                       Real(1), x + f);
-          else
-            blas::gemm(true, false, static_cast<int>(nc), m, rows_below, Real(-1), ls + nc, static_cast<int>(nr),
-                       below.data(), rows_below, Real(1), x + f, n);
+          blas::gemm(true, false, static_cast<int>(nc), m, rows_below, Real(-1), ls + nc, static_cast<int>(nr),
+                     below.data(), rows_below, Real(1), x + f, n);
         }
-      if (n_rhs == 1)
-        blas::trsv_lower(true, static_cast<int>(nc), ls, static_cast<int>(nr), x + f);
-      else
-        blas::trsm_left_lower(true, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
+      blas::trsm_left_lower(true, static_cast<int>(nc), m, ls, static_cast<int>(nr), x + f, n);
     }
 
     /**

@@ -1,0 +1,157 @@
+#include "supernode_solve_kernel.h"
+
+// The kernels, once per SIMD target (Highway).
+#undef HWY_TARGET_INCLUDE
+#define HWY_TARGET_INCLUDE "cholesky/supernode_solve_kernel.cc"
+#include <hwy/foreach_target.h>
+#include <hwy/highway.h>
+
+HWY_BEFORE_NAMESPACE();
+namespace warpchol::cholesky::HWY_NAMESPACE
+{
+  namespace hn = hwy::HWY_NAMESPACE;
+
+  namespace
+  {
+    using DoubleTag = hn::ScalableTag<double>;
+    using Doubles   = hn::Vec<DoubleTag>;
+
+    /**
+     * Columns per block: each row vector below the block is read and written once for all
+     * of them (forward), or read once for all of their sums (backward).
+     */
+    constexpr int block_columns = 8;
+
+    /**
+     * Block j0 of B columns, forward: x[j0, j0 + B) solved with the block's diagonal, then
+     * the rows below it (those of the supernode's later blocks and below it) updated.
+     */
+    template <int B>
+    void forward_block(const double *l, const Index nr, const Index j0, double *work)
+    {
+      const DoubleTag d;
+      const Index     lanes = static_cast<Index>(hn::Lanes(d));
+      const double   *column[B];
+      double          t[B];
+      for (int k = 0; k < B; ++k)
+        column[k] = l + (j0 + k) * nr;
+      for (int k = 0; k < B; ++k)
+        {
+          t[k] = work[j0 + k] / column[k][j0 + k];
+          for (int i = k + 1; i < B; ++i)
+            work[j0 + i] -= column[k][j0 + i] * t[k];
+        }
+      Doubles factor[B];
+      for (int k = 0; k < B; ++k)
+        factor[k] = hn::Set(d, t[k]);
+      Index i = j0 + B;
+      for (; i + lanes <= nr; i += lanes)
+        {
+          Doubles y = hn::LoadU(d, work + i);
+          for (int k = 0; k < B; ++k)
+            y = hn::NegMulAdd(hn::LoadU(d, column[k] + i), factor[k], y);
+          hn::StoreU(y, d, work + i);
+        }
+      for (; i < nr; ++i)
+        {
+          double y = work[i];
+          for (int k = 0; k < B; ++k)
+            y -= column[k][i] * t[k];
+          work[i] = y;
+        }
+      for (int k = 0; k < B; ++k)
+        work[j0 + k] = t[k];
+    }
+
+    /** Block j0 of B columns, backward: the rows after it already solved. */
+    template <int B>
+    void backward_block(const double *l, const Index nr, const Index j0, double *work)
+    {
+      const DoubleTag d;
+      const Index     lanes = static_cast<Index>(hn::Lanes(d));
+      const double   *column[B];
+      Doubles         sum[B];
+      for (int k = 0; k < B; ++k)
+        {
+          column[k] = l + (j0 + k) * nr;
+          sum[k]    = hn::Zero(d);
+        }
+      Index i = j0 + B;
+      for (; i + lanes <= nr; i += lanes)
+        {
+          const Doubles x = hn::LoadU(d, work + i);
+          for (int k = 0; k < B; ++k)
+            sum[k] = hn::MulAdd(hn::LoadU(d, column[k] + i), x, sum[k]);
+        }
+      double rest[B] = {};
+      for (; i < nr; ++i)
+        for (int k = 0; k < B; ++k)
+          rest[k] += column[k][i] * work[i];
+      for (int k = B - 1; k >= 0; --k)
+        {
+          const Index j = j0 + k;
+          double      v = work[j] - (hn::GetLane(hn::SumOfLanes(d, sum[k])) + rest[k]);
+          for (int r = k + 1; r < B; ++r)
+            v -= column[k][j0 + r] * work[j0 + r];
+          work[j] = v / column[k][j];
+        }
+    }
+
+    /** forward_block<count>() for a last block of @p count (< block_columns) columns. */
+    template <int B>
+    void forward_last(const Index count, const double *l, const Index nr, const Index j0, double *work)
+    {
+      if constexpr (B > 1)
+        if (count < B)
+          return forward_last<B - 1>(count, l, nr, j0, work);
+      forward_block<B>(l, nr, j0, work);
+    }
+
+    template <int B>
+    void backward_last(const Index count, const double *l, const Index nr, const Index j0, double *work)
+    {
+      if constexpr (B > 1)
+        if (count < B)
+          return backward_last<B - 1>(count, l, nr, j0, work);
+      backward_block<B>(l, nr, j0, work);
+    }
+  } // namespace
+
+  void ForwardSupernodeDouble(const double *l, const Index nr, const Index nc, double *work)
+  {
+    Index j0 = 0;
+    for (; j0 + block_columns <= nc; j0 += block_columns)
+      forward_block<block_columns>(l, nr, j0, work);
+    if (j0 < nc)
+      forward_last<block_columns - 1>(nc - j0, l, nr, j0, work);
+  }
+
+  void BackwardSupernodeDouble(const double *l, const Index nr, const Index nc, double *work)
+  {
+    // The forward pass's blocks, from the last.
+    const Index whole = nc / block_columns * block_columns;
+    if (whole < nc)
+      backward_last<block_columns - 1>(nc - whole, l, nr, whole, work);
+    for (Index j0 = whole - block_columns; j0 >= 0; j0 -= block_columns)
+      backward_block<block_columns>(l, nr, j0, work);
+  }
+} // namespace warpchol::cholesky::HWY_NAMESPACE
+HWY_AFTER_NAMESPACE();
+
+#if HWY_ONCE
+namespace warpchol::cholesky
+{
+  HWY_EXPORT(ForwardSupernodeDouble);
+  HWY_EXPORT(BackwardSupernodeDouble);
+
+  void forward_supernode_double(const double *l, const Index nr, const Index nc, double *work)
+  {
+    HWY_DYNAMIC_DISPATCH(ForwardSupernodeDouble)(l, nr, nc, work);
+  }
+
+  void backward_supernode_double(const double *l, const Index nr, const Index nc, double *work)
+  {
+    HWY_DYNAMIC_DISPATCH(BackwardSupernodeDouble)(l, nr, nc, work);
+  }
+} // namespace warpchol::cholesky
+#endif
