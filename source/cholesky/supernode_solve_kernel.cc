@@ -22,6 +22,14 @@ namespace warpchol::cholesky::HWY_NAMESPACE
      */
     constexpr int block_columns = 8;
 
+    /** Where the B columns of block j0 of a supernode of nr rows start. */
+    template <int B>
+    void find_columns(const double *l, const Index nr, const Index j0, const double *(&column)[B])
+    {
+      for (int k = 0; k < B; ++k)
+        column[k] = l + (j0 + k) * nr;
+    }
+
     /**
      * Block j0 of B columns, forward: x[j0, j0 + B) solved with the block's diagonal, then
      * the rows below it (those of the supernode's later blocks and below it) updated.
@@ -33,8 +41,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       const Index     lanes = static_cast<Index>(hn::Lanes(d));
       const double   *column[B];
       double          t[B];
-      for (int k = 0; k < B; ++k)
-        column[k] = l + (j0 + k) * nr;
+      find_columns<B>(l, nr, j0, column);
       for (int k = 0; k < B; ++k)
         {
           t[k] = work[j0 + k] / column[k][j0 + k];
@@ -71,11 +78,9 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       const Index     lanes = static_cast<Index>(hn::Lanes(d));
       const double   *column[B];
       Doubles         sum[B];
+      find_columns<B>(l, nr, j0, column);
       for (int k = 0; k < B; ++k)
-        {
-          column[k] = l + (j0 + k) * nr;
-          sum[k]    = hn::Zero(d);
-        }
+        sum[k] = hn::Zero(d);
       Index i = j0 + B;
       for (; i + lanes <= nr; i += lanes)
         {
@@ -97,23 +102,17 @@ namespace warpchol::cholesky::HWY_NAMESPACE
         }
     }
 
-    /** forward_block<count>() for a last block of @p count (< block_columns) columns. */
-    template <int B>
-    void forward_last(const Index count, const double *l, const Index nr, const Index j0, double *work)
+    /** forward_block<count>() or backward_block<count>() for a last block of @p count (< block_columns) columns. */
+    template <bool forward, int B>
+    void last_block(const Index count, const double *l, const Index nr, const Index j0, double *work)
     {
       if constexpr (B > 1)
         if (count < B)
-          return forward_last<B - 1>(count, l, nr, j0, work);
-      forward_block<B>(l, nr, j0, work);
-    }
-
-    template <int B>
-    void backward_last(const Index count, const double *l, const Index nr, const Index j0, double *work)
-    {
-      if constexpr (B > 1)
-        if (count < B)
-          return backward_last<B - 1>(count, l, nr, j0, work);
-      backward_block<B>(l, nr, j0, work);
+          return last_block<forward, B - 1>(count, l, nr, j0, work);
+      if constexpr (forward)
+        forward_block<B>(l, nr, j0, work);
+      else
+        backward_block<B>(l, nr, j0, work);
     }
   } // namespace
 
@@ -123,7 +122,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     for (; j0 + block_columns <= nc; j0 += block_columns)
       forward_block<block_columns>(l, nr, j0, work);
     if (j0 < nc)
-      forward_last<block_columns - 1>(nc - j0, l, nr, j0, work);
+      last_block<true, block_columns - 1>(nc - j0, l, nr, j0, work);
   }
 
   void BackwardSupernodeDouble(const double *l, const Index nr, const Index nc, double *work)
@@ -131,7 +130,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     // The forward pass's blocks, from the last.
     const Index whole = nc / block_columns * block_columns;
     if (whole < nc)
-      backward_last<block_columns - 1>(nc - whole, l, nr, whole, work);
+      last_block<false, block_columns - 1>(nc - whole, l, nr, whole, work);
     for (Index j0 = whole - block_columns; j0 >= 0; j0 -= block_columns)
       backward_block<block_columns>(l, nr, j0, work);
   }
