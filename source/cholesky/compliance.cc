@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <unordered_map>
 
+#include "supernode_solve_kernel.h"
+
 namespace warpchol::cholesky
 {
   namespace
@@ -399,27 +401,24 @@ namespace warpchol::cholesky
     check_constraints(symbolic, values, ht);
     const Index         n = symbolic.n, m = ht.n_cols, ns = symbolic.n_supernodes();
     std::vector<double> y_transposed(static_cast<std::size_t>(m) * n, 0.);
-    std::vector<double> x(n), below;
+    std::vector<double> x(n), work;
     for (Index i = 0; i < m; ++i)
       {
         std::fill(x.begin(), x.end(), 0.);
         for (Index p = ht.column_start[i]; p < ht.column_start[i + 1]; ++p)
           x[ht.row_index[p]] = ht.values[p];
-        // L y = h over every supernode, one right-hand side (dtrsv, dgemv).
+        // L y = h over every supernode, one right-hand side, with the solver's own kernel
+        // for one (the fastest this peer can have).
         for (Index s = 0; s < ns; ++s)
           {
-            const Index   f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
-            const Index   rows_below = nr - nc;
-            const double *ls         = values.data() + symbolic.value_start[s];
-            const Index  *rows       = symbolic.row_index.data() + symbolic.row_start[s];
-            blas::trsv_lower(false, static_cast<int>(nc), ls, static_cast<int>(nr), x.data() + f);
-            if (rows_below == 0)
-              continue;
-            below.resize(rows_below);
-            blas::gemv(false, static_cast<int>(rows_below), static_cast<int>(nc), 1., ls + nc, static_cast<int>(nr),
-                       x.data() + f, 0., below.data());
-            for (Index q = 0; q < rows_below; ++q)
-              x[rows[nc + q]] -= below[q];
+            const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+            const Index *rows = symbolic.row_index.data() + symbolic.row_start[s];
+            work.assign(static_cast<std::size_t>(nr), 0.);
+            std::copy(x.begin() + f, x.begin() + f + nc, work.begin());
+            forward_supernode_double(values.data() + symbolic.value_start[s], nr, nc, work.data());
+            std::copy(work.begin(), work.begin() + nc, x.begin() + f);
+            for (Index q = nc; q < nr; ++q)
+              x[rows[q]] += work[q];
           }
         for (Index r = 0; r < n; ++r)
           y_transposed[i + static_cast<std::size_t>(r) * m] = x[r];
