@@ -25,14 +25,6 @@ extern "C"
               const int *n, const float *alpha, const float *a, const int *lda, float *b,
               const int *ldb);
   void openblas_set_num_threads(int n_threads);
-  void dgemv_(const char *trans, const int *m, const int *n, const double *alpha, const double *a, const int *lda,
-              const double *x, const int *incx, const double *beta, double *y, const int *incy);
-  void sgemv_(const char *trans, const int *m, const int *n, const float *alpha, const float *a, const int *lda,
-              const float *x, const int *incx, const float *beta, float *y, const int *incy);
-  void dtrsv_(const char *uplo, const char *trans, const char *diag, const int *n, const double *a, const int *lda,
-              double *x, const int *incx);
-  void strsv_(const char *uplo, const char *trans, const char *diag, const int *n, const float *a, const int *lda,
-              float *x, const int *incx);
 }
 
 namespace warpchol::cholesky::blas
@@ -109,36 +101,6 @@ namespace warpchol::cholesky::blas
     const float one = 1.f;
     if (n > 0 && nrhs > 0)
       strsm_("L", "L", transpose ? "T" : "N", "N", &n, &nrhs, &one, l, &ldl, b, &ldb);
-  }
-
-  void gemv(const bool transpose, const int m, const int n, const double alpha, const double *a, const int lda,
-            const double *x, const double beta, double *y)
-  {
-    const int one = 1;
-    if (m > 0 && n > 0)
-      dgemv_(transpose ? "T" : "N", &m, &n, &alpha, a, &lda, x, &one, &beta, y, &one);
-  }
-
-  void gemv(const bool transpose, const int m, const int n, const float alpha, const float *a, const int lda,
-            const float *x, const float beta, float *y)
-  {
-    const int one = 1;
-    if (m > 0 && n > 0)
-      sgemv_(transpose ? "T" : "N", &m, &n, &alpha, a, &lda, x, &one, &beta, y, &one);
-  }
-
-  void trsv_lower(const bool transpose, const int n, const double *l, const int ldl, double *x)
-  {
-    const int one = 1;
-    if (n > 0)
-      dtrsv_("L", transpose ? "T" : "N", "N", &n, l, &ldl, x, &one);
-  }
-
-  void trsv_lower(const bool transpose, const int n, const float *l, const int ldl, float *x)
-  {
-    const int one = 1;
-    if (n > 0)
-      strsv_("L", transpose ? "T" : "N", "N", &n, l, &ldl, x, &one);
   }
 
   int potrf_lower(const int n, double *a, const int lda)

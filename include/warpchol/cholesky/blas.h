@@ -63,12 +63,4 @@ namespace warpchol::cholesky::blas
   void gemm(bool transpose_a, bool transpose_b, int m, int n, int k, float alpha, const float *a,
             int lda, const float *b, int ldb, float beta, float *c, int ldc);
   void trsm_left_lower(bool transpose, int n, int nrhs, const float *l, int ldl, float *b, int ldb);
-
-  /** y = alpha op(A) x + beta y (dgemv/sgemv): one right-hand side, without BLAS-3's set-up. */
-  void gemv(bool transpose, int m, int n, double alpha, const double *a, int lda, const double *x, double beta,
-            double *y);
-  void gemv(bool transpose, int m, int n, float alpha, const float *a, int lda, const float *x, float beta, float *y);
-  /** x = op(L)^-1 x, L lower triangular (dtrsv/strsv). */
-  void trsv_lower(bool transpose, int n, const double *l, int ldl, double *x);
-  void trsv_lower(bool transpose, int n, const float *l, int ldl, float *x);
 } // namespace warpchol::cholesky::blas
