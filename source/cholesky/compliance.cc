@@ -411,12 +411,9 @@ namespace warpchol::cholesky
         // for one (the fastest this peer can have).
         for (Index s = 0; s < ns; ++s)
           {
-            const Index  f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+            const Index  nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
             const Index *rows = symbolic.row_index.data() + symbolic.row_start[s];
-            work.assign(static_cast<std::size_t>(nr), 0.);
-            std::copy(x.begin() + f, x.begin() + f + nc, work.begin());
-            forward_supernode_double(values.data() + symbolic.value_start[s], nr, nc, work.data());
-            std::copy(work.begin(), work.begin() + nc, x.begin() + f);
+            forward_supernode_gathered(symbolic, values.data(), s, x.data(), work);
             for (Index q = nc; q < nr; ++q)
               x[rows[q]] += work[q];
           }

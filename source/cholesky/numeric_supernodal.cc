@@ -482,11 +482,7 @@ namespace warpchol::cholesky
         {
           // One right-hand side: the supernode's own kernel (supernode_solve_kernel.h),
           // without a BLAS call's set-up per supernode.
-          below.resize(std::max<std::size_t>(below.size(), static_cast<std::size_t>(nr)));
-          std::copy(x + f, x + f + nc, below.begin());
-          std::fill(below.begin() + nc, below.begin() + nr, Real(0));
-          forward_supernode_double(ls, nr, nc, below.data());
-          std::copy(below.begin(), below.begin() + nc, x + f);
+          forward_supernode_gathered(symbolic, values, s, x, below);
           // The rows below hold - L21 y_s: what the rows below (or the top's gathered rows) take.
           for (Index i = 0; i < rows_below; ++i)
             {

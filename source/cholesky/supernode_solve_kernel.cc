@@ -1,5 +1,7 @@
 #include "supernode_solve_kernel.h"
 
+#include <algorithm>
+
 // The kernels, once per SIMD target (Highway).
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "cholesky/supernode_solve_kernel.cc"
@@ -151,6 +153,17 @@ namespace warpchol::cholesky
   void backward_supernode_double(const double *l, const Index nr, const Index nc, double *work)
   {
     HWY_DYNAMIC_DISPATCH(BackwardSupernodeDouble)(l, nr, nc, work);
+  }
+
+  void forward_supernode_gathered(const SupernodalSymbolic &symbolic, const double *values, const Index s, double *x,
+                                  std::vector<double> &work)
+  {
+    const Index f = symbolic.first_column[s], nc = symbolic.n_columns(s), nr = symbolic.n_rows(s);
+    work.resize(std::max<std::size_t>(work.size(), static_cast<std::size_t>(nr)));
+    std::copy(x + f, x + f + nc, work.begin());
+    std::fill(work.begin() + nc, work.begin() + nr, 0.);
+    forward_supernode_double(values + symbolic.value_start[s], nr, nc, work.data());
+    std::copy(work.begin(), work.begin() + nc, x + f);
   }
 } // namespace warpchol::cholesky
 #endif

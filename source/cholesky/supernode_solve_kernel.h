@@ -11,6 +11,9 @@
  */
 
 #include <warpchol/base/types.h>
+#include <warpchol/cholesky/supernodal_symbolic.h>
+
+#include <vector>
 
 namespace warpchol::cholesky
 {
@@ -21,6 +24,15 @@ namespace warpchol::cholesky
    * - L21 L11^-1 x, what the rows below subtract.
    */
   void forward_supernode_double(const double *l, Index nr, Index nc, double *work);
+
+  /**
+   * forward_supernode_double() on supernode @p s of the factor @p values, for the whole
+   * vector @p x (n entries): x's entries of s become L11^-1 x_s, and @p work's entries
+   * [nc, nr) hold - L21 L11^-1 x_s, which the caller adds to x's rows below (s's rows from
+   * its nc-th on), or routes elsewhere.
+   */
+  void forward_supernode_gathered(const SupernodalSymbolic &symbolic, const double *values, Index s, double *x,
+                                  std::vector<double> &work);
 
   /**
    * Backward substitution on one supernode: @p work holds its nc entries of x, then the
