@@ -71,7 +71,7 @@ awk -v cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')"
     for (t = 1; t <= n_targets; ++t)
       printf " %.3f | %s |", 1e3 * field("update_s_" forced[t]), field("update_vs_cholmod_" forced[t])
     printf "\n"
-    machine = "SIMD target " field("simd") ", updates " field("update_simd") ", dgemm " field("dgemm_gflops") " GFLOP/s, read " field("read_gbs") " GB/s"
+    machine = "SIMD target " field("simd") ", updates " field("update_simd") ", dgemm " field("dgemm_gflops") " GFLOP/s (OpenBLAS " field("blas_kernels") "), read " field("read_gbs") " GB/s"
   }
   END {
     print ""

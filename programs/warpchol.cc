@@ -13,6 +13,7 @@
  */
 
 #include <warpchol/app/simulation.h>
+#include <warpchol/cholesky/blas.h>
 #include <warpchol/distributed/distributed_simulation.h>
 
 #include <iostream>
@@ -21,6 +22,7 @@
 
 int main(int argc, char **argv)
 {
+  warpchol::cholesky::blas::restart_with_blas_kernels_for_this_cpu(argv);
   const std::vector<std::string> arguments(argv + 1, argv + argc);
   const bool names_a_file = !arguments.empty() && !arguments[0].empty() && arguments[0][0] != '-';
   // Distributed when asked for, or when an MPI launcher started several processes.

@@ -336,6 +336,7 @@ namespace
     if (options.update_rank > 0 || options.compare_cholmod)
       std::cout << " simd=" << app::simd_target() << " update_simd=" << app::simd_target(warpchol::simd::Family::update)
                 << " dgemm_gflops=" << format_number(cholesky::blas::measure_dgemm_gflops(), 3)
+                << " blas_kernels=" << cholesky::blas::kernel_name()
                 << " read_gbs=" << format_number(app::measure_read_bandwidth(), 3);
     std::cout << update_fields << "\n";
   }

@@ -2,6 +2,7 @@
 #include <warpchol/base/stopwatch.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cstdlib>
 #include <limits>
 #include <vector>
@@ -24,7 +25,8 @@ extern "C"
   void strsm_(const char *side, const char *uplo, const char *transa, const char *diag, const int *m,
               const int *n, const float *alpha, const float *a, const int *lda, float *b,
               const int *ldb);
-  void openblas_set_num_threads(int n_threads);
+  void  openblas_set_num_threads(int n_threads);
+  char *openblas_get_corename(void);
 }
 
 namespace warpchol::cholesky::blas
@@ -38,12 +40,66 @@ namespace warpchol::cholesky::blas
     (void)pinned;
   }
 
+  namespace
+  {
+    /** Whether OPENBLAS_CORETYPE should be set, and is not. */
+    bool blas_kernels_to_choose()
+    {
+      return std::getenv("OPENBLAS_CORETYPE") == nullptr && kernels_for_this_cpu() != nullptr;
+    }
+
+    void set_blas_kernels()
+    {
+      if (blas_kernels_to_choose())
+        ::setenv("OPENBLAS_CORETYPE", kernels_for_this_cpu(), 0);
+    }
+  } // namespace
+
   void restart_with_single_threaded_libraries(char **argv)
   {
-    if (std::getenv("OPENBLAS_NUM_THREADS") != nullptr && std::getenv("OMP_THREAD_LIMIT") != nullptr)
+    if (std::getenv("OPENBLAS_NUM_THREADS") != nullptr && std::getenv("OMP_THREAD_LIMIT") != nullptr &&
+        !blas_kernels_to_choose())
       return;
     ::setenv("OPENBLAS_NUM_THREADS", "1", 0);
     ::setenv("OMP_THREAD_LIMIT", "1", 0);
+    set_blas_kernels();
+    ::execv("/proc/self/exe", argv); // returns only on failure: then run as we are
+  }
+
+  std::string kernel_name()
+  {
+    const char *const name = openblas_get_corename();
+    return name != nullptr ? name : "unknown";
+  }
+
+  const char *kernels_for_this_cpu()
+  {
+#if defined(__x86_64__)
+    // The kernels OpenBLAS falls back to, none with AVX2: Prescott for an Intel CPU it does
+    // not know, Barcelona for an AMD one; the others are CPUs without AVX2.
+    std::string name = kernel_name();
+    std::transform(name.begin(), name.end(), name.begin(), [](unsigned char c) { return std::tolower(c); });
+    for (const char *fallback : {"prescott", "core2", "penryn", "dunnington", "nehalem", "sandybridge", "barcelona"})
+      if (name == fallback)
+        {
+          __builtin_cpu_init();
+          if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512cd") &&
+              __builtin_cpu_supports("avx512bw") && __builtin_cpu_supports("avx512dq") &&
+              __builtin_cpu_supports("avx512vl"))
+            return "SkylakeX";
+          if (__builtin_cpu_supports("avx2") && __builtin_cpu_supports("fma"))
+            return "Haswell";
+          return nullptr;
+        }
+#endif
+    return nullptr;
+  }
+
+  void restart_with_blas_kernels_for_this_cpu(char **argv)
+  {
+    if (!blas_kernels_to_choose())
+      return;
+    set_blas_kernels();
     ::execv("/proc/self/exe", argv); // returns only on failure: then run as we are
   }
 

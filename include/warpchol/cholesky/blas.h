@@ -1,5 +1,7 @@
 #pragma once
 
+#include <string>
+
 /**
  * @file
  * The few BLAS/LAPACK routines of the supernodal code, declared through their Fortran
@@ -27,6 +29,28 @@ namespace warpchol::cholesky::blas
    * Call it first thing in main().
    */
   void restart_with_single_threaded_libraries(char **argv);
+
+  /**
+   * The name of the kernels OpenBLAS runs ("Haswell", "SkylakeX", ...): it picks them
+   * from the CPU at load time, or from OPENBLAS_CORETYPE.
+   */
+  std::string kernel_name();
+
+  /**
+   * The OPENBLAS_CORETYPE this CPU should run where OpenBLAS fell back to kernels without
+   * AVX2 on a CPU that has it (an OpenBLAS older than the CPU: Debian 12's 0.3.21 takes an
+   * Intel Xeon of model 207 for a Prescott and runs dgemm at a fifth of its speed), or
+   * nullptr: "SkylakeX" where the CPU has AVX-512 (F, CD, BW, DQ, VL), else "Haswell".
+   */
+  const char *kernels_for_this_cpu();
+
+  /**
+   * For every program: where kernels_for_this_cpu() names kernels and OPENBLAS_CORETYPE
+   * is unset, set it and restart the program in place (execv of /proc/self/exe with
+   * @p argv), the only way to choose OpenBLAS's kernels; returns only when nothing needs
+   * doing or exec fails. Call it first thing in main().
+   */
+  void restart_with_blas_kernels_for_this_cpu(char **argv);
 
   /** C = alpha op(A) op(B) + beta C, op(A) m x k, op(B) k x n, op = transpose or not. */
   void gemm(bool transpose_a, bool transpose_b, int m, int n, int k, double alpha, const double *a,

@@ -28,8 +28,8 @@ namespace warpchol::app
   double measure_read_bandwidth();
 
   /**
-   * One line: "machine: CPU, SIMD target T (this CPU: targets), dgemm G GFLOP/s, read B GB/s
-   * (one thread)",
+   * One line: "machine: CPU, SIMD target T (this CPU: targets), dgemm G GFLOP/s (OpenBLAS
+   * kernels), read B GB/s (one thread)",
    * measured now (about half a second).
    */
   std::string describe_machine();
