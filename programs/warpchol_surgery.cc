@@ -14,7 +14,8 @@
  *    of the same low-rank change on its simplicial LDL^T factor of the same matrix and
  *    permutation (the conversion not counted), and CHOLMOD analyzing anew and factoring
  *    (as SOFA does after a topological change); then what the run chose, what it
- *    predicted, and the chosen method's time over the fastest of update, partial and full.
+ *    predicted the update and the partial refactorization would cost, and the chosen
+ *    method's time over the fastest of update, partial and full.
  * 2. Whole runs, seconds per step: the scene as its parameters say; the same without the
  *    changes; exact corotation refactored every step by warpchol and by CHOLMOD (which
  *    analyzes anew after each cut); the stale rest factor as CG's preconditioner (SOFA's
@@ -97,9 +98,9 @@ namespace
     double       columns_pct = 0;
     Index        rank        = 0;
     double       update = 0, partial = 0, full = 0, cholmod_updown = 0, cholmod_anew = 0;
-    /** What the run chose and predicted for it. */
+    /** What the run chose, and what it predicted the update and the partial refactorization would cost. */
     std::string  chosen;
-    double       predicted = -1;
+    double       predicted_update = -1, predicted_partial = -1;
 
     double chosen_seconds() const
     {
@@ -236,9 +237,8 @@ namespace
             row.what        = what.str();
             row.columns_pct = 100.0 * statistics.change_columns / statistics.n_columns;
             row.chosen      = cholesky::to_string(statistics.factorization.method);
-            row.predicted   = statistics.factorization.method == cholesky::RefactorizationMethod::update ?
-                                statistics.factorization.predicted_update_seconds :
-                                statistics.factorization.predicted_partial_seconds;
+            row.predicted_update  = statistics.factorization.predicted_update_seconds;
+            row.predicted_partial = statistics.factorization.predicted_partial_seconds;
             // Each way from a copy of the factor of the step before, assigned anew for each
             // repetition: the copy keeps its buffers from one to the next, warm as the
             // run's own solver's are, and the first, cold one is not the best.
@@ -358,7 +358,7 @@ namespace
               << std::setw(5) << "step" << std::setw(24) << "change" << std::setw(9) << "columns%" << std::setw(6)
               << "rank" << std::setw(10) << "update" << std::setw(10) << "partial" << std::setw(10) << "full"
               << std::setw(12) << "CHOLMOD upd" << std::setw(12) << "CHOLMOD new" << std::setw(9) << "chosen"
-              << std::setw(11) << "predicted" << std::setw(14) << "chosen/best" << "\n";
+              << std::setw(22) << "predicted upd / part" << std::setw(14) << "chosen/best" << "\n";
     const std::vector<ChangeRow> changes = change_costs(parameters, options.repeat);
     unsigned int                 within  = 0;
     double worst = 0, update_vs_cholmod = std::numeric_limits<double>::infinity();
@@ -373,7 +373,8 @@ namespace
                   << format_number(row.update, 3) << std::setw(10) << format_number(row.partial, 3) << std::setw(10)
                   << format_number(row.full, 3) << std::setw(12) << format_number(row.cholmod_updown, 3) << std::setw(12)
                   << format_number(row.cholmod_anew, 3) << std::setw(9) << row.chosen << std::setw(11)
-                  << format_number(row.predicted, 3) << std::setw(14) << format_number(ratio, 3) << "\n";
+                  << std::setw(12) << format_number(row.predicted_update, 3) << std::setw(10)
+                  << format_number(row.predicted_partial, 3) << std::setw(14) << format_number(ratio, 3) << "\n";
       }
     std::cout << "steps whose chosen method is within 1.2x of the fastest of update, partial and full: " << within
               << " of " << changes.size() << " (worst " << format_number(worst, 3)
@@ -383,11 +384,11 @@ namespace
 
     write_file_atomically(csv_file, [&](std::ostream &out) {
       out << "step,change,columns_pct,rank,update_seconds,partial_seconds,full_seconds,cholmod_updown_seconds,"
-             "cholmod_anew_seconds,chosen,predicted_seconds\n";
+             "cholmod_anew_seconds,chosen,predicted_update_seconds,predicted_partial_seconds\n";
       for (const auto &row : changes)
         out << row.step << "," << row.what << "," << row.columns_pct << "," << row.rank << "," << row.update << ","
             << row.partial << "," << row.full << "," << row.cholmod_updown << "," << row.cholmod_anew << ","
-            << row.chosen << "," << row.predicted << "\n";
+            << row.chosen << "," << row.predicted_update << "," << row.predicted_partial << "\n";
     });
     std::cout << "table: " << csv_file << std::endl;
   }

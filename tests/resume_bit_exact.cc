@@ -12,6 +12,7 @@
 #include "simulation_tests.h"
 
 #include <warpchol/app/simulation.h>
+#include <warpchol/cholesky/blas.h>
 
 #include <fcntl.h>
 #include <signal.h>
@@ -188,8 +189,11 @@ namespace
   }
 } // namespace
 
-int main()
+int main(int, char **argv)
 {
+  // The program that writes the checkpoint runs OpenBLAS's kernels for this CPU
+  // (restarting itself to choose them): so must the runs here that it is compared with.
+  warpchol::cholesky::blas::restart_with_blas_kernels_for_this_cpu(argv);
   check_scene("partial", "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n", "", true);
   check_scene("below_top",
               "  set Type = warp_canceling\n  set Rerotation threshold = 0.1\n  set Strategy = delayed_top\n"
