@@ -1,10 +1,12 @@
 // Every bad input of contact is refused with one line naming the file, line and entry,
 // and warpchol exits with status 2: an obstacle file that is missing, broken, empty or
 // holds NaN; a negative or NaN friction coefficient; an obstacle inside the body at the
-// start; a path file that ends before the run does; more contacts than the cap; a peer's
-// backend, which holds no factor of warpchol's to build W from; penalty springs with a
-// stiffness of zero, or with a strategy whose CG would not see them. Gauss-Seidel stopping
-// short of its tolerance is a warning with the residual, and the run goes on.
+// start; a path file that ends before the run does, or whose lines do not all have the
+// columns of a translation or of a translation and a rotation; more contacts than the
+// cap; a peer's backend, which holds no factor of warpchol's to build W from; penalty
+// springs with a stiffness of zero, or with a strategy whose CG would not see them.
+// Gauss-Seidel stopping short of its tolerance is a warning with the residual, and the
+// run goes on.
 
 #include "simulation_tests.h"
 
@@ -77,6 +79,15 @@ int main()
   run_scene("path ending before the run", "short_path.prm",
             scene("subsection Obstacle 2\n  set Type = sphere\n  set Point = 0.2, 0.05, 0.2\n"
                   "  set Radius = 0.01\n  set Path file = short_path.csv\nend\n"));
+  // A path that turns the obstacle has 7 columns on every line, as its first.
+  tests::write_file("turning_path.csv", "time, x, y, z, rx, ry, rz\n0, 0, 0, 0, 0, 0, 0\n0.1, 0, 0, 0.001\n");
+  run_scene("turning path with a line of 4 columns", "turning_path.prm",
+            scene("subsection Obstacle 2\n  set Type = sphere\n  set Point = 0.2, 0.05, 0.2\n"
+                  "  set Radius = 0.01\n  set Path file = turning_path.csv\nend\n"));
+  tests::write_file("five_columns.csv", "0, 0, 0, 0, 0\n0.1, 0, 0, 0.001, 0\n");
+  run_scene("path of 5 columns", "five_columns.prm",
+            scene("subsection Obstacle 2\n  set Type = sphere\n  set Point = 0.2, 0.05, 0.2\n"
+                  "  set Radius = 0.01\n  set Path file = five_columns.csv\nend\n"));
 
   std::cout << "-- the solve" << std::endl;
   run_scene("more contacts than the cap", "cap.prm",

@@ -9,6 +9,7 @@
 #include <deal.II/grid/tria.h>
 
 #include <algorithm>
+#include <cmath>
 #include <vector>
 
 /**
@@ -51,6 +52,11 @@ namespace tests
     double       force_at_depth = 0, deepest_push = 0;
     /** Contacts over the steps: points in surface triangles, and vertices. */
     unsigned int points_in_triangles = 0, vertex_contacts = 0;
+    /**
+     * The block's top corners' mean turn (rad, counter-clockwise seen from above) about
+     * the vertical axis through the top's centre, the largest over the steps.
+     */
+    double       largest_turn = 0;
     bool         touching_at_end = true;
   };
 
@@ -89,6 +95,19 @@ namespace tests
         pressed.largest_penetration = std::max(pressed.largest_penetration, contact.last_step().largest_penetration);
         for (const fem::Contact &c : contact.contacts())
           (c.n_vertices == 3 ? pressed.points_in_triangles : pressed.vertex_contacts) += 1;
+        double turn = 0;
+        for (unsigned int v = 0; v < body.n_vertices(); ++v)
+          {
+            const auto &rest = triangulation.get_vertices()[v];
+            if (rest[2] == 0.05 && (rest[0] == 0 || rest[0] == 0.1) && (rest[1] == 0 || rest[1] == 0.1))
+              {
+                const double x = rest[0] - 0.05, y = rest[1] - 0.05;
+                const auto  &u = integrator.displacements()[v];
+                turn += std::atan2(x * (y + u[1]) - y * (x + u[0]), x * (x + u[0]) + y * (y + u[1])) / 4;
+              }
+          }
+        if (std::abs(turn) > std::abs(pressed.largest_turn))
+          pressed.largest_turn = turn;
         if (step == 19)
           {
             pressed.force_at_depth = -contact.last_step().total_force[2];

@@ -429,12 +429,12 @@ namespace warpchol::app
     const double end_of_run = time_stepping.n_steps * time_stepping.time_step;
     // A relative path is taken relative to the file that sets it, as a mesh file is.
     const auto read = [&](PathFile &path, const std::string &subsection, const unsigned int n_values,
-                          const std::string &columns) {
+                          const std::string &columns, const unsigned int optional_values = 0) {
       if (path.file_name.empty())
         return;
       const std::string name =
         path.file_name[0] == '/' ? path.file_name : file.directory_of(subsection, "Path file") + path.file_name;
-      path = PathFile::read(name, n_values, columns);
+      path = PathFile::read(name, n_values, columns, optional_values);
     };
     read(tool.path, "Tool", 3, "time, x, y, z");
     if (!tool.path.file_name.empty() && tool.region.kind != "none")
@@ -448,7 +448,7 @@ namespace warpchol::app
       }
     for (auto &obstacle : obstacles)
       {
-        read(obstacle.path, obstacle.subsection, 3, "time, x, y, z");
+        read(obstacle.path, obstacle.subsection, 3, "time, x, y, z[, rx, ry, rz]", 3);
         if (!obstacle.path.file_name.empty() && obstacle.active())
           obstacle.path.check_covers(0, end_of_run, obstacle.subsection + " (the run)");
       }

@@ -33,8 +33,11 @@ namespace warpchol::app
     }
   } // namespace
 
-  PathFile PathFile::read(const std::string &file_name, const unsigned int n_values, const std::string &columns)
+  PathFile PathFile::read(const std::string &file_name, const unsigned int least_values, const std::string &columns,
+                          const unsigned int optional_values)
   {
+    // The first sample decides between the values without and with the optional ones.
+    unsigned int n_values = least_values;
     std::ifstream input = open_input_file(file_name, "path file");
     std::string   text((std::istreambuf_iterator<char>(input)), std::istreambuf_iterator<char>());
     if (looks_binary(text.substr(0, 4096)))
@@ -61,9 +64,16 @@ namespace warpchol::app
           }
         header_allowed                       = false;
         const std::vector<std::string> items = fields(line);
+        if (times.empty() && optional_values > 0 && items.size() == least_values + optional_values + 1)
+          n_values = least_values + optional_values;
         if (items.size() != n_values + 1)
           throw InputError(where + std::to_string(items.size()) + (items.size() == 1 ? " column" : " columns") +
-                           ", a sample needs " + std::to_string(n_values + 1) + " (" + columns + ")");
+                           ", a sample needs " + std::to_string(n_values + 1) +
+                           (times.empty() && optional_values > 0 ?
+                              " or " + std::to_string(least_values + optional_values + 1) :
+                              "") +
+                           " (" + columns + (!times.empty() && optional_values > 0 ? ", as the first sample has" : "") +
+                           ")");
         for (unsigned int c = 0; c < items.size(); ++c)
           {
             char        *end   = nullptr;

@@ -442,7 +442,7 @@ namespace warpchol::fem
     for (std::size_t j = 0; j < n_contacts; ++j)
       {
         const Obstacle &o    = obstacle_list[step_contacts[j].obstacle];
-        obstacle_velocity[j] = o.velocity(time, time + time_step);
+        obstacle_velocity[j] = o.velocity(point_value(step_contacts[j], positions), time, time + time_step);
         friction[j]          = o.friction();
       }
     // A lagged W is checked by the correction's direct solve; CG's own tolerance would blur
@@ -618,7 +618,7 @@ namespace warpchol::fem
   {
     detect_for_step(body, positions, velocities, time, time_step, statistics);
     StageTimer timer(statistics.stages, stage::contact_penalty);
-    return penalty.tie(step_contacts, obstacle_list, velocities, body.n_vertices(), time, time_step);
+    return penalty.tie(step_contacts, obstacle_list, positions, velocities, body.n_vertices(), time, time_step);
   }
 
   PenaltySprings::Change ContactConstraints::tie_entering_springs(const std::vector<Vector3> &positions,

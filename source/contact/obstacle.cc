@@ -230,47 +230,71 @@ namespace warpchol::fem
 
   void Obstacle::set_path(InstrumentPath instrument_path)
   {
+    if (!instrument_path.empty() && instrument_path.values_per_sample() != 3 &&
+        instrument_path.values_per_sample() != 6)
+      throw Error("an obstacle's path has 3 values a sample (x, y, z) or 6 (and a rotation vector)");
     path = std::move(instrument_path);
   }
 
-  Vector3 Obstacle::offset(const double time) const
+  Matrix3 Obstacle::rotation(const double time) const
   {
-    if (path.empty())
-      return Vector3::Zero();
-    return path.position(time) - path.position(path.start_time());
+    if (path.empty() || path.values_per_sample() < 6)
+      return Matrix3::Identity();
+    const auto turn = [](const Vector3 &vector) -> Matrix3 {
+      const double angle = vector.norm();
+      return angle > 0 ? Eigen::AngleAxisd(angle, vector / angle).toRotationMatrix() : Matrix3::Identity();
+    };
+    // Relative to the first sample's rotation: the obstacle is given where the path starts.
+    return turn(path.position(time, 3)) * turn(path.position(path.start_time(), 3)).transpose();
   }
 
-  Vector3 Obstacle::velocity(const double from, const double to) const
+  Vector3 Obstacle::from_rest(const Vector3 &point, const double time) const
   {
-    return (offset(to) - offset(from)) / (to - from);
+    if (path.empty())
+      return point;
+    const Vector3 start = path.position(path.start_time());
+    return rotation(time) * (point - start) + path.position(time);
+  }
+
+  Vector3 Obstacle::to_rest(const Vector3 &point, const double time) const
+  {
+    if (path.empty())
+      return point;
+    const Vector3 start = path.position(path.start_time());
+    return rotation(time).transpose() * (point - path.position(time)) + start;
+  }
+
+  Vector3 Obstacle::velocity(const Vector3 &point, const double from, const double to) const
+  {
+    return (from_rest(to_rest(point, from), to) - point) / (to - from);
   }
 
   Proximity Obstacle::proximity(const Vector3 &point, const double time) const
   {
-    return proximity_at_rest(point - offset(time));
+    Proximity proximity = proximity_at_rest(to_rest(point, time));
+    proximity.normal    = rotation(time) * proximity.normal;
+    return proximity;
   }
 
   std::vector<Obstacle::Segment> Obstacle::sharp_edges(const double time) const
   {
     std::vector<Segment> edges = edges_at_rest;
-    const Vector3        shift = offset(time);
     for (Segment &edge : edges)
       for (Vector3 &end : edge)
-        end += shift;
+        end = from_rest(end, time);
     return edges;
   }
 
   Vector3 Obstacle::core_point(const Vector3 &point, const double time) const
   {
-    const Vector3 shift = offset(time);
     if (kind == ObstacleShape::sphere)
-      return first + shift;
+      return from_rest(first, time);
     if (kind != ObstacleShape::capsule)
       throw Error("core_point(): only spheres and capsules have a core");
     const Vector3 axis   = second - first;
     const double  length = axis.squaredNorm();
-    const double  along  = length > 0 ? std::clamp((point - shift - first).dot(axis) / length, 0., 1.) : 0.;
-    return first + along * axis + shift;
+    const double  along  = length > 0 ? std::clamp((to_rest(point, time) - first).dot(axis) / length, 0., 1.) : 0.;
+    return from_rest(first + along * axis, time);
   }
 
   Proximity Obstacle::proximity_at_rest(const Vector3 &point) const
@@ -361,6 +385,8 @@ namespace warpchol::fem
           surface = tree->surface;
           break;
       }
-    return translated(std::move(surface), offset(time));
+    for (Vector3 &point : surface.points)
+      point = from_rest(point, time);
+    return surface;
   }
 } // namespace warpchol::fem

@@ -24,6 +24,7 @@ namespace warpchol::fem
   {}
 
   PenaltySprings::Change PenaltySprings::tie(const std::vector<Contact> &contacts, const std::vector<Obstacle> &obstacles,
+                                             const std::vector<Vector3> &positions,
                                              const std::vector<Vector3> &velocities, const unsigned int n_vertices,
                                              const double time, const double step)
   {
@@ -37,7 +38,7 @@ namespace warpchol::fem
     for (const Contact &c : contacts)
       if (c.gap + time_step * c.normal.dot(point_value(c, velocities)) < 0 ||
           (c.gap < margin && held.count(contact_key(c)) > 0))
-        tie_spring(c, obstacles[c.obstacle], time, time_step);
+        tie_spring(c, point_value(c, positions), obstacles[c.obstacle], time, time_step);
     if (spring_diagonal.size() != n_vertices)
       spring_diagonal.assign(n_vertices, 0.);
     return diagonal_change();
@@ -57,19 +58,19 @@ namespace warpchol::fem
           const Vector3 next = point_value(c, positions) + step * point_value(c, velocities);
           if (obstacles[c.obstacle].proximity(next, time + step).distance < 0)
             {
-              tie_spring(c, obstacles[c.obstacle], time, step);
+              tie_spring(c, point_value(c, positions), obstacles[c.obstacle], time, step);
               tied = true;
             }
         }
     return tied ? diagonal_change() : Change();
   }
 
-  void PenaltySprings::tie_spring(const Contact &contact, const Obstacle &obstacle, const double time,
-                                  const double step)
+  void PenaltySprings::tie_spring(const Contact &contact, const Vector3 &point, const Obstacle &obstacle,
+                                  const double time, const double step)
   {
     // The gap is to the obstacle where it is at the step's end: along the normal the drag
     // holds the point where it is; along the tangents it moves with the obstacle.
-    const Vector3 velocity = obstacle.velocity(time, time + step);
+    const Vector3 velocity = obstacle.velocity(point, time, time + step);
     springs.push_back(contact);
     drag_velocity.push_back(velocity - velocity.dot(contact.normal) * contact.normal);
   }

@@ -263,11 +263,4 @@ namespace warpchol::fem
       fail(file_name, 0, "holds triangles of zero area only");
     return surface;
   }
-
-  TriangleSurface translated(TriangleSurface surface, const Vector3 &offset)
-  {
-    for (Vector3 &point : surface.points)
-      point += offset;
-    return surface;
-  }
 } // namespace warpchol::fem

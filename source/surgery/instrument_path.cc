@@ -19,6 +19,11 @@ namespace warpchol::fem
     return times.empty();
   }
 
+  unsigned int InstrumentPath::values_per_sample() const
+  {
+    return n_values;
+  }
+
   unsigned int InstrumentPath::n_samples() const
   {
     return static_cast<unsigned int>(times.size());

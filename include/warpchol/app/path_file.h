@@ -30,12 +30,15 @@ namespace warpchol::app
     int                 last_line  = 0;
 
     /**
-     * Read @p file_name, a path of @p n_values positions per sample (3 or 6; @p columns
-     * names them for the messages: "time, x, y, z"). Throws InputError "FILE:LINE: ..." for
-     * a line with another number of columns, a value that is not a finite number, a time
-     * not after the one before; "FILE: ..." for a file that cannot be read or holds no sample.
+     * Read @p file_name, a path of @p n_values values per sample (3 or 6; @p columns
+     * names them for the messages: "time, x, y, z"), or of @p n_values + @p optional_values
+     * if its first sample has them (then every sample). Throws InputError "FILE:LINE: ..."
+     * for a line with another number of columns, a value that is not a finite number, a
+     * time not after the one before; "FILE: ..." for a file that cannot be read or holds no
+     * sample.
      */
-    static PathFile read(const std::string &file_name, unsigned int n_values, const std::string &columns);
+    static PathFile read(const std::string &file_name, unsigned int n_values, const std::string &columns,
+                         unsigned int optional_values = 0);
 
     /**
      * Throw InputError "FILE:LINE: ..." unless the path has samples from @p from to @p to

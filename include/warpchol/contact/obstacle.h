@@ -12,7 +12,8 @@
  * @file
  * Rigid obstacles and instruments the body touches: a plane (a table), a sphere (a probe's
  * tip), a capsule (an instrument's shaft and tip), a box, and a triangle surface read from
- * a file (triangle_surface.h). Each is fixed or translated along an instrument path.
+ * a file (triangle_surface.h). Each is fixed or moved along an instrument path: translated,
+ * and rotated too if the path gives rotations.
  *
  * Proximity: the analytic shapes by their closed-form signed distance; a triangle surface
  * by CGAL's AABB tree (libcgal-dev, header-only with Simple_cartesian<double>): a
@@ -49,9 +50,8 @@ namespace warpchol::fem
   };
 
   /**
-   * A rigid obstacle: its shape at time 0, its friction coefficient (Coulomb's, static =
-   * dynamic) and, if it moves, the path whose displacement from its first sample
-   * translates it.
+   * A rigid obstacle: its shape at rest, its friction coefficient (Coulomb's, static =
+   * dynamic) and, if it moves, the path that moves it from its rest (set_path()).
    */
   class Obstacle
   {
@@ -75,13 +75,20 @@ namespace warpchol::fem
     void   set_friction(double coefficient);
     double friction() const;
 
-    /** Translate the obstacle by path.position(t) - path.position(start of the path). */
+    /**
+     * Move the obstacle along @p path, which starts where the obstacle is at rest. With 3
+     * values a sample (x, y, z), p(t) translates it by p(t) - p(t0); with 6 (x, y, z, and a
+     * rotation vector r in radians, linear in between samples: exact for a fixed axis) a
+     * point x at rest is at R(t) (x - p(t0)) + p(t) at time t, R(t) = exp(r(t)) exp(r(t0))^T:
+     * it turns about the path's point. Throws Error for another number of values.
+     */
     void set_path(InstrumentPath path);
 
-    /** The translation at @p time (zero without a path). */
-    Vector3 offset(double time) const;
-    /** The mean velocity from @p from to @p to. */
-    Vector3 velocity(double from, double to) const;
+    /**
+     * The mean velocity from @p from to @p to of the obstacle's point that is at @p point
+     * at @p from (the velocity a contact there moves with).
+     */
+    Vector3 velocity(const Vector3 &point, double from, double to) const;
 
     /** The signed distance and normal of @p point at @p time. */
     Proximity proximity(const Vector3 &point, double time) const;
@@ -117,8 +124,14 @@ namespace warpchol::fem
   private:
     Obstacle() = default;
 
-    /** The proximity at time 0 (no offset). */
+    /** The proximity of the obstacle at rest. */
     Proximity proximity_at_rest(const Vector3 &point) const;
+    /** The rotation R(t) of set_path() at @p time (the identity without rotations). */
+    Matrix3 rotation(double time) const;
+    /** Where the point @p point of the obstacle at rest is at @p time. */
+    Vector3 from_rest(const Vector3 &point, double time) const;
+    /** Where the point at @p point at @p time is when the obstacle is at rest. */
+    Vector3 to_rest(const Vector3 &point, double time) const;
 
     ObstacleShape  kind = ObstacleShape::plane;
     /** plane: point; sphere, box: centre; capsule: one end. */

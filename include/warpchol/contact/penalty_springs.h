@@ -40,9 +40,11 @@ namespace warpchol::fem
 
     /**
      * The springs of the step from @p time among @p contacts (the step's, of a body of
-     * @p n_vertices vertices at @p velocities): those about to enter, and those kept.
+     * @p n_vertices vertices at @p positions and @p velocities): those about to enter, and
+     * those kept.
      */
     Change tie(const std::vector<Contact> &contacts, const std::vector<Obstacle> &obstacles,
+               const std::vector<Vector3> &positions,
                const std::vector<Vector3> &velocities, unsigned int n_vertices, double time, double time_step);
 
     /**
@@ -76,8 +78,9 @@ namespace warpchol::fem
     void load(BinaryReader &reader, std::size_t n_obstacles);
 
   private:
-    /** Give @p contact a spring in the step from @p time. */
-    void tie_spring(const Contact &contact, const Obstacle &obstacle, double time, double time_step);
+    /** Give @p contact, at @p point, a spring in the step from @p time. */
+    void tie_spring(const Contact &contact, const Vector3 &point, const Obstacle &obstacle, double time,
+                    double time_step);
     /** k max(0, -gap) n: what @p spring pushes along its normal at the step's start. */
     Vector3 pushing_force(const Contact &spring) const;
     /** The springs' diagonal per vertex made anew: what changed. */

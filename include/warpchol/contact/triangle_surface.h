@@ -30,6 +30,4 @@ namespace warpchol::fem
    */
   TriangleSurface read_triangle_surface(const std::string &file_name);
 
-  /** Translate every point of @p surface by @p offset. */
-  TriangleSurface translated(TriangleSurface surface, const Vector3 &offset);
 } // namespace warpchol::fem

@@ -27,6 +27,8 @@ namespace warpchol::fem
     /** Whether there are no samples (no path). */
     bool empty() const;
     unsigned int n_samples() const;
+    /** The values of a sample (3 or more). */
+    unsigned int values_per_sample() const;
     double       start_time() const;
     double       end_time() const;
 
