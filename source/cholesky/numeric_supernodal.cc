@@ -1,4 +1,5 @@
 #include <warpchol/base/exceptions.h>
+#include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/blas.h>
 #include <warpchol/cholesky/numeric_supernodal.h>
 
@@ -87,11 +88,13 @@ namespace warpchol::cholesky
       NumericRun(const SupernodalSymbolic                 &symbolic,
                  const sparse::CSCMatrix                  &lower,
                  double                                   *values,
+                 float                                    *seconds_per_flop,
                  tbb::enumerable_thread_specific<Workspace> &workspaces,
                  const unsigned int                        n_threads)
         : symbolic(symbolic)
         , lower(lower)
         , values(values)
+        , seconds_per_flop(seconds_per_flop)
         , workspaces(workspaces)
         , n_threads(std::max(1u, n_threads))
       {}
@@ -120,7 +123,7 @@ namespace warpchol::cholesky
             Workspace &workspace = workspaces.local();
             workspace.reserve(symbolic);
             for (const Index s : selected)
-              factor_supernode(s, start_offset[s], workspace);
+              compute_supernode(s, workspace, false);
             return;
           }
         tbb::task_arena arena(static_cast<int>(n_threads));
@@ -131,6 +134,8 @@ namespace warpchol::cholesky
       const SupernodalSymbolic                  &symbolic;
       const sparse::CSCMatrix                   &lower;
       double                                    *values;
+      /** Per supernode: the seconds per flop of its computations, averaged (SupernodalFactor::timed_seconds()). */
+      float                                     *seconds_per_flop;
       tbb::enumerable_thread_specific<Workspace> &workspaces;
       const unsigned int                         n_threads;
 
@@ -191,7 +196,7 @@ namespace warpchol::cholesky
             const auto first = std::lower_bound(selected.begin(), selected.end(), symbolic.first_descendant[s]);
             const auto last  = std::upper_bound(first, selected.end(), s);
             for (auto t = first; t != last; ++t)
-              factor_supernode(*t, start_offset[*t], workspace);
+              compute_supernode(*t, workspace, false);
             return;
           }
         tbb::task_group group;
@@ -203,10 +208,27 @@ namespace warpchol::cholesky
         group.wait();
         Workspace &workspace = workspaces.local();
         workspace.reserve(symbolic);
-        if (symbolic.supernode_flops[s] > parallel_supernode_flops)
-          factor_supernode_threaded(s, start_offset[s], workspace);
+        compute_supernode(s, workspace, symbolic.supernode_flops[s] > parallel_supernode_flops);
+      }
+
+      /** Compute s from its start offset on, over the threads if @p threaded, and time it (seconds_per_flop). */
+      void compute_supernode(const Index s, Workspace &workspace, const bool threaded)
+      {
+        const Stopwatch stopwatch;
+        const Index     q = start_offset[s];
+        if (threaded)
+          factor_supernode_threaded(s, q, workspace);
         else
-          factor_supernode(s, start_offset[s], workspace);
+          factor_supernode(s, q, workspace);
+        const double flops = symbolic.flops_from(s, q);
+        if (!(flops > 0))
+          return;
+        // A moving average, as the cost model's rates: one slow run (a busy machine) does
+        // not stand for the supernode until it runs again.
+        constexpr float new_weight = 0.3f;
+        const float     measured   = static_cast<float>(stopwatch.seconds() / flops);
+        float          &average    = seconds_per_flop[s];
+        average = average >= 0 ? (1 - new_weight) * average + new_weight * measured : measured;
       }
 
       double *block(const Index s) const
@@ -672,6 +694,8 @@ namespace warpchol::cholesky
     std::vector<Index>                         copy_start;
     /** Per column: the power of two it is scaled by, and 1 / its scaled diagonal entry. */
     std::vector<float>                         column_scale, inverse_diagonal;
+    /** Per supernode: the seconds per flop of its computations, averaged; negative if none (timed_seconds()). */
+    std::vector<float>                         seconds_per_flop;
 
     /** Round the columns of supernode s from its local column q on into the copy. */
     void round(const SupernodalSymbolic &symbolic, const Index s, const Index q)
@@ -768,6 +792,7 @@ namespace warpchol::cholesky
     implementation->copy_start       = other.implementation->copy_start;
     implementation->column_scale     = other.implementation->column_scale;
     implementation->inverse_diagonal = other.implementation->inverse_diagonal;
+    implementation->seconds_per_flop = other.implementation->seconds_per_flop;
     implementation->stale_copy_from  = other.implementation->stale_copy_from;
     implementation->copy_stale.store(other.implementation->copy_stale.load());
     return *this;
@@ -824,18 +849,22 @@ namespace warpchol::cholesky
 
   void SupernodalFactor::save(BinaryWriter &writer) const
   {
-    // The copy is rounded again on load: it follows from the values. (Where the single
-    // copy was once written, an empty list keeps the format.)
+    // The copy is rounded again on load: it follows from the values. Where the single
+    // copy was once written, the supernodes' timings (an empty list in older files).
     writer.write(implementation->values);
-    writer.write(std::vector<float>());
+    writer.write(implementation->seconds_per_flop);
   }
 
   void SupernodalFactor::load(BinaryReader &reader, const SupernodalSymbolic &symbolic)
   {
     Implementation &data = *implementation;
     reader.read(data.values);
-    std::vector<float> former_copy;
-    reader.read(former_copy);
+    std::vector<float> timings;
+    reader.read(timings);
+    if (!timings.empty() && static_cast<Index>(timings.size()) != symbolic.n_supernodes())
+      reader.fail("the supernodal factor holds " + std::to_string(timings.size()) +
+                  " timings, this analysis has " + std::to_string(symbolic.n_supernodes()) + " supernodes");
+    data.seconds_per_flop = std::move(timings);
     // None if the writer had not factorized yet.
     const auto n = data.values.empty() ? 0 : static_cast<std::size_t>(symbolic.n_stored_values());
     if (data.values.size() != n)
@@ -860,7 +889,10 @@ namespace warpchol::cholesky
       initialize(symbolic, implementation->copy);
     for (Workspace &workspace : implementation->workspaces)
       workspace.flops = 0;
-    NumericRun run(symbolic, lower, implementation->values.data(), implementation->workspaces, n_threads);
+    if (static_cast<Index>(implementation->seconds_per_flop.size()) != symbolic.n_supernodes())
+      implementation->seconds_per_flop.assign(symbolic.n_supernodes(), -1.f);
+    NumericRun run(symbolic, lower, implementation->values.data(), implementation->seconds_per_flop.data(),
+                   implementation->workspaces, n_threads);
     run.run(supernodes, start_offsets);
     // What was recomputed is to be rounded into the preconditioner's copy (of each
     // supernode, its columns from the offset on), when it is next read.
@@ -874,6 +906,24 @@ namespace warpchol::cholesky
     for (const Workspace &workspace : implementation->workspaces)
       flops += workspace.flops;
     return flops;
+  }
+
+  double SupernodalFactor::timed_seconds(const SupernodalSymbolic &symbolic, const std::vector<Index> &supernodes,
+                                         const std::vector<Index> &start_offsets) const
+  {
+    const std::vector<float> &rate = implementation->seconds_per_flop;
+    if (static_cast<Index>(rate.size()) != symbolic.n_supernodes())
+      return -1;
+    double seconds = 0;
+    for (std::size_t k = 0; k < supernodes.size(); ++k)
+      {
+        const Index  s     = supernodes[k];
+        const double flops = symbolic.flops_from(s, start_offsets.empty() ? 0 : start_offsets[k]);
+        if (flops > 0 && !(rate[s] >= 0))
+          return -1;
+        seconds += flops > 0 ? flops * rate[s] : 0.;
+      }
+    return seconds;
   }
 
   ModificationResult SupernodalFactor::modify(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &c,

@@ -437,6 +437,25 @@ namespace warpchol::cholesky
            solver_settings.change_method != ChangeMethod::recompute;
   }
 
+  double SparseCholesky::predicted_recompute_seconds(const RefreshPlan &plan) const
+  {
+    const RefactorizationMethod method = plan.full      ? RefactorizationMethod::full :
+                                         plan.flops > 0 ? RefactorizationMethod::partial :
+                                                          RefactorizationMethod::none;
+    // A partial refactorization recomputes the top of the tree, whose large supernodes
+    // run faster than the factorization's average rate: their own timings tell (not with
+    // fixed rates, which choose alike on every machine).
+    if (method == RefactorizationMethod::partial && solver_settings.method == FactorizationMethod::supernodal &&
+        solver_settings.change_method != ChangeMethod::by_flops)
+      {
+        const double timed = supernodal_factor.timed_seconds(supernodal_structure, plan.supernodes.supernodes,
+                                                             plan.supernodes.start_offsets);
+        if (timed >= 0)
+          return timed;
+      }
+    return refactorization_costs.predicted_seconds(method, plan.flops);
+  }
+
   bool SparseCholesky::may_weigh_update(const Index touched_rows) const
   {
     return touched_rows <= solver_settings.max_update_rows;
@@ -451,7 +470,7 @@ namespace warpchol::cholesky
     weighing.update_flops = update_plan.flops + low_rank_form_flops(touched_rows);
     weighing.update_seconds  = refactorization_costs.predicted_seconds(RefactorizationMethod::update, weighing.update_flops,
                                                                        static_cast<unsigned int>(weighing.rank));
-    weighing.partial_seconds = refactorization_costs.predicted_seconds(RefactorizationMethod::partial, plan.flops);
+    weighing.partial_seconds = predicted_recompute_seconds(plan);
     weighing.full_seconds =
       refactorization_costs.predicted_seconds(RefactorizationMethod::full, supernodal_structure.flops);
     // Against the recomputation that runs if the update does not: the plan's, never a full
@@ -611,7 +630,7 @@ namespace warpchol::cholesky
     const RefreshPlan        plan    = plan_refresh(changes, refresh);
     *method = plan.full ? RefactorizationMethod::full :
               plan.flops > 0 ? RefactorizationMethod::partial : RefactorizationMethod::none;
-    const double recompute = refactorization_costs.predicted_seconds(*method, plan.flops);
+    const double recompute = predicted_recompute_seconds(plan);
     if (!may_update(refresh, plan))
       return recompute;
     // The values are not loaded yet: the changed columns stand for the rows they touch,

@@ -96,6 +96,17 @@ namespace warpchol::cholesky
                      const std::vector<Index> &start_offsets, unsigned int n_threads);
 
     /**
+     * What factorize() of @p supernodes from @p start_offsets would take, from the seconds
+     * per flop each supernode took when computed (factorize() times each, a moving average
+     * over its computations), on this
+     * machine and in its place in the tree: a supernode of the top, large and dense, runs
+     * at a higher rate than the many small ones below, which a factorization's average
+     * rate mixes. Negative if one of them was never timed (no factorization yet).
+     */
+    double timed_seconds(const SupernodalSymbolic &symbolic, const std::vector<Index> &supernodes,
+                         const std::vector<Index> &start_offsets) const;
+
+    /**
      * L L^T + C diag(@p signs) C^T in place (modify_supernodal(), which says what @p c and
      * its @p plan must be), the preconditioner's copy following. Throws
      * NotPositiveDefinite, the values left as they were, if a downdate loses positive

@@ -523,6 +523,13 @@ namespace warpchol::cholesky
       double full_seconds    = -1;
     };
 
+    /**
+     * The predicted seconds of recomputing @p plan: a partial refactorization of the
+     * supernodal factor from its supernodes' timings (SupernodalFactor::timed_seconds())
+     * where they are measured, else at the rate the cost model learned.
+     */
+    double predicted_recompute_seconds(const RefreshPlan &plan) const;
+
     /** Whether a change touching @p touched_rows rows of A may be weighed as an update (Settings::max_update_rows). */
     bool may_weigh_update(Index touched_rows) const;
 
