@@ -95,14 +95,15 @@ namespace tests
         pressed.largest_penetration = std::max(pressed.largest_penetration, contact.last_step().largest_penetration);
         for (const fem::Contact &c : contact.contacts())
           (c.n_vertices == 3 ? pressed.points_in_triangles : pressed.vertex_contacts) += 1;
-        double turn = 0;
+        double                          turn          = 0;
+        const std::vector<fem::Vector3> displacements = integrator.displacements();
         for (unsigned int v = 0; v < body.n_vertices(); ++v)
           {
             const auto &rest = triangulation.get_vertices()[v];
             if (rest[2] == 0.05 && (rest[0] == 0 || rest[0] == 0.1) && (rest[1] == 0 || rest[1] == 0.1))
               {
-                const double x = rest[0] - 0.05, y = rest[1] - 0.05;
-                const auto  &u = integrator.displacements()[v];
+                const double        x = rest[0] - 0.05, y = rest[1] - 0.05;
+                const fem::Vector3 &u = displacements[v];
                 turn += std::atan2(x * (y + u[1]) - y * (x + u[0]), x * (x + u[0]) + y * (y + u[1])) / 4;
               }
           }
