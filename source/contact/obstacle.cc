@@ -236,65 +236,68 @@ namespace warpchol::fem
     path = std::move(instrument_path);
   }
 
-  Matrix3 Obstacle::rotation(const double time) const
+  Vector3 Obstacle::Pose::from_rest(const Vector3 &point) const
   {
-    if (path.empty() || path.values_per_sample() < 6)
-      return Matrix3::Identity();
+    return rotation * (point - start) + position;
+  }
+
+  Vector3 Obstacle::Pose::to_rest(const Vector3 &point) const
+  {
+    return rotation.transpose() * (point - position) + start;
+  }
+
+  Obstacle::Pose Obstacle::pose(const double time) const
+  {
+    Pose pose;
+    if (path.empty())
+      return pose;
+    pose.start    = path.position(path.start_time());
+    pose.position = path.position(time);
+    if (path.values_per_sample() < 6)
+      return pose;
     const auto turn = [](const Vector3 &vector) -> Matrix3 {
       const double angle = vector.norm();
       return angle > 0 ? Eigen::AngleAxisd(angle, vector / angle).toRotationMatrix() : Matrix3::Identity();
     };
     // Relative to the first sample's rotation: the obstacle is given where the path starts.
-    return turn(path.position(time, 3)) * turn(path.position(path.start_time(), 3)).transpose();
-  }
-
-  Vector3 Obstacle::from_rest(const Vector3 &point, const double time) const
-  {
-    if (path.empty())
-      return point;
-    const Vector3 start = path.position(path.start_time());
-    return rotation(time) * (point - start) + path.position(time);
-  }
-
-  Vector3 Obstacle::to_rest(const Vector3 &point, const double time) const
-  {
-    if (path.empty())
-      return point;
-    const Vector3 start = path.position(path.start_time());
-    return rotation(time).transpose() * (point - path.position(time)) + start;
+    pose.rotation = turn(path.position(time, 3)) * turn(path.position(path.start_time(), 3)).transpose();
+    return pose;
   }
 
   Vector3 Obstacle::velocity(const Vector3 &point, const double from, const double to) const
   {
-    return (from_rest(to_rest(point, from), to) - point) / (to - from);
+    return (pose(to).from_rest(pose(from).to_rest(point)) - point) / (to - from);
   }
 
   Proximity Obstacle::proximity(const Vector3 &point, const double time) const
   {
-    Proximity proximity = proximity_at_rest(to_rest(point, time));
-    proximity.normal    = rotation(time) * proximity.normal;
+    const Pose at        = pose(time);
+    Proximity  proximity = proximity_at_rest(at.to_rest(point));
+    proximity.normal     = at.rotation * proximity.normal;
     return proximity;
   }
 
   std::vector<Obstacle::Segment> Obstacle::sharp_edges(const double time) const
   {
+    const Pose           at    = pose(time);
     std::vector<Segment> edges = edges_at_rest;
     for (Segment &edge : edges)
       for (Vector3 &end : edge)
-        end = from_rest(end, time);
+        end = at.from_rest(end);
     return edges;
   }
 
   Vector3 Obstacle::core_point(const Vector3 &point, const double time) const
   {
+    const Pose at = pose(time);
     if (kind == ObstacleShape::sphere)
-      return from_rest(first, time);
+      return at.from_rest(first);
     if (kind != ObstacleShape::capsule)
       throw Error("core_point(): only spheres and capsules have a core");
     const Vector3 axis   = second - first;
     const double  length = axis.squaredNorm();
-    const double  along  = length > 0 ? std::clamp((to_rest(point, time) - first).dot(axis) / length, 0., 1.) : 0.;
-    return from_rest(first + along * axis, time);
+    const double  along  = length > 0 ? std::clamp((at.to_rest(point) - first).dot(axis) / length, 0., 1.) : 0.;
+    return at.from_rest(first + along * axis);
   }
 
   Proximity Obstacle::proximity_at_rest(const Vector3 &point) const
@@ -385,8 +388,9 @@ namespace warpchol::fem
           surface = tree->surface;
           break;
       }
+    const Pose at = pose(time);
     for (Vector3 &point : surface.points)
-      point = from_rest(point, time);
+      point = at.from_rest(point);
     return surface;
   }
 } // namespace warpchol::fem

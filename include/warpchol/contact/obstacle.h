@@ -126,12 +126,19 @@ namespace warpchol::fem
 
     /** The proximity of the obstacle at rest. */
     Proximity proximity_at_rest(const Vector3 &point) const;
-    /** The rotation R(t) of set_path() at @p time (the identity without rotations). */
-    Matrix3 rotation(double time) const;
-    /** Where the point @p point of the obstacle at rest is at @p time. */
-    Vector3 from_rest(const Vector3 &point, double time) const;
-    /** Where the point at @p point at @p time is when the obstacle is at rest. */
-    Vector3 to_rest(const Vector3 &point, double time) const;
+    /** Where set_path() has the obstacle at a time: x at rest is at R (x - p(t0)) + p(t). */
+    struct Pose
+    {
+      Matrix3 rotation = Matrix3::Identity();
+      Vector3 start = Vector3::Zero(), position = Vector3::Zero();
+
+      /** Where the point @p point of the obstacle at rest is. */
+      Vector3 from_rest(const Vector3 &point) const;
+      /** Where the point at @p point is when the obstacle is at rest. */
+      Vector3 to_rest(const Vector3 &point) const;
+    };
+    /** The pose at @p time (the rest pose without a path), once per query: the rotation costs two turns. */
+    Pose pose(double time) const;
 
     ObstacleShape  kind = ObstacleShape::plane;
     /** plane: point; sphere, box: centre; capsule: one end. */
