@@ -33,7 +33,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdlib>
 #include <cstring>
 #include <numeric>
 #include <string>
@@ -494,15 +493,14 @@ PYBIND11_MODULE(_warpchol, module)
   // OpenBLAS chose its kernels when it was loaded, before this module: only the
   // environment of the next Python can choose them.
   if (const char *kernels = warpchol::cholesky::blas::kernels_for_this_cpu())
-    if (std::getenv("OPENBLAS_CORETYPE") == nullptr)
-      {
-        const std::string warning = "OpenBLAS runs its " + warpchol::cholesky::blas::kernel_name() +
-                                    " kernels, without the AVX2 this CPU has (an OpenBLAS older than the "
-                                    "CPU); start Python with OPENBLAS_CORETYPE=" +
-                                    kernels + " for factorizations several times faster";
-        if (PyErr_WarnEx(PyExc_RuntimeWarning, warning.c_str(), 1) != 0)
-          throw py::error_already_set();
-      }
+    {
+      const std::string warning = "OpenBLAS runs its " + warpchol::cholesky::blas::kernel_name() +
+                                  " kernels, without the AVX2 this CPU has (an OpenBLAS older than the "
+                                  "CPU); start Python with OPENBLAS_CORETYPE=" +
+                                  kernels + " for factorizations several times faster";
+      if (PyErr_WarnEx(PyExc_RuntimeWarning, warning.c_str(), 1) != 0)
+        throw py::error_already_set();
+    }
 
   // The solver's errors, one line each, as Python exceptions of the same names.
   auto &error = py::register_exception<warpchol::Error>(module, "Error", PyExc_RuntimeError);

@@ -40,29 +40,16 @@ namespace warpchol::cholesky::blas
     (void)pinned;
   }
 
-  namespace
-  {
-    /** Whether OPENBLAS_CORETYPE should be set, and is not. */
-    bool blas_kernels_to_choose()
-    {
-      return std::getenv("OPENBLAS_CORETYPE") == nullptr && kernels_for_this_cpu() != nullptr;
-    }
-
-    void set_blas_kernels()
-    {
-      if (blas_kernels_to_choose())
-        ::setenv("OPENBLAS_CORETYPE", kernels_for_this_cpu(), 0);
-    }
-  } // namespace
-
   void restart_with_single_threaded_libraries(char **argv)
   {
+    const char *const kernels = kernels_for_this_cpu();
     if (std::getenv("OPENBLAS_NUM_THREADS") != nullptr && std::getenv("OMP_THREAD_LIMIT") != nullptr &&
-        !blas_kernels_to_choose())
+        kernels == nullptr)
       return;
     ::setenv("OPENBLAS_NUM_THREADS", "1", 0);
     ::setenv("OMP_THREAD_LIMIT", "1", 0);
-    set_blas_kernels();
+    if (kernels != nullptr)
+      ::setenv("OPENBLAS_CORETYPE", kernels, 0);
     ::execv("/proc/self/exe", argv); // returns only on failure: then run as we are
   }
 
@@ -75,6 +62,9 @@ namespace warpchol::cholesky::blas
   const char *kernels_for_this_cpu()
   {
 #if defined(__x86_64__)
+    // Kernels chosen by OPENBLAS_CORETYPE are the user's choice, whichever they are.
+    if (std::getenv("OPENBLAS_CORETYPE") != nullptr)
+      return nullptr;
     // The kernels OpenBLAS falls back to, none with AVX2: Prescott for an Intel CPU it does
     // not know, Barcelona for an AMD one; the others are CPUs without AVX2.
     std::string name = kernel_name();
@@ -97,9 +87,10 @@ namespace warpchol::cholesky::blas
 
   void restart_with_blas_kernels_for_this_cpu(char **argv)
   {
-    if (!blas_kernels_to_choose())
+    const char *const kernels = kernels_for_this_cpu();
+    if (kernels == nullptr)
       return;
-    set_blas_kernels();
+    ::setenv("OPENBLAS_CORETYPE", kernels, 0);
     ::execv("/proc/self/exe", argv); // returns only on failure: then run as we are
   }
 

@@ -39,16 +39,17 @@ namespace warpchol::cholesky::blas
   /**
    * The OPENBLAS_CORETYPE this CPU should run where OpenBLAS fell back to kernels without
    * AVX2 on a CPU that has it (an OpenBLAS older than the CPU: Debian 12's 0.3.21 takes an
-   * Intel Xeon of model 207 for a Prescott and runs dgemm at a fifth of its speed), or
-   * nullptr: "SkylakeX" where the CPU has AVX-512 (F, CD, BW, DQ, VL), else "Haswell".
+   * Intel Xeon of model 207 for a Prescott and runs dgemm at a fifth of its speed):
+   * "SkylakeX" where the CPU has AVX-512 (F, CD, BW, DQ, VL), else "Haswell". nullptr where
+   * OpenBLAS did not fall back, or OPENBLAS_CORETYPE is set (its kernels are then chosen).
    */
   const char *kernels_for_this_cpu();
 
   /**
-   * For every program: where kernels_for_this_cpu() names kernels and OPENBLAS_CORETYPE
-   * is unset, set it and restart the program in place (execv of /proc/self/exe with
-   * @p argv), the only way to choose OpenBLAS's kernels; returns only when nothing needs
-   * doing or exec fails. Call it first thing in main().
+   * For every program: where kernels_for_this_cpu() names kernels, set OPENBLAS_CORETYPE
+   * to them and restart the program in place (execv of /proc/self/exe with @p argv), the
+   * only way to choose OpenBLAS's kernels; returns only when nothing needs doing or exec
+   * fails. Call it first thing in main().
    */
   void restart_with_blas_kernels_for_this_cpu(char **argv);
 
