@@ -437,11 +437,16 @@ namespace warpchol::cholesky
            solver_settings.change_method != ChangeMethod::recompute;
   }
 
+  RefactorizationMethod SparseCholesky::recompute_method(const RefreshPlan &plan)
+  {
+    return plan.full      ? RefactorizationMethod::full :
+           plan.flops > 0 ? RefactorizationMethod::partial :
+                            RefactorizationMethod::none;
+  }
+
   double SparseCholesky::predicted_recompute_seconds(const RefreshPlan &plan) const
   {
-    const RefactorizationMethod method = plan.full      ? RefactorizationMethod::full :
-                                         plan.flops > 0 ? RefactorizationMethod::partial :
-                                                          RefactorizationMethod::none;
+    const RefactorizationMethod method = recompute_method(plan);
     // A partial refactorization recomputes the top of the tree, whose large supernodes
     // run faster than the factorization's average rate: their own timings tell (not with
     // fixed rates, which choose alike on every machine).
@@ -628,8 +633,7 @@ namespace warpchol::cholesky
     check_request(changed_columns, refresh);
     const std::vector<Index> changes = pending_with(changed_columns);
     const RefreshPlan        plan    = plan_refresh(changes, refresh);
-    *method = plan.full ? RefactorizationMethod::full :
-              plan.flops > 0 ? RefactorizationMethod::partial : RefactorizationMethod::none;
+    *method                = recompute_method(plan);
     const double recompute = predicted_recompute_seconds(plan);
     if (!may_update(refresh, plan))
       return recompute;

@@ -523,6 +523,9 @@ namespace warpchol::cholesky
       double full_seconds    = -1;
     };
 
+    /** What recomputing @p plan is: a full or a partial refactorization, or nothing. */
+    static RefactorizationMethod recompute_method(const RefreshPlan &plan);
+
     /**
      * The predicted seconds of recomputing @p plan: a partial refactorization of the
      * supernodal factor from its supernodes' timings (SupernodalFactor::timed_seconds())
