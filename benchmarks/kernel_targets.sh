@@ -36,8 +36,9 @@ report="$out/kernels.md.tmp"
   echo
   echo "Written by \`sh benchmarks/kernel_targets.sh\`: each kernel timed on every SIMD target this"
   echo "CPU runs (forced as WARPCHOL_SIMD_TARGET forces it), one thread. \"default / fastest\": the"
-  echo "kernel's family's default target (the update's: the widest; the others': AVX2 where the CPU"
-  echo "has it) over the fastest target; \"slow\" marks a ratio past 1.15."
+  echo "kernel's family's default target (the update's and the assembly's: the widest; the others':"
+  echo "AVX2 where the CPU has it) over the fastest target; \"slow\" marks a ratio past 1.15. The"
+  echo "element kernels: the targets timed in turn, best of 3 rounds."
   echo
   echo "## The solver's kernels (ms)"
   for matrix in $matrix_names; do

@@ -2,12 +2,14 @@
  * warpchol-kernels: the cost per element of the element kernels (ns per tet) of a scene, on
  * every SIMD target this CPU runs, side by side: what each target gains, measured in one run.
  *
- *   warpchol-kernels PARAMS.prm [--steps N] [--targets avx512,avx2,...] [--threads N]
+ *   warpchol-kernels PARAMS.prm [--steps N] [--targets avx512,avx2,...] [--rounds R] [--threads N]
  *
  * The scene runs N steps (default 20) with its own model first, so that the kernels are
  * timed on a deformed configuration; then each kernel is timed (best of five passes over
- * all the elements) on each target. --threads N sets the threads (default 1: the per-core
- * cost). Prints the machine (CPU, dgemm, read bandwidth) first.
+ * all the elements) on each target, the targets in turn, R rounds (default 3), and the
+ * best of the rounds kept: a burst of load on a shared machine then slows one round of a
+ * target, not all of it. --threads N sets the threads (default 1: the per-core cost).
+ * Prints the machine (CPU, dgemm, read bandwidth) first.
  */
 
 #include <warpchol/app/command_line.h>
@@ -29,7 +31,7 @@ using namespace warpchol;
 
 namespace
 {
-  const char *usage = "usage: warpchol-kernels PARAMS.prm [--steps N] [--targets T1,T2,...] [--threads N]";
+  const char *usage = "usage: warpchol-kernels PARAMS.prm [--steps N] [--targets T1,T2,...] [--rounds R] [--threads N]";
 
   void run(int argc, char **argv)
   {
@@ -37,12 +39,15 @@ namespace
     std::string              scene_file;
     unsigned int             steps   = 20;
     unsigned int             threads = 1;
+    unsigned int             rounds  = 3;
     std::vector<std::string> targets = simd::available_targets();
     while (line.has_next())
       {
         const std::string argument = line.next();
         if (argument == "--steps")
           steps = static_cast<unsigned int>(line.integer_of(argument, 0, 100000));
+        else if (argument == "--rounds")
+          rounds = static_cast<unsigned int>(line.integer_of(argument, 1, 1000));
         else if (argument == "--threads")
           threads = static_cast<unsigned int>(line.integer_of(argument, 1, 1024));
         else if (argument == "--targets")
@@ -68,7 +73,7 @@ namespace
         }
     dealii::MultithreadInfo::set_thread_limit(threads);
     simd::use_target("default");
-    const std::string default_target = simd::current_target();
+    const app::DefaultTargets defaults = app::DefaultTargets::current();
     std::cout << app::describe_machine() << "\n";
 
     app::Scene scene{app::AllParameters(scene_file)};
@@ -80,10 +85,13 @@ namespace
     const std::vector<fem::Vector3> positions = scene.integrator().positions();
     std::vector<std::pair<std::string, app::KernelTimes>> columns;
     for (const std::string &target : targets)
-      {
-        simd::use_target(target);
-        columns.emplace_back(target, app::time_kernels(scene, positions));
-      }
+      columns.emplace_back(target, app::KernelTimes::none());
+    for (unsigned int round = 0; round < rounds; ++round)
+      for (auto &[target, times] : columns)
+        {
+          simd::use_target(target);
+          times.keep_fastest(app::time_kernels(scene, positions));
+        }
     std::cout << scene_file << ", after " << steps << " steps, " << threads << " thread(s)\n";
     const fem::CellOrder &order = scene.cell_order();
     std::cout << "cells " << (order.sorted ? "sorted for locality" : "in the given order");
@@ -91,7 +99,7 @@ namespace
       std::cout << " (vertices missed per cell in a 16-cell window: given " << format_number(order.given_misses, 3)
                 << ", sorted " << format_number(order.sorted_misses, 3) << ")";
     std::cout << "\n";
-    app::print_kernel_table(std::cout, columns, scene.body().n_elements(), 0, default_target);
+    app::print_kernel_table(std::cout, columns, scene.body().n_elements(), 0, defaults);
   }
 } // namespace
 

@@ -201,10 +201,14 @@ int main()
   simd::use_target("default");
   tests::check("default is avx2 where available, else the best",
                simd::current_target() == (has_avx2 ? std::string("avx2") : targets.front()));
-  // The update family's default: the best; a forced target holds for it too.
+  // The update's and the assembly's default: the best; a forced target holds for them too.
   tests::check("the update's default is the best",
                simd::current_target(simd::Family::update) == targets.front());
+  tests::check("the assembly's default is the best",
+               simd::current_target(simd::Family::assembly) == targets.front());
   simd::use_target("baseline");
   tests::check("a forced target holds for the update",
                simd::current_target(simd::Family::update) == "baseline");
+  tests::check("a forced target holds for the assembly",
+               simd::current_target(simd::Family::assembly) == "baseline");
 }

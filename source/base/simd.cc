@@ -53,8 +53,8 @@ namespace warpchol::simd
     }
 
     /**
-     * The element family's target unless told otherwise: AVX2 where the CPU has it, even
-     * with AVX-512, else the best. Its kernels work on 8 lanes of 3x3 blocks, which AVX2
+     * The element family's target unless told otherwise (the others take the best): AVX2
+     * where the CPU has it, even with AVX-512, else the best. Its kernels work on 8 lanes of 3x3 blocks, which AVX2
      * holds in two registers as AVX-512 in one, and run as fast or faster on AVX2 where
      * 512-bit instructions are executed in two halves or lower the clock (doc/targets).
      */
@@ -120,13 +120,20 @@ namespace warpchol::simd
   std::int64_t target_bit(const Family family)
   {
     use_target_from_environment();
-    if (family == Family::update && family_defaults)
+    if (family != Family::element && family_defaults)
       {
         const std::int64_t all = cpu_targets();
         return all & -all;
       }
     const std::int64_t bits = hwy::SupportedTargets() & HWY_TARGETS;
     return bits & -bits;
+  }
+
+  std::size_t dispatch_index(const Family family)
+  {
+    const std::int64_t target = target_bit(family);
+    return hwy::Num0BitsBelowLS1Bit_Nonzero64(static_cast<std::uint64_t>(
+      (HWY_CHOSEN_TARGET_SHIFT(target) | HWY_CHOSEN_TARGET_MASK_SCALAR) & HWY_CHOSEN_TARGET_MASK_TARGETS));
   }
 
   std::string current_target(const Family family)

@@ -617,29 +617,14 @@ namespace warpchol::cholesky
   HWY_EXPORT(ModifyChunk);
   HWY_EXPORT(ModifyChunkColumns);
 
-  namespace
-  {
-    /**
-     * The entry of a function's dispatch table (HWY_EXPORT) for the update family's target:
-     * the index Highway's ChosenTarget::GetIndex() gives when that target is chosen.
-     */
-    std::size_t update_dispatch_index()
-    {
-      const std::int64_t target = simd::target_bit(simd::Family::update);
-      return hwy::Num0BitsBelowLS1Bit_Nonzero64(static_cast<std::uint64_t>(
-        (HWY_CHOSEN_TARGET_SHIFT(target) | HWY_CHOSEN_TARGET_MASK_SCALAR) & HWY_CHOSEN_TARGET_MASK_TARGETS));
-    }
-
-  } // namespace
-
   void run_chunk(const Index n_columns, const SupernodeChunk &chunk)
   {
-    (*HWY_DISPATCH_TABLE(ModifyChunk)[update_dispatch_index()])(n_columns, chunk);
+    (*HWY_DISPATCH_TABLE(ModifyChunk)[simd::dispatch_index(simd::Family::update)])(n_columns, chunk);
   }
 
   Index chunk_columns_here()
   {
-    return (*HWY_DISPATCH_TABLE(ModifyChunkColumns)[update_dispatch_index()])();
+    return (*HWY_DISPATCH_TABLE(ModifyChunkColumns)[simd::dispatch_index(simd::Family::update)])();
   }
 } // namespace warpchol::cholesky
 #endif

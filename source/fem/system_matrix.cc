@@ -847,8 +847,8 @@ namespace warpchol::fem
                      const std::uint16_t *transposed, const unsigned int *elements, const unsigned int count,
                      LaneBlocks &out)
     {
-      simd::use_target_from_environment();
-      HWY_DYNAMIC_DISPATCH(FormBlocks)(body, coefficients, frames, transposed, elements, count, out);
+      (*HWY_DISPATCH_TABLE(FormBlocks)[simd::dispatch_index(simd::Family::assembly)])(
+        body, coefficients, frames, transposed, elements, count, out);
     }
   } // namespace
 } // namespace warpchol::fem

@@ -1,5 +1,6 @@
 #include <warpchol/reports/kernel_timing.h>
 #include <warpchol/base/format.h>
+#include <warpchol/base/simd.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/fem/rotations.h>
 #include <warpchol/fem/system_matrix.h>
@@ -11,6 +12,29 @@
 
 namespace warpchol::app
 {
+  namespace
+  {
+    /** Every time of KernelTimes, for what is done to each alike. */
+    constexpr double KernelTimes::*all_times[] = {
+      &KernelTimes::svd_rotation,      &KernelTimes::polar_rotation,    &KernelTimes::batched_rotation,
+      &KernelTimes::fused_pass,        &KernelTimes::fused_pass_nodal,  &KernelTimes::corotated_product,
+      &KernelTimes::assembly,          &KernelTimes::reassembly_of_a_tenth};
+  } // namespace
+
+  KernelTimes KernelTimes::none()
+  {
+    KernelTimes times;
+    for (double KernelTimes::*member : all_times)
+      times.*member = std::numeric_limits<double>::infinity();
+    return times;
+  }
+
+  void KernelTimes::keep_fastest(const KernelTimes &other)
+  {
+    for (double KernelTimes::*member : all_times)
+      this->*member = std::min(this->*member, other.*member);
+  }
+
   KernelTimes time_kernels(const Scene &scene, const std::vector<fem::Vector3> &positions)
   {
     const auto        &body       = scene.body();
@@ -61,22 +85,36 @@ namespace warpchol::app
     return times;
   }
 
+  DefaultTargets DefaultTargets::current()
+  {
+    return {simd::current_target(simd::Family::element), simd::current_target(simd::Family::assembly)};
+  }
+
   void print_kernel_table(std::ostream &out, const std::vector<std::pair<std::string, KernelTimes>> &columns,
                           const unsigned int n_elements, const double estimate_ns_per_tet,
-                          const std::string &default_target)
+                          const DefaultTargets &defaults)
   {
-    const auto default_column =
-      std::find_if(columns.begin(), columns.end(), [&](const auto &column) { return column.first == default_target; });
-    const bool with_ratio = columns.size() > 1 && default_column != columns.end();
-    const std::pair<const char *, double KernelTimes::*> rows[] = {
-      {"rotation by SVD (the former kernel)           ", &KernelTimes::svd_rotation},
-      {"rotation by scaled Newton, one by one         ", &KernelTimes::polar_rotation},
-      {"rotation by scaled Newton, 8 per SIMD group   ", &KernelTimes::batched_rotation},
-      {"fused pass: F, rotation, force, energy, gather", &KernelTimes::fused_pass},
-      {"the same with the nodal rotations             ", &KernelTimes::fused_pass_nodal},
-      {"corotated stiffness product (one CG product)  ", &KernelTimes::corotated_product},
-      {"assembly of A from the rotations (exact path) ", &KernelTimes::assembly},
-      {"re-assembly of every tenth element (per tet)  ", &KernelTimes::reassembly_of_a_tenth}};
+    const auto column_of = [&](const std::string &target) {
+      return std::find_if(columns.begin(), columns.end(), [&](const auto &column) { return column.first == target; });
+    };
+    const bool with_ratio = columns.size() > 1 && column_of(defaults.element) != columns.end() &&
+                            column_of(defaults.assembly) != columns.end();
+    struct Row
+    {
+      const char *label;
+      double KernelTimes::*member;
+      simd::Family         family;
+    };
+    const Row rows[] = {
+      {"rotation by SVD (the former kernel)           ", &KernelTimes::svd_rotation, simd::Family::element},
+      {"rotation by scaled Newton, one by one         ", &KernelTimes::polar_rotation, simd::Family::element},
+      {"rotation by scaled Newton, 8 per SIMD group   ", &KernelTimes::batched_rotation, simd::Family::element},
+      {"fused pass: F, rotation, force, energy, gather", &KernelTimes::fused_pass, simd::Family::element},
+      {"the same with the nodal rotations             ", &KernelTimes::fused_pass_nodal, simd::Family::element},
+      {"corotated stiffness product (one CG product)  ", &KernelTimes::corotated_product, simd::Family::element},
+      {"assembly of A from the rotations (exact path) ", &KernelTimes::assembly, simd::Family::assembly},
+      {"re-assembly of every tenth element (per tet)  ", &KernelTimes::reassembly_of_a_tenth,
+       simd::Family::assembly}};
     out << "element kernels (ns per tet, " << n_elements << " tets, one pass over all)";
     if (columns.size() > 1 || !columns.front().first.empty())
       {
@@ -84,22 +122,24 @@ namespace warpchol::app
         for (const auto &column : columns)
           out << " " << std::setw(9) << column.first;
         if (with_ratio)
-          out << "  " << default_target << " / fastest";
+          out << "  default / fastest";
       }
     out << ":\n";
-    for (const auto &[label, member] : rows)
+    for (const Row &row : rows)
       {
-        out << "  " << label;
+        out << "  " << row.label;
         double fastest = std::numeric_limits<double>::infinity();
         for (const auto &column : columns)
           {
-            out << " " << std::setw(9) << format_number(column.second.*member, 3);
-            fastest = std::min(fastest, column.second.*member);
+            out << " " << std::setw(9) << format_number(column.second.*row.member, 3);
+            fastest = std::min(fastest, column.second.*row.member);
           }
         if (with_ratio)
           {
-            const double ratio = default_column->second.*member / fastest;
-            out << "  " << std::setw(9) << format_number(ratio, 3) << (ratio > 1.15 ? " slow" : "");
+            const std::string &target = row.family == simd::Family::assembly ? defaults.assembly : defaults.element;
+            const double       ratio  = column_of(target)->second.*row.member / fastest;
+            out << "  " << std::setw(8) << target << " " << std::setw(5) << format_number(ratio, 3)
+                << (ratio > 1.15 ? " slow" : "");
           }
         out << "\n";
       }

@@ -56,8 +56,9 @@ namespace warpchol::app
     std::string available;
     for (const std::string &name : simd::available_targets())
       available += (available.empty() ? "" : " ") + name;
-    return "machine: " + cpu_name() + ", SIMD target " + simd_target() + ", updates " +
-           simd_target(simd::Family::update) + " (this CPU: " + available + "), dgemm " +
+    return "machine: " + cpu_name() + ", SIMD target " + simd_target() + ", assembly " +
+           simd_target(simd::Family::assembly) + ", updates " + simd_target(simd::Family::update) +
+           " (this CPU: " + available + "), dgemm " +
            format_number(cholesky::blas::measure_dgemm_gflops(), 3) + " GFLOP/s (OpenBLAS " +
            cholesky::blas::kernel_name() + "), read " +
            format_number(measure_read_bandwidth(), 3) + " GB/s (one thread)";

@@ -1,6 +1,7 @@
 #ifndef warpchol_base_simd_h
 #define warpchol_base_simd_h
 
+#include <cstddef>
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -25,8 +26,11 @@ namespace warpchol::simd
    * The families of kernels. Each family runs the chosen target; left to the default, each
    * takes its own default target, the fastest on the machines measured
    * (warpchol-solver-kernels and warpchol-kernels on every target, benchmarks/targets.sh):
-   * - element: the element kernels and the reduced-precision solves, AVX2 where the CPU has
-   *   it (as fast as AVX-512 or faster, whose clock some CPUs lower), else the best;
+   * - element: the rotations, the fused element pass, the corotated product and the
+   *   reduced-precision solves, AVX2 where the CPU has it (as fast as AVX-512 or faster,
+   *   whose clock some CPUs lower), else the best;
+   * - assembly: the assembly of A and its re-assembly, the best (widest) target: its
+   *   scatter of 3x3 blocks runs as fast or faster on AVX-512 on every CPU measured;
    * - update: the update and downdate of the factor, the best (widest) target, whose 32
    *   registers of 8 doubles hold the carried columns of four times as many rows as AVX2's
    *   16 of 4.
@@ -34,6 +38,7 @@ namespace warpchol::simd
   enum class Family
   {
     element,
+    assembly,
     update
   };
 
@@ -46,6 +51,13 @@ namespace warpchol::simd
    * that family's kernels by its own target.
    */
   std::int64_t target_bit(Family family);
+
+  /**
+   * The entry of a Highway dispatch table (HWY_DISPATCH_TABLE of an HWY_EXPORT) for the
+   * target @p family runs now: for a family whose default is not the element family's,
+   * which HWY_DYNAMIC_DISPATCH would take.
+   */
+  std::size_t dispatch_index(Family family);
 
   /**
    * Run the kernels on the target @p name ("best": the widest available; "default": each

@@ -21,6 +21,12 @@ namespace warpchol::app
     double svd_rotation = 0, polar_rotation = 0, batched_rotation = 0;
     double fused_pass = 0, fused_pass_nodal = 0, corotated_product = 0;
     double assembly = 0, reassembly_of_a_tenth = 0;
+
+    /** Times no measurement beats yet (infinite), to start keep_fastest() from. */
+    static KernelTimes none();
+
+    /** Keep, kernel by kernel, the faster of these times and @p other. */
+    void keep_fastest(const KernelTimes &other);
   };
 
   /**
@@ -30,14 +36,23 @@ namespace warpchol::app
    */
   KernelTimes time_kernels(const Scene &scene, const std::vector<fem::Vector3> &positions);
 
+  /** The default target of each family of element kernels, for the table's last column. */
+  struct DefaultTargets
+  {
+    std::string element, assembly;
+
+    /** The families' defaults that run now (simd::current_target()). */
+    static DefaultTargets current();
+  };
+
   /**
    * The table of @p columns (a name, such as the target, and its times) for @p n_elements
    * tets; @p estimate_ns_per_tet, if > 0, adds the WCC error estimate (measured in runs,
-   * the same for every column). With several columns and @p default_target among them, a
-   * last column gives the default target's time over the fastest's, marked "slow" past
-   * 1.15.
+   * the same for every column). With several columns and @p defaults given, a last column
+   * gives each kernel's family's default target's time over the fastest's, marked "slow"
+   * past 1.15.
    */
   void print_kernel_table(std::ostream &out, const std::vector<std::pair<std::string, KernelTimes>> &columns,
                           unsigned int n_elements, double estimate_ns_per_tet = 0,
-                          const std::string &default_target = "");
+                          const DefaultTargets &defaults = {});
 } // namespace warpchol::app
