@@ -153,5 +153,40 @@ int main()
   tests::check("  the kept ones' block differs from G anew (it is the old factor's)",
                relative_difference(lagged.gram, fresh.gram) > 1e-8);
 
+  // A sliding set, as a contact patch moves: each call drops two vertices anywhere in it
+  // and takes two new ones (or one back that was dropped). The kept columns stay in the layers they were
+  // solved in, dropped ones among them, until the layers merge.
+  {
+    cholesky::KeptInverseColumns sliding;
+    std::vector<Index>           patch(vertices.begin(), vertices.begin() + 12), gone;
+    double                       worst = 0;
+    std::size_t                  most_layers = 0, merges = 0, solved = 0;
+    for (unsigned int call = 0; call < 30; ++call)
+      {
+        for (unsigned int k = 0; k < 2; ++k)
+          {
+            const auto leaving = patch.begin() + random.below(static_cast<Index>(patch.size()));
+            gone.push_back(*leaving);
+            patch.erase(leaving);
+          }
+        if (call % 5 == 4 && std::find(patch.begin(), patch.end(), gone[gone.size() - 5]) == patch.end())
+          patch.push_back(gone[gone.size() - 5]); // dropped two calls ago, back
+        while (patch.size() < 12)
+          if (const Index v = random.below(n / 3); std::find(patch.begin(), patch.end(), v) == patch.end())
+            patch.push_back(v);
+        const std::size_t layers_before = sliding.layers.size();
+        solver.inverse_block(unknowns_of(patch), sliding);
+        solved += static_cast<std::size_t>(sliding.solved);
+        most_layers = std::max(most_layers, sliding.layers.size());
+        merges += sliding.layers.size() == 1 && layers_before > 1 ? 1 : 0;
+        cholesky::KeptInverseColumns anew;
+        solver.inverse_block(unknowns_of(patch), anew);
+        worst = std::max(worst, relative_difference(sliding.gram, anew.gram));
+      }
+    std::cout << "a sliding set of 12 vertices, 30 calls: " << solved / 3 << " vertices solved, " << most_layers << " layers at most, " << merges << " merges" << std::endl;
+    tests::check_below("  max over the calls of max |G - G anew| / max |G anew|", worst, 1e-12);
+    tests::check("  the layers grew and were merged", most_layers > 2 && merges > 0);
+  }
+
   tests::expect_error("an unknown out of range", [&] { solver.inverse_block({0, n}, columns); });
 }

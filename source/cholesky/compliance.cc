@@ -228,30 +228,41 @@ namespace warpchol::cholesky
 
   namespace
   {
-    /**
-     * Y on the paths of all the unknowns @p rows: each column copied from where it was
-     * solved, the kept ones (@p was >= 0) from @p kept, the new ones (@p fresh) from
-     * @p solved. A column's path is that of its one nonzero: the same supernodes in either.
-     */
-    PathForwardSolve merged_paths(const SupernodalSymbolic &symbolic, const std::vector<Index> &rows,
-                                  const std::vector<Index> &was, const std::vector<Index> &fresh,
-                                  const PathForwardSolve &kept, const PathForwardSolve &solved)
+    /** Where a column of Y lives: its layer and its column (constraint) there. */
+    struct ColumnPlace
     {
-      const Index        m = static_cast<Index>(rows.size());
+      Index layer = -1, column = -1;
+    };
+
+    /** The local row of constraint @p i in supernode entry @p k of @p solve. */
+    Index local_row(const PathForwardSolve &solve, const Index k, const Index i)
+    {
+      const auto begin = solve.constraints.begin() + solve.constraint_start[k];
+      const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
+      return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
+    }
+
+    /**
+     * The layers of @p columns merged into one: Y on the paths of all the unknowns of
+     * columns.rows, each column copied from its layer. A column's path is that of its one
+     * nonzero: the same supernodes in either.
+     */
+    void merge_layers(const SupernodalSymbolic &symbolic, KeptInverseColumns &columns)
+    {
+      const Index              m = static_cast<Index>(columns.rows.size());
+      std::vector<ColumnPlace> place(m);
+      std::vector<std::vector<Index>> at(columns.layers.size());
+      for (std::size_t l = 0; l < columns.layers.size(); ++l)
+        {
+          at[l] = positions_of(symbolic, columns.layers[l]);
+          for (std::size_t c = 0; c < columns.layer_positions[l].size(); ++c)
+            if (const Index i = columns.layer_positions[l][c]; i >= 0)
+              place[i] = {static_cast<Index>(l), static_cast<Index>(c)};
+        }
       std::vector<Index> all(m);
       for (Index i = 0; i < m; ++i)
         all[i] = i;
-      PathForwardSolve   merged = path_structure(symbolic, unit_columns(symbolic.n, rows, all));
-      std::vector<Index> fresh_index(m, -1);
-      for (std::size_t f = 0; f < fresh.size(); ++f)
-        fresh_index[fresh[f]] = static_cast<Index>(f);
-      const std::vector<Index> kept_at   = positions_of(symbolic, kept);
-      const std::vector<Index> solved_at = positions_of(symbolic, solved);
-      const auto               column_of = [](const PathForwardSolve &solve, const Index k, const Index i) {
-        const auto begin = solve.constraints.begin() + solve.constraint_start[k];
-        const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
-        return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
-      };
+      PathForwardSolve merged = path_structure(symbolic, unit_columns(symbolic.n, columns.rows, all));
       // Per supernode, where each of its constraints' rows comes from; then the panel
       // column by column, so that reads and writes both run down the rows.
       std::vector<const double *> from;
@@ -265,12 +276,10 @@ namespace warpchol::cholesky
           from_ld.resize(kc);
           for (Index a = 0; a < kc; ++a)
             {
-              const Index             i      = merged.constraints[merged.constraint_start[k] + a];
-              const bool              is_new = was[i] < 0;
-              const PathForwardSolve &source = is_new ? solved : kept;
-              const Index             ks     = is_new ? solved_at[s] : kept_at[s];
-              const Index             b      = column_of(source, ks, is_new ? fresh_index[i] : was[i]);
-              from[a]    = source.panels.data() + source.panel_start[ks] + b;
+              const ColumnPlace       where  = place[merged.constraints[merged.constraint_start[k] + a]];
+              const PathForwardSolve &source = columns.layers[where.layer];
+              const Index             ks     = at[where.layer][s];
+              from[a]    = source.panels.data() + source.panel_start[ks] + local_row(source, ks, where.column);
               from_ld[a] = source.constraint_start[ks + 1] - source.constraint_start[ks];
             }
           double *to = merged.panels.data() + merged.panel_start[k];
@@ -278,58 +287,55 @@ namespace warpchol::cholesky
             for (Index a = 0; a < kc; ++a)
               to[a + static_cast<std::size_t>(c) * kc] = from[a][static_cast<std::size_t>(c) * from_ld[a]];
         }
-      return merged;
+      columns.layers.assign(1, std::move(merged));
+      columns.layer_positions.assign(1, all);
     }
 
     /**
-     * next.gram: the entries of @p kept's between kept unknowns, then the new unknowns' rows,
-     * supernode by supernode (their panel rows times the panel, dgemm), mirrored into their
+     * The rows of G of the new unknowns @p fresh (places in next.rows), solved as @p solved:
+     * among themselves from @p solved alone, and with each kept column supernode by
+     * supernode (their panel rows times the layer's panel, dgemm), mirrored into their
      * columns.
      */
-    void extend_gram(const SupernodalSymbolic &symbolic, const std::vector<Index> &was,
-                     const std::vector<Index> &fresh, const KeptInverseColumns &kept, KeptInverseColumns &next)
+    void add_fresh_rows_of_gram(const SupernodalSymbolic &symbolic, const std::vector<Index> &fresh,
+                                  PathForwardSolve &solved, KeptInverseColumns &next)
     {
-      const Index m      = static_cast<Index>(next.rows.size());
-      const Index m_kept = static_cast<Index>(kept.rows.size());
-      next.gram.assign(static_cast<std::size_t>(m) * m, 0.);
-      for (Index j = 0; j < m; ++j)
-        if (was[j] >= 0)
-          for (Index i = 0; i < m; ++i)
-            if (was[i] >= 0)
-              next.gram[i + static_cast<std::size_t>(j) * m] =
-                kept.gram[was[i] + static_cast<std::size_t>(was[j]) * m_kept];
-      std::vector<Index>  local_fresh;
-      std::vector<double> fresh_panel, product;
-      for (std::size_t k = 0; k < next.solve.supernodes.size(); ++k)
+      const std::size_t         m     = next.rows.size();
+      const std::vector<double> among = compliance_from_paths(symbolic, solved);
+      for (std::size_t b = 0; b < fresh.size(); ++b)
+        for (std::size_t a = 0; a < fresh.size(); ++a)
+          next.gram[fresh[a] + fresh[b] * m] = among[a + b * fresh.size()];
+      const std::vector<Index> solved_at = positions_of(symbolic, solved);
+      std::vector<double>      product;
+      for (std::size_t l = 0; l < next.layers.size(); ++l)
         {
-          const Index   nc    = symbolic.n_columns(next.solve.supernodes[k]);
-          const Index   kc    = next.solve.constraint_start[k + 1] - next.solve.constraint_start[k];
-          const Index  *own   = next.solve.constraints.data() + next.solve.constraint_start[k];
-          const double *panel = next.solve.panels.data() + next.solve.panel_start[k];
-          local_fresh.clear();
-          for (Index a = 0; a < kc; ++a)
-            if (was[own[a]] < 0)
-              local_fresh.push_back(a);
-          const Index kf = static_cast<Index>(local_fresh.size());
-          if (kf == 0)
-            continue;
-          fresh_panel.resize(static_cast<std::size_t>(kf) * nc);
-          for (Index c = 0; c < nc; ++c)
-            for (Index f = 0; f < kf; ++f)
-              fresh_panel[f + static_cast<std::size_t>(c) * kf] =
-                panel[local_fresh[f] + static_cast<std::size_t>(c) * kc];
-          product.resize(static_cast<std::size_t>(kf) * kc);
-          blas::gemm_nt(static_cast<int>(kf), static_cast<int>(kc), static_cast<int>(nc), 1., fresh_panel.data(),
-                        static_cast<int>(kf), panel, static_cast<int>(kc), 0., product.data(), static_cast<int>(kf));
-          next.solve.product_flops += 2. * static_cast<double>(kf) * kc * nc;
-          for (Index b = 0; b < kc; ++b)
-            for (Index f = 0; f < kf; ++f)
-              next.gram[own[local_fresh[f]] + static_cast<std::size_t>(own[b]) * m] +=
-                product[f + static_cast<std::size_t>(b) * kf];
+          const PathForwardSolve   &layer     = next.layers[l];
+          const std::vector<Index> &positions = next.layer_positions[l];
+          for (std::size_t k = 0; k < layer.supernodes.size(); ++k)
+            {
+              const Index ks = solved_at[layer.supernodes[k]];
+              if (ks < 0)
+                continue;
+              const Index nc = symbolic.n_columns(layer.supernodes[k]);
+              const Index kf = solved.constraint_start[ks + 1] - solved.constraint_start[ks];
+              const Index kc = layer.constraint_start[k + 1] - layer.constraint_start[k];
+              product.resize(static_cast<std::size_t>(kf) * kc);
+              blas::gemm_nt(static_cast<int>(kf), static_cast<int>(kc), static_cast<int>(nc), 1.,
+                            solved.panels.data() + solved.panel_start[ks], static_cast<int>(kf),
+                            layer.panels.data() + layer.panel_start[k], static_cast<int>(kc), 0., product.data(),
+                            static_cast<int>(kf));
+              const Index *own_fresh = solved.constraints.data() + solved.constraint_start[ks];
+              const Index *own_kept  = layer.constraints.data() + layer.constraint_start[k];
+              for (Index b = 0; b < kc; ++b)
+                if (const Index j = positions[own_kept[b]]; j >= 0)
+                  for (Index a = 0; a < kf; ++a)
+                    next.gram[fresh[own_fresh[a]] + static_cast<std::size_t>(j) * m] +=
+                      product[a + static_cast<std::size_t>(b) * kf];
+            }
         }
       for (const Index i : fresh)
-        for (Index j = 0; j < m; ++j)
-          next.gram[j + static_cast<std::size_t>(i) * m] = next.gram[i + static_cast<std::size_t>(j) * m];
+        for (std::size_t j = 0; j < m; ++j)
+          next.gram[j + static_cast<std::size_t>(i) * m] = next.gram[i + j * m];
     }
   } // namespace
 
@@ -360,39 +366,75 @@ namespace warpchol::cholesky
         return;
       }
 
-    // Where each unknown was in the kept columns (-1: new).
+    // Where each unknown was in the kept columns (-1: new), and where each kept one goes.
     std::unordered_map<Index, Index> kept_position;
     for (std::size_t i = 0; i < columns.rows.size(); ++i)
       kept_position.emplace(columns.rows[i], static_cast<Index>(i));
-    std::vector<Index> was(m, -1), fresh;
+    std::vector<Index> was(m, -1), fresh, goes(columns.rows.size(), -1);
     for (Index i = 0; i < m; ++i)
       if (const auto found = kept_position.find(rows[i]); found != kept_position.end())
-        was[i] = found->second;
+        {
+          was[i]             = found->second;
+          goes[found->second] = i;
+        }
       else
         fresh.push_back(i);
 
     // The new unknowns' columns, on their paths.
-    const PathForwardSolve solved = forward_solve_on_paths(symbolic, values, unit_columns(symbolic.n, rows, fresh));
-    KeptInverseColumns     next;
+    PathForwardSolve   solved = forward_solve_on_paths(symbolic, values, unit_columns(symbolic.n, rows, fresh));
+    KeptInverseColumns next;
     next.factor_revision        = factor_revision;
     next.outlive_factor_changes = columns.outlive_factor_changes;
-    next.rows            = rows;
-    next.kept            = m - static_cast<Index>(fresh.size());
-    next.solved          = static_cast<Index>(fresh.size());
+    next.rows                   = rows;
+    next.kept                   = m - static_cast<Index>(fresh.size());
+    next.solved                 = static_cast<Index>(fresh.size());
     if (next.kept == 0)
       {
         // Nothing kept: Y is the solve itself, G its product.
-        next.solve = solved;
-        next.gram  = compliance_from_paths(symbolic, next.solve);
-        columns    = std::move(next);
+        next.gram = compliance_from_paths(symbolic, solved);
+        next.layers.push_back(std::move(solved));
+        next.layer_positions.push_back(fresh);
+        columns = std::move(next);
         return;
       }
 
+    // The kept entries of G, and the kept layers with their columns' new places.
     next.factor_changes_behind = columns.factor_changes_behind;
-    next.solve = merged_paths(symbolic, rows, was, fresh, columns.solve, solved);
-    extend_gram(symbolic, was, fresh, columns, next);
-    next.solve.solve_flops = solved.solve_flops;
-    columns                = std::move(next);
+    next.gram.assign(static_cast<std::size_t>(m) * m, 0.);
+    const std::size_t m_kept = columns.rows.size();
+    for (Index j = 0; j < m; ++j)
+      if (was[j] >= 0)
+        for (Index i = 0; i < m; ++i)
+          if (was[i] >= 0)
+            next.gram[i + static_cast<std::size_t>(j) * m] = columns.gram[was[i] + static_cast<std::size_t>(was[j]) * m_kept];
+    std::size_t stored_columns = 0;
+    for (std::size_t l = 0; l < columns.layers.size(); ++l)
+      {
+        std::vector<Index> positions = std::move(columns.layer_positions[l]);
+        bool               live      = false;
+        for (Index &position : positions)
+          {
+            position = position >= 0 ? goes[position] : -1;
+            live     = live || position >= 0;
+          }
+        if (!live)
+          continue;
+        stored_columns += positions.size();
+        next.layers.push_back(std::move(columns.layers[l]));
+        next.layer_positions.push_back(std::move(positions));
+      }
+    if (!fresh.empty())
+      {
+        add_fresh_rows_of_gram(symbolic, fresh, solved, next);
+        stored_columns += fresh.size();
+        next.layer_positions.push_back(fresh);
+        next.layers.push_back(std::move(solved));
+      }
+    // Merged once the dropped columns outnumber the kept ones, or the layers grow many.
+    constexpr std::size_t most_layers = 16;
+    if (stored_columns > 2 * static_cast<std::size_t>(m) || next.layers.size() > most_layers)
+      merge_layers(symbolic, next);
+    columns = std::move(next);
   }
 
   std::vector<double> compliance_by_full_solves(const SupernodalSymbolic &symbolic,

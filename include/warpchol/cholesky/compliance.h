@@ -115,8 +115,15 @@ namespace warpchol::cholesky
     unsigned int factor_changes_behind = 0;
     /** The unknowns S in the factor's numbering (rows of P^T A P), in the order of G's rows. */
     std::vector<Index> rows;
-    /** Y, one constraint (a unit column) per unknown of S. */
-    PathForwardSolve solve;
+    /**
+     * Y, a unit column per unknown, in layers: those solved by one call each. A column
+     * stays where it was solved while its unknown stays in S, so that a call whose S
+     * changes by a few unknowns solves and multiplies those few and copies nothing; the
+     * layers are merged into one once they hold more dropped columns than kept ones.
+     */
+    std::vector<PathForwardSolve> layers;
+    /** For each layer, each column's row of G (its unknown's place in rows; -1: dropped). */
+    std::vector<std::vector<Index>> layer_positions;
     /** G = Y^T Y, |S| x |S|, column-major, both triangles. */
     std::vector<double> gram;
     /** Of the last call: the unknowns whose column was kept, and those solved. */
