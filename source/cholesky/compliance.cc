@@ -201,22 +201,32 @@ namespace warpchol::cholesky
     std::vector<double> gram;
     solve.product_flops = 0;
     // W = sum over the supernodes on the paths of Y_s^T Y_s, each on its constraints: at
-    // the top, where every path meets, straight into W.
-    for (std::size_t k = 0; k < solve.supernodes.size(); ++k)
+    // the top, where every path meets, straight into W. Consecutive supernodes with the
+    // same constraints (a chain no path joins) have their panels one after the other, as
+    // one wider panel: one product for the run.
+    const auto same_constraints = [&](const std::size_t a, const std::size_t b) {
+      return std::equal(solve.constraints.begin() + solve.constraint_start[a],
+                        solve.constraints.begin() + solve.constraint_start[a + 1],
+                        solve.constraints.begin() + solve.constraint_start[b],
+                        solve.constraints.begin() + solve.constraint_start[b + 1]);
+    };
+    for (std::size_t k = 0, next = 0; k < solve.supernodes.size(); k = next)
       {
-        const Index   kc    = solve.constraint_start[k + 1] - solve.constraint_start[k];
-        const Index   nc    = symbolic.n_columns(solve.supernodes[k]);
+        const Index kc    = solve.constraint_start[k + 1] - solve.constraint_start[k];
+        Index       width = 0;
+        for (next = k; next < solve.supernodes.size() && (next == k || same_constraints(k, next)); ++next)
+          width += symbolic.n_columns(solve.supernodes[next]);
         const double *panel = solve.panels.data() + solve.panel_start[k];
-        solve.product_flops += static_cast<double>(kc) * (kc + 1) * nc;
+        solve.product_flops += static_cast<double>(kc) * (kc + 1) * width;
         if (kc == m)
           {
-            blas::syrk_lower(static_cast<int>(m), static_cast<int>(nc), 1., panel, static_cast<int>(m), 1., w.data(),
-                             static_cast<int>(m));
+            blas::syrk_lower(static_cast<int>(m), static_cast<int>(width), 1., panel, static_cast<int>(m), 1.,
+                             w.data(), static_cast<int>(m));
             continue;
           }
         gram.resize(static_cast<std::size_t>(kc) * kc);
-        blas::syrk_lower(static_cast<int>(kc), static_cast<int>(nc), 1., panel, static_cast<int>(kc), 0., gram.data(),
-                         static_cast<int>(kc));
+        blas::syrk_lower(static_cast<int>(kc), static_cast<int>(width), 1., panel, static_cast<int>(kc), 0.,
+                         gram.data(), static_cast<int>(kc));
         const Index *own = solve.constraints.data() + solve.constraint_start[k];
         for (Index b = 0; b < kc; ++b)
           for (Index a = b; a < kc; ++a)
