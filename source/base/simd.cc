@@ -54,9 +54,10 @@ namespace warpchol::simd
 
     /**
      * The element family's target unless told otherwise (the others take the best): AVX2
-     * where the CPU has it, even with AVX-512, else the best. Its kernels work on 8 lanes of 3x3 blocks, which AVX2
-     * holds in two registers as AVX-512 in one, and run as fast or faster on AVX2 where
-     * 512-bit instructions are executed in two halves or lower the clock (doc/targets).
+     * where the CPU has it, even with AVX-512, else the best. Its kernels work on 8 lanes
+     * of 3x3 blocks, which AVX2 holds in two registers as AVX-512 in one, and run as fast
+     * or faster on AVX2 where 512-bit instructions are executed in two halves or lower the
+     * clock (doc/targets).
      */
     std::int64_t default_target(const std::int64_t all)
     {
