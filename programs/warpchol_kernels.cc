@@ -6,9 +6,9 @@
  *
  * The scene runs N steps (default 20) with its own model first, so that the kernels are
  * timed on a deformed configuration; then each kernel is timed (best of five passes over
- * all the elements) on each target, the targets in turn, R rounds (default 3), and the
- * best of the rounds kept: a burst of load on a shared machine then slows one round of a
- * target, not all of it. --threads N sets the threads (default 1: the per-core cost).
+ * all the elements) on each target, kernel by kernel with the targets in turn, R rounds
+ * (default 3), and the best of the rounds kept: a burst of load on a shared machine then
+ * slows one round of one kernel on one target, not a target's column. --threads N sets the threads (default 1: the per-core cost).
  * Prints the machine (CPU, dgemm, read bandwidth) first.
  */
 
@@ -83,15 +83,10 @@ namespace
         scene.integrator().advance(statistics);
       }
     const std::vector<fem::Vector3> positions = scene.integrator().positions();
+    const std::vector<app::KernelTimes> times = app::time_kernels_on_targets(scene, positions, targets, rounds);
     std::vector<std::pair<std::string, app::KernelTimes>> columns;
-    for (const std::string &target : targets)
-      columns.emplace_back(target, app::KernelTimes::none());
-    for (unsigned int round = 0; round < rounds; ++round)
-      for (auto &[target, times] : columns)
-        {
-          simd::use_target(target);
-          times.keep_fastest(app::time_kernels(scene, positions));
-        }
+    for (std::size_t t = 0; t < targets.size(); ++t)
+      columns.emplace_back(targets[t], times[t]);
     std::cout << scene_file << ", after " << steps << " steps, " << threads << " thread(s)\n";
     const fem::CellOrder &order = scene.cell_order();
     std::cout << "cells " << (order.sorted ? "sorted for locality" : "in the given order");

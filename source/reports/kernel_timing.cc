@@ -29,60 +29,75 @@ namespace warpchol::app
     return times;
   }
 
-  void KernelTimes::keep_fastest(const KernelTimes &other)
-  {
-    for (double KernelTimes::*member : all_times)
-      this->*member = std::min(this->*member, other.*member);
-  }
 
-  KernelTimes time_kernels(const Scene &scene, const std::vector<fem::Vector3> &positions)
+  std::vector<KernelTimes> time_kernels_on_targets(const Scene &scene, const std::vector<fem::Vector3> &positions,
+                                                   const std::vector<std::string> &targets, const unsigned int rounds)
   {
     const auto        &body       = scene.body();
     const unsigned int n_elements = body.n_elements();
-    const auto         ns_per_tet = [&](const std::function<void()> &kernel) {
-      double best = std::numeric_limits<double>::infinity();
-      for (unsigned int repetition = 0; repetition < 5; ++repetition)
-        {
-          const Stopwatch stopwatch;
-          kernel();
-          best = std::min(best, stopwatch.seconds());
-        }
-      return 1e9 * best / n_elements;
-    };
-    KernelTimes               times;
     std::vector<fem::Matrix3> rotations(n_elements), gradients(n_elements);
-    times.svd_rotation = ns_per_tet([&] {
-      for (unsigned int e = 0; e < n_elements; ++e)
-        rotations[e] = fem::rotation_by_svd(body.deformation_gradient(e, positions));
-    });
-    times.polar_rotation = ns_per_tet([&] {
-      for (unsigned int e = 0; e < n_elements; ++e)
-        rotations[e] = fem::rotation_of(body.deformation_gradient(e, positions));
-    });
     for (unsigned int e = 0; e < n_elements; ++e)
       gradients[e] = body.deformation_gradient(e, positions);
-    times.batched_rotation = ns_per_tet([&] { fem::rotations_of(gradients.data(), rotations.data(), n_elements); });
     fem::ElasticBody::State state;
-    times.fused_pass = ns_per_tet([&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements, state); });
-    times.fused_pass_nodal =
-      ns_per_tet([&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements_and_vertices, state); });
-    std::vector<fem::Vector3> product(body.n_vertices());
+    body.evaluate(positions, fem::ElasticBody::Rotations::elements, state);
+    std::vector<fem::Vector3>  product(body.n_vertices());
     fem::ElasticBody::ForceWork work;
-    times.corotated_product =
-      ns_per_tet([&] { body.corotated_stiffness_times(&state.element_rotations, positions, product, work); });
     // A from R_e K_e R_e^T, as the exact path assembles it in every step, and re-assembled
     // for a tenth of the elements (spread over the body), as a WCC update does.
     const auto                   &time_stepping = scene.parameters().time_stepping;
     const fem::SystemCoefficients coefficients  = fem::SystemCoefficients::implicit_euler(
       time_stepping.time_step, time_stepping.rayleigh_mass, time_stepping.rayleigh_stiffness);
-    fem::SystemMatrix system(body, coefficients);
-    times.assembly = ns_per_tet([&] { system.assemble(fem::ElementFrames::rotated(state.element_rotations)); });
+    fem::SystemMatrix         system(body, coefficients);
     std::vector<unsigned int> tenth;
     for (unsigned int e = 0; e < n_elements; e += 10)
       tenth.push_back(e);
-    times.reassembly_of_a_tenth =
-      ns_per_tet([&] { system.reassemble(tenth, fem::ElementFrames::rotated(state.element_rotations)); });
+    fem::ElasticBody::State scratch;
+    const std::pair<double KernelTimes::*, std::function<void()>> kernels[] = {
+      {&KernelTimes::svd_rotation,
+       [&] {
+         for (unsigned int e = 0; e < n_elements; ++e)
+           rotations[e] = fem::rotation_by_svd(body.deformation_gradient(e, positions));
+       }},
+      {&KernelTimes::polar_rotation,
+       [&] {
+         for (unsigned int e = 0; e < n_elements; ++e)
+           rotations[e] = fem::rotation_of(body.deformation_gradient(e, positions));
+       }},
+      {&KernelTimes::batched_rotation, [&] { fem::rotations_of(gradients.data(), rotations.data(), n_elements); }},
+      {&KernelTimes::fused_pass,
+       [&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements, scratch); }},
+      {&KernelTimes::fused_pass_nodal,
+       [&] { body.evaluate(positions, fem::ElasticBody::Rotations::elements_and_vertices, scratch); }},
+      {&KernelTimes::corotated_product,
+       [&] { body.corotated_stiffness_times(&state.element_rotations, positions, product, work); }},
+      {&KernelTimes::assembly, [&] { system.assemble(fem::ElementFrames::rotated(state.element_rotations)); }},
+      {&KernelTimes::reassembly_of_a_tenth,
+       [&] { system.reassemble(tenth, fem::ElementFrames::rotated(state.element_rotations)); }}};
+
+    // Kernel by kernel, the targets in turn within each round: a burst of load on a shared
+    // machine then slows one round of one kernel on one target, not a target's column.
+    std::vector<KernelTimes> times(targets.size(), KernelTimes::none());
+    for (const auto &[member, kernel] : kernels)
+      for (unsigned int round = 0; round < rounds; ++round)
+        for (std::size_t t = 0; t < targets.size(); ++t)
+          {
+            if (!targets[t].empty())
+              simd::use_target(targets[t]);
+            double best = std::numeric_limits<double>::infinity();
+            for (unsigned int repetition = 0; repetition < 5; ++repetition)
+              {
+                const Stopwatch stopwatch;
+                kernel();
+                best = std::min(best, stopwatch.seconds());
+              }
+            times[t].*member = std::min(times[t].*member, 1e9 * best / n_elements);
+          }
     return times;
+  }
+
+  KernelTimes time_kernels(const Scene &scene, const std::vector<fem::Vector3> &positions)
+  {
+    return time_kernels_on_targets(scene, positions, {""}, 1).front();
   }
 
   DefaultTargets DefaultTargets::current()

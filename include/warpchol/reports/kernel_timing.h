@@ -24,9 +24,6 @@ namespace warpchol::app
 
     /** Times no measurement beats yet (infinite), to start keep_fastest() from. */
     static KernelTimes none();
-
-    /** Keep, kernel by kernel, the faster of these times and @p other. */
-    void keep_fastest(const KernelTimes &other);
   };
 
   /**
@@ -35,6 +32,15 @@ namespace warpchol::app
    * scene's threads.
    */
   KernelTimes time_kernels(const Scene &scene, const std::vector<fem::Vector3> &positions);
+
+  /**
+   * time_kernels() on each of @p targets (simd::use_target(); "" runs the target that runs
+   * now), kernel by kernel, the targets in turn, @p rounds times, the best of the rounds
+   * kept: a burst of load on a shared machine then slows one round of one kernel on one
+   * target. Leaves the last target chosen.
+   */
+  std::vector<KernelTimes> time_kernels_on_targets(const Scene &scene, const std::vector<fem::Vector3> &positions,
+                                                   const std::vector<std::string> &targets, unsigned int rounds);
 
   /** The default target of each family of element kernels, for the table's last column. */
   struct DefaultTargets
