@@ -38,7 +38,7 @@ report="$out/kernels.md.tmp"
   echo "CPU runs (forced as WARPCHOL_SIMD_TARGET forces it), one thread. \"default / fastest\": the"
   echo "kernel's family's default target (the update's and the assembly's: the widest; the others':"
   echo "AVX2 where the CPU has it) over the fastest target; \"slow\" marks a ratio past 1.15. The"
-  echo "element kernels: the targets timed in turn, best of 3 rounds."
+  echo "element kernels: each timed on the targets in turn, best of 3 rounds."
   echo
   echo "## The solver's kernels (ms)"
   for matrix in $matrix_names; do
