@@ -8,8 +8,9 @@
  * timed on a deformed configuration; then each kernel is timed (best of five passes over
  * all the elements) on each target, kernel by kernel with the targets in turn, R rounds
  * (default 3), and the best of the rounds kept: a burst of load on a shared machine then
- * slows one round of one kernel on one target, not a target's column. --threads N sets the threads (default 1: the per-core cost).
- * Prints the machine (CPU, dgemm, read bandwidth) first.
+ * slows one round of one kernel on one target, not a target's column. --threads N sets
+ * the threads (default 1: the per-core cost). Prints the machine (CPU, dgemm, read
+ * bandwidth) first.
  */
 
 #include <warpchol/app/command_line.h>

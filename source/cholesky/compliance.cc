@@ -259,8 +259,8 @@ namespace warpchol::cholesky
      */
     void merge_layers(const SupernodalSymbolic &symbolic, KeptInverseColumns &columns)
     {
-      const Index              m = static_cast<Index>(columns.rows.size());
-      std::vector<ColumnPlace> place(m);
+      const Index                     m = static_cast<Index>(columns.rows.size());
+      std::vector<ColumnPlace>        place(m);
       std::vector<std::vector<Index>> at(columns.layers.size());
       for (std::size_t l = 0; l < columns.layers.size(); ++l)
         {
@@ -308,7 +308,7 @@ namespace warpchol::cholesky
      * columns.
      */
     void add_fresh_rows_of_gram(const SupernodalSymbolic &symbolic, const std::vector<Index> &fresh,
-                                  PathForwardSolve &solved, KeptInverseColumns &next)
+                                PathForwardSolve &solved, KeptInverseColumns &next)
     {
       const std::size_t         m     = next.rows.size();
       const std::vector<double> among = compliance_from_paths(symbolic, solved);
@@ -384,7 +384,7 @@ namespace warpchol::cholesky
     for (Index i = 0; i < m; ++i)
       if (const auto found = kept_position.find(rows[i]); found != kept_position.end())
         {
-          was[i]             = found->second;
+          was[i]              = found->second;
           goes[found->second] = i;
         }
       else
@@ -416,7 +416,8 @@ namespace warpchol::cholesky
       if (was[j] >= 0)
         for (Index i = 0; i < m; ++i)
           if (was[i] >= 0)
-            next.gram[i + static_cast<std::size_t>(j) * m] = columns.gram[was[i] + static_cast<std::size_t>(was[j]) * m_kept];
+            next.gram[i + static_cast<std::size_t>(j) * m] =
+              columns.gram[was[i] + static_cast<std::size_t>(was[j]) * m_kept];
     std::size_t stored_columns = 0;
     for (std::size_t l = 0; l < columns.layers.size(); ++l)
       {

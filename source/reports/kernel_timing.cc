@@ -12,24 +12,6 @@
 
 namespace warpchol::app
 {
-  namespace
-  {
-    /** Every time of KernelTimes, for what is done to each alike. */
-    constexpr double KernelTimes::*all_times[] = {
-      &KernelTimes::svd_rotation,      &KernelTimes::polar_rotation,    &KernelTimes::batched_rotation,
-      &KernelTimes::fused_pass,        &KernelTimes::fused_pass_nodal,  &KernelTimes::corotated_product,
-      &KernelTimes::assembly,          &KernelTimes::reassembly_of_a_tenth};
-  } // namespace
-
-  KernelTimes KernelTimes::none()
-  {
-    KernelTimes times;
-    for (double KernelTimes::*member : all_times)
-      times.*member = std::numeric_limits<double>::infinity();
-    return times;
-  }
-
-
   std::vector<KernelTimes> time_kernels_on_targets(const Scene &scene, const std::vector<fem::Vector3> &positions,
                                                    const std::vector<std::string> &targets, const unsigned int rounds)
   {
@@ -76,22 +58,25 @@ namespace warpchol::app
 
     // Kernel by kernel, the targets in turn within each round: a burst of load on a shared
     // machine then slows one round of one kernel on one target, not a target's column.
-    std::vector<KernelTimes> times(targets.size(), KernelTimes::none());
+    std::vector<KernelTimes> times(targets.size());
     for (const auto &[member, kernel] : kernels)
-      for (unsigned int round = 0; round < rounds; ++round)
+      {
+        std::vector<double> best(targets.size(), std::numeric_limits<double>::infinity());
+        for (unsigned int round = 0; round < rounds; ++round)
+          for (std::size_t t = 0; t < targets.size(); ++t)
+            {
+              if (!targets[t].empty())
+                simd::use_target(targets[t]);
+              for (unsigned int repetition = 0; repetition < 5; ++repetition)
+                {
+                  const Stopwatch stopwatch;
+                  kernel();
+                  best[t] = std::min(best[t], stopwatch.seconds());
+                }
+            }
         for (std::size_t t = 0; t < targets.size(); ++t)
-          {
-            if (!targets[t].empty())
-              simd::use_target(targets[t]);
-            double best = std::numeric_limits<double>::infinity();
-            for (unsigned int repetition = 0; repetition < 5; ++repetition)
-              {
-                const Stopwatch stopwatch;
-                kernel();
-                best = std::min(best, stopwatch.seconds());
-              }
-            times[t].*member = std::min(times[t].*member, 1e9 * best / n_elements);
-          }
+          times[t].*member = 1e9 * best[t] / n_elements;
+      }
     return times;
   }
 

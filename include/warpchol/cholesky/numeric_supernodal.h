@@ -98,10 +98,10 @@ namespace warpchol::cholesky
     /**
      * What factorize() of @p supernodes from @p start_offsets would take, from the seconds
      * per flop each supernode took when computed (factorize() times each, a moving average
-     * over its computations), on this
-     * machine and in its place in the tree: a supernode of the top, large and dense, runs
-     * at a higher rate than the many small ones below, which a factorization's average
-     * rate mixes. Negative if one of them was never timed (no factorization yet).
+     * over its computations), on this machine and in its place in the tree: a supernode of
+     * the top, large and dense, runs at a higher rate than the many small ones below, which
+     * a factorization's average rate mixes. Negative if one of them was never timed (no
+     * factorization yet).
      */
     double timed_seconds(const SupernodalSymbolic &symbolic, const std::vector<Index> &supernodes,
                          const std::vector<Index> &start_offsets) const;

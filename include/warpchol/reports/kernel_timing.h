@@ -21,9 +21,6 @@ namespace warpchol::app
     double svd_rotation = 0, polar_rotation = 0, batched_rotation = 0;
     double fused_pass = 0, fused_pass_nodal = 0, corotated_product = 0;
     double assembly = 0, reassembly_of_a_tenth = 0;
-
-    /** Times no measurement beats yet (infinite), to start keep_fastest() from. */
-    static KernelTimes none();
   };
 
   /**
