@@ -13,7 +13,9 @@
  *    update, its partial refactorization, a full factorization, CHOLMOD's cholmod_updown
  *    of the same low-rank change on its simplicial LDL^T factor of the same matrix and
  *    permutation (the conversion not counted), and CHOLMOD analyzing anew and factoring
- *    (as SOFA does after a topological change); then what the run chose, what it
+ *    (as SOFA does after a topological change). Each of warpchol's ways is told the
+ *    changed columns, as the scene's model tells its solver (a complete listing: nothing
+ *    else is compared), as cholmod_updown is given the change; then what the run chose, what it
  *    predicted the update and the partial refactorization would cost, and the chosen
  *    method's time over the fastest of update, partial and full.
  * 2. Whole runs, seconds per step: the scene as its parameters say; the same without the
@@ -162,6 +164,20 @@ namespace
     return cholesky::low_rank_form(after.n_cols, changes);
   }
 
+  /** The columns (the user's numbering) where @p after differs from @p before, of the same pattern. */
+  std::vector<Index> changed_columns(const sparse::CSCMatrix &before, const sparse::CSCMatrix &after)
+  {
+    std::vector<Index> columns;
+    for (Index j = 0; j < after.n_cols; ++j)
+      for (Index k = after.column_start[j]; k < after.column_start[j + 1]; ++k)
+        if (after.values[k] != before.values[k])
+          {
+            columns.push_back(j);
+            break;
+          }
+    return columns;
+  }
+
   /** CHOLMOD's update and downdate of @p change (one call each sign), on its LDL^T factor of @p before. */
   double cholmod_updown_seconds(const sparse::CSCMatrix &before, const cholesky::LowRankChange &change,
                                 const cholesky::SparseCholesky &solver, const unsigned int repeat)
@@ -242,6 +258,7 @@ namespace
             // Each way from a copy of the factor of the step before, assigned anew for each
             // repetition: the copy keeps its buffers from one to the next, warm as the
             // run's own solver's are, and the first, cold one is not the best.
+            const std::vector<Index> listed = changed_columns(before_matrix, after);
             const auto from_before = [&](const cholesky::ChangeMethod method, const bool full) {
               cholesky::SparseCholesky solver = before;
               return best_of(repeat + 1, [&, method, full] {
@@ -251,7 +268,7 @@ namespace
                 if (full)
                   solver.factorize(after);
                 else
-                  solver.refactorize(after, {});
+                  solver.refactorize(after, listed, cholesky::Refresh::all, cholesky::ChangeListing::complete);
                 return stopwatch.seconds();
               });
             };

@@ -159,6 +159,21 @@ class Refactorize(unittest.TestCase):
         self.assertGreaterEqual(solver.columns_recomputed, 10)
         self.assertLess(relative_error(solver.solve(b), spla.spsolve(a2, b)), 1e-10)
 
+    def test_complete_listing_reads_only_those_columns(self):
+        a = laplacian(20)
+        b = np.ones(a.shape[0])
+        solver = warpchol.SparseCholesky()
+        solver.factorize(a)
+        a2 = scaled_block(a, np.arange(100, 110), 2.0)
+        solver.refactorize(a2, np.arange(100, 110), complete=True)
+        self.assertLess(relative_error(solver.solve(b), spla.spsolve(a2, b)), 1e-10)
+        # A change left out of a complete listing is not read.
+        a3 = scaled_block(a2, np.arange(200, 205), 3.0)
+        solver.refactorize(a3, [], complete=True)
+        self.assertLess(relative_error(solver.solve(b), spla.spsolve(a2, b)), 1e-10)
+        solver.refactorize(a3, [])
+        self.assertLess(relative_error(solver.solve(b), spla.spsolve(a3, b)), 1e-10)
+
     def test_statistics_and_timings(self):
         solver = warpchol.SparseCholesky()
         solver.factorize(laplacian(20))

@@ -155,8 +155,11 @@ namespace warpchol::python
       name_non_finite(values, [&] { solver.factorize(csc, values.data); });
     }
 
-    /** Partial refactorization after the entries of @p changed_columns changed (analyzed first if nothing is). */
-    void refactorize(const py::object &matrix, const py::object &changed_columns)
+    /**
+     * Partial refactorization after the entries of @p changed_columns changed (analyzed first
+     * if nothing is); @p complete: nothing else changed (cholesky::ChangeListing::complete).
+     */
+    void refactorize(const py::object &matrix, const py::object &changed_columns, const bool complete)
     {
       if (solver.state() == State::empty)
         analyze(matrix);
@@ -166,7 +169,9 @@ namespace warpchol::python
       const std::vector<Index>     changed(columns.data(), columns.data() + columns.size());
       const Values                 values = values_of(matrix);
       const py::gil_scoped_release unlocked;
-      name_non_finite(values, [&] { solver.refactorize(csc, values.data, changed); });
+      const auto listing = complete ? cholesky::ChangeListing::complete : cholesky::ChangeListing::searched;
+      name_non_finite(values,
+                      [&] { solver.refactorize(csc, values.data, changed, cholesky::Refresh::all, listing); });
     }
 
     /**
@@ -552,9 +557,11 @@ choice on any machine), "recompute" (never update) or "update" (whenever possibl
          "column and its pivot, MatrixError naming an entry outside the analyzed pattern, a NaN, an infinity or an "
          "asymmetric pair; the solver then holds no factor until the next factorization.")
     .def("refactorize", &SciPyCholesky::refactorize, py::arg("A"), py::arg("changed_columns"),
+         py::arg("complete") = false,
          "Partial refactorization: A has the analyzed pattern (or a subset of it, as factorize() takes) and new "
          "values in changed_columns (and the same rows); a column that changed without being listed is found and "
-         "recomputed as well. A change of low rank may be taken as an update of the factor instead, where that is "
+         "recomputed as well, unless complete=True: the caller vouches that no stored entry outside those columns "
+         "changed, and only they are read (for a caller that re-assembled only them). A change of low rank may be taken as an update of the factor instead, where that is "
          "cheaper (statistics[\"method\"]). Raises as factorize() does, and InputError for a column out of range.")
     .def(
       "update", [](SciPyCholesky &self, const py::object &c) { self.modify(c, 1.); }, py::arg("C"),

@@ -171,4 +171,30 @@ int main()
   cholesky::SparseCholesky full = solver;
   full.factorize(matrix);
   tests::check_below("  |L_partial - L_full| / |L_full|", sparse::relative_difference(full.factor(), solver.factor()), 1e-13);
+
+  // A complete listing: only the listed columns are read. Listed right, the factor is that
+  // of the new matrix; a change left out is not seen until a search finds it.
+  std::cout << "complete listing:" << std::endl;
+  const sparse::CSCMatrix before = matrix;
+  sparse::perturb_columns_spd(matrix, {30, 40}, 2);
+  std::vector<Index> listed;
+  for (Index j = 0; j < matrix.n_cols; ++j)
+    for (Index k = matrix.column_start[j]; k < matrix.column_start[j + 1]; ++k)
+      if (matrix.values[k] != before.values[k])
+        {
+          listed.push_back(j);
+          break;
+        }
+  solver.refactorize(matrix, listed, cholesky::Refresh::all, cholesky::ChangeListing::complete);
+  full.factorize(matrix);
+  tests::check_below("  listed: |L_partial - L_full| / |L_full|", sparse::relative_difference(full.factor(), solver.factor()),
+                     1e-13);
+  const sparse::CSCMatrix listed_factor = solver.factor();
+  sparse::perturb_columns_spd(matrix, {50}, 3);
+  solver.refactorize(matrix, {}, cholesky::Refresh::all, cholesky::ChangeListing::complete);
+  tests::check("  a change left out is not read", solver.factor().values == listed_factor.values);
+  solver.refactorize(matrix, {});
+  full.factorize(matrix);
+  tests::check_below("  then searched: |L_partial - L_full| / |L_full|",
+                     sparse::relative_difference(full.factor(), solver.factor()), 1e-13);
 }

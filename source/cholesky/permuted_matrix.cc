@@ -129,12 +129,26 @@ namespace warpchol::cholesky
     loaded = false;
   }
 
+  namespace
+  {
+    /** matrix.values, once checked to hold a value per entry. */
+    const double *values_of(const sparse::CSCMatrix &matrix)
+    {
+      if (static_cast<Index>(matrix.values.size()) != static_cast<Index>(matrix.row_index.size()))
+        throw MatrixError("matrix has " + std::to_string(matrix.values.size()) + " values for " +
+                          std::to_string(matrix.row_index.size()) + " entries");
+      return matrix.values.data();
+    }
+  } // namespace
+
   std::vector<Index> PermutedMatrix::load(const sparse::CSCMatrix &matrix)
   {
-    if (static_cast<Index>(matrix.values.size()) != static_cast<Index>(matrix.row_index.size()))
-      throw MatrixError("matrix has " + std::to_string(matrix.values.size()) + " values for " +
-                        std::to_string(matrix.row_index.size()) + " entries");
-    return load_values(values_in_analyzed_order(matrix, matrix.values.data()));
+    return load_values(values_in_analyzed_order(matrix, values_of(matrix)));
+  }
+
+  std::vector<Index> PermutedMatrix::load_columns(const sparse::CSCMatrix &matrix, const std::vector<Index> &columns)
+  {
+    return load_columns(matrix, values_of(matrix), columns);
   }
 
   std::vector<Index> PermutedMatrix::load(const sparse::CSCMatrix &matrix, const double *const values)
@@ -142,7 +156,9 @@ namespace warpchol::cholesky
     return load_values(values_in_analyzed_order(matrix, values));
   }
 
-  const double *PermutedMatrix::values_in_analyzed_order(const sparse::CSCMatrix &matrix, const double *const values)
+  const double *PermutedMatrix::values_in_analyzed_order(const sparse::CSCMatrix  &matrix,
+                                                         const double *const       values,
+                                                         const std::vector<Index> *listed_columns)
   {
     const Index n = permuted_lower.n_cols;
     if (matrix.n_rows != n || matrix.n_cols != n)
@@ -152,6 +168,13 @@ namespace warpchol::cholesky
     if (matrix.storage != storage)
       throw MatrixError("matrix stores " + storage_name(matrix.storage) + ", the analyzed one " +
                         storage_name(storage) + " (analyze the new matrix first)");
+    if (listed_columns != nullptr && matrix.column_start == analyzed_column_start &&
+        std::all_of(listed_columns->begin(), listed_columns->end(), [&](const Index j) {
+          return std::equal(matrix.row_index.begin() + matrix.column_start[j],
+                            matrix.row_index.begin() + matrix.column_start[j + 1],
+                            analyzed_row_index.begin() + analyzed_column_start[j]);
+        }))
+      return values;
     if (matrix.column_start == analyzed_column_start && matrix.row_index == analyzed_row_index)
       return values;
     // Another pattern: a subset of the analyzed one is that pattern with zeros where it
@@ -183,6 +206,27 @@ namespace warpchol::cholesky
     for (Index p = 0; p < n_input; ++p)
       if (values[p] != input_values[p])
         changed.push_back(p);
+    return load_entries(values, changed);
+  }
+
+  std::vector<Index> PermutedMatrix::load_columns(const sparse::CSCMatrix &matrix, const double *const values,
+                                                  const std::vector<Index> &columns)
+  {
+    if (!loaded || input_values.size() != entry_of_input.size())
+      return load_values(values_in_analyzed_order(matrix, values));
+    const double *const analyzed_values = values_in_analyzed_order(matrix, values, &columns);
+    std::vector<Index> changed;
+    for (const Index j : columns)
+      for (Index p = analyzed_column_start[j]; p < analyzed_column_start[j + 1]; ++p)
+        if (analyzed_values[p] != input_values[p])
+          changed.push_back(p);
+    std::sort(changed.begin(), changed.end());
+    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+    return load_entries(analyzed_values, changed);
+  }
+
+  std::vector<Index> PermutedMatrix::load_entries(const double *const values, const std::vector<Index> &changed)
+  {
     if (changed.empty())
       return {};
     // Check everything before writing anything.

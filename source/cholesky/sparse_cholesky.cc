@@ -41,10 +41,14 @@ namespace warpchol::cholesky
      * refactorize() then factors in full.
      */
     std::vector<Index> load_or_drop_factor(PermutedMatrix &permuted, const sparse::CSCMatrix &matrix,
-                                           const double *values, bool &factor_valid)
+                                           const double *values, bool &factor_valid,
+                                           const std::vector<Index> *listed_columns = nullptr)
     {
       try
         {
+          if (listed_columns != nullptr)
+            return values != nullptr ? permuted.load_columns(matrix, values, *listed_columns) :
+                                       permuted.load_columns(matrix, *listed_columns);
           return values != nullptr ? permuted.load(matrix, values) : permuted.load(matrix);
         }
       catch (...)
@@ -320,29 +324,36 @@ namespace warpchol::cholesky
 
   void SparseCholesky::refactorize(const sparse::CSCMatrix  &matrix,
                                    const std::vector<Index> &changed_columns,
-                                   const Refresh             refresh)
+                                   const Refresh             refresh,
+                                   const ChangeListing       listing)
   {
-    refactorize_values(matrix, nullptr, changed_columns, refresh);
+    refactorize_values(matrix, nullptr, changed_columns, refresh, listing);
   }
 
   void SparseCholesky::refactorize(const sparse::CSCMatrix  &matrix,
                                    const double *const       values,
                                    const std::vector<Index> &changed_columns,
-                                   const Refresh             refresh)
+                                   const Refresh             refresh,
+                                   const ChangeListing       listing)
   {
-    refactorize_values(matrix, values, changed_columns, refresh);
+    refactorize_values(matrix, values, changed_columns, refresh, listing);
   }
 
   void SparseCholesky::refactorize_values(const sparse::CSCMatrix  &matrix,
                                           const double *const       values,
                                           const std::vector<Index> &changed_columns,
-                                          const Refresh             refresh)
+                                          const Refresh             refresh,
+                                          const ChangeListing       listing)
   {
     if (!analyzed)
       analyze(matrix);
     check_request(changed_columns, refresh);
-    const Stopwatch          stopwatch;
-    const std::vector<Index> unlisted = load_or_drop_factor(permuted_matrix, matrix, values, factor_valid);
+    const Stopwatch stopwatch;
+    // Without a valid factor of the loaded values everything is read anew: what the listing
+    // vouches for is a change since the last load.
+    const bool               listed_only = listing == ChangeListing::complete && factor_valid && matrix_holds_factored;
+    const std::vector<Index> unlisted =
+      load_or_drop_factor(permuted_matrix, matrix, values, factor_valid, listed_only ? &changed_columns : nullptr);
     const std::vector<Index> listed   = pending_with(changed_columns);
     std::vector<Index>       changes;
     std::set_union(listed.begin(), listed.end(), unlisted.begin(), unlisted.end(), std::back_inserter(changes));

@@ -380,6 +380,7 @@ namespace warpchol::fem
       form_blocks(body, coefficients, frames, transposed_blocks.data(), elements, count, out);
     };
     for_each_range([&](const ColumnRange &range) { assemble_range(range, range.elements, nullptr, blocks); });
+    ++whole_changes;
   }
 
   std::vector<Index> SystemMatrix::touched_free_vertices(const std::vector<unsigned int> &changed_elements) const
@@ -468,6 +469,7 @@ namespace warpchol::fem
   {
     // The function need not be thread-safe: one range, one element after the other.
     assemble_range(whole, whole.elements, nullptr, function_blocks(element_matrix, transposed_blocks.data()));
+    ++whole_changes;
   }
 
   std::vector<Index> SystemMatrix::reassemble(const std::vector<unsigned int> &changed_elements,
@@ -588,6 +590,13 @@ namespace warpchol::fem
     lower_matrix.values.swap(other.lower_matrix.values);
     full_current = dealii_current = false;
     other.full_current = other.dealii_current = false;
+    ++whole_changes;
+    ++other.whole_changes;
+  }
+
+  std::uint64_t SystemMatrix::n_whole_changes() const
+  {
+    return whole_changes;
   }
 
   Index SystemMatrix::size() const
@@ -610,6 +619,7 @@ namespace warpchol::fem
     lower_matrix.values = std::move(values);
     full_current        = false;
     dealii_current      = false;
+    ++whole_changes;
   }
 } // namespace warpchol::fem
 #endif

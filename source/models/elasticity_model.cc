@@ -310,7 +310,7 @@ namespace warpchol::fem
     if (!within_step && assembles_every_step())
       return;
     system.reassemble_vertices(vertices, contribution_frames());
-    checked([&]() { cholesky_solver.refactorize(system.lower(), columns, cholesky::Refresh::none); });
+    refactorize_solver(columns, cholesky::Refresh::none);
   }
 
   bool ElasticityModel::factor_solves_target() const
@@ -348,6 +348,7 @@ namespace warpchol::fem
       if (cholesky_solver.statistics().n == 0)
         cholesky_solver.analyze(system.lower());
       cholesky_solver.factorize(system.lower());
+      whole_changes_read = system.n_whole_changes();
     });
     statistics.refresh = "full";
     last_refresh       = cholesky::Refresh::all;
@@ -364,10 +365,21 @@ namespace warpchol::fem
         factorize_with_peer(statistics);
         return;
       }
-    checked([&]() { cholesky_solver.refactorize(system.lower(), changed_columns, refresh); });
+    refactorize_solver(changed_columns, refresh);
     statistics.refresh = to_string(refresh);
     last_refresh       = refresh;
     record_refactorization(statistics);
+  }
+
+  void ElasticityModel::refactorize_solver(const std::vector<Index> &changed_columns, const cholesky::Refresh refresh)
+  {
+    checked([&]() {
+      const cholesky::ChangeListing listing = system.n_whole_changes() == whole_changes_read ?
+                                                cholesky::ChangeListing::complete :
+                                                cholesky::ChangeListing::searched;
+      cholesky_solver.refactorize(system.lower(), changed_columns, refresh, listing);
+      whole_changes_read = system.n_whole_changes();
+    });
   }
 
   bool ElasticityModel::factor_is_exact() const

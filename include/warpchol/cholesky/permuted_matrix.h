@@ -47,6 +47,18 @@ namespace warpchol::cholesky
     std::vector<Index> load(const sparse::CSCMatrix &matrix, const double *values);
 
     /**
+     * load() of the entries stored in @p columns of A (the user's numbering) only, for a
+     * caller that knows no other stored entry changed, in value or in place, since the last
+     * load: the cost is that of those columns and of A's column counts, not of nnz(A). The
+     * first load reads everything.
+     */
+    std::vector<Index> load_columns(const sparse::CSCMatrix &matrix, const std::vector<Index> &columns);
+
+    /** load_columns(), with the values of @p matrix read from @p values, as load() above reads them. */
+    std::vector<Index> load_columns(const sparse::CSCMatrix &matrix, const double *values,
+                                    const std::vector<Index> &columns);
+
+    /**
      * Record that the factor now holds the loaded values: of every column, or of
      * @p columns of C only (the others were factored from what they hold already).
      */
@@ -88,9 +100,13 @@ namespace warpchol::cholesky
      * pattern given to setup(): @p values itself where @p matrix has that pattern (the
      * common case: a comparison of the arrays), else placed in subset_values, zeros where
      * a subset of the pattern leaves entries out. Throws MatrixError for another size or
-     * storage and for an entry outside the pattern (naming it).
+     * storage and for an entry outside the pattern (naming it). With @p listed_columns
+     * (load_columns()) the pattern is taken as the analyzed one if the column counts and the
+     * rows of those columns are: the caller vouches that nothing else changed.
      */
-    const double *values_in_analyzed_order(const sparse::CSCMatrix &matrix, const double *values);
+    const double *values_in_analyzed_order(const sparse::CSCMatrix  &matrix,
+                                           const double             *values,
+                                           const std::vector<Index> *listed_columns = nullptr);
 
     /** load() of values in the analyzed pattern's order, once the pattern is checked. */
     std::vector<Index> load_values(const double *values);
@@ -102,6 +118,12 @@ namespace warpchol::cholesky
      * a memcmp; C's entries are gathered through the permutation only where they changed.
      */
     std::vector<Index> load_changed_values(const double *values);
+
+    /**
+     * Check and copy the entries @p changed of A (positions in A's storage, increasing) of
+     * @p values, all checked before any is written; returns the columns of C that changed.
+     */
+    std::vector<Index> load_entries(const double *values, const std::vector<Index> &changed);
 
     /** Throw MatrixError for the value of A's stored entry @p p, NaN or infinite (naming it as such). */
     [[noreturn]] void refuse_value(Index p, double value) const;

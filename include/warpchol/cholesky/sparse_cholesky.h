@@ -48,6 +48,24 @@ namespace warpchol::cholesky
   FactorizationMethod parse_factorization_method(const std::string &name);
 
   /**
+   * What SparseCholesky::refactorize() may assume of the columns it is told changed.
+   */
+  enum class ChangeListing
+  {
+    /**
+     * Some changed columns may be missing: every value of A is compared with the last
+     * loaded one, O(nnz(A)) reads, and what differs is recomputed too.
+     */
+    searched,
+    /**
+     * No stored entry of A outside the listed columns changed since the last load (a caller
+     * that re-assembled exactly those columns): only theirs are read. An entry changed
+     * elsewhere is then not seen, and the factor is not that of A.
+     */
+    complete
+  };
+
+  /**
    * How much of the factor SparseCholesky::refactorize() brings up to date. With nested
    * dissection every changed column's elimination-tree path runs through the top
    * separators, which hold most of the flops: a caller that uses the factor as a
@@ -268,7 +286,9 @@ namespace warpchol::cholesky
      * recompute exactly the columns of L on the elimination-tree paths from those columns
      * (permuted) to the root, reuse the others. A column of C whose
      * values changed without being listed is found while loading the values and recomputed
-     * as well, so the factor always matches @p matrix.
+     * as well, so the factor always matches @p matrix; with ChangeListing::complete the
+     * caller vouches that none did, and only the listed columns are read (what the solver
+     * takes as changed stays the same: the listed columns, and those still pending).
      *
      * With @p refresh other than Refresh::all the factor is brought up to date only in part
      * (see Refresh) and is then the exact factor of no matrix, though still a valid
@@ -284,13 +304,15 @@ namespace warpchol::cholesky
      */
     void refactorize(const sparse::CSCMatrix  &matrix,
                      const std::vector<Index> &changed_columns,
-                     Refresh                   refresh = Refresh::all);
+                     Refresh                   refresh = Refresh::all,
+                     ChangeListing             listing = ChangeListing::searched);
 
     /** refactorize(), with the values of @p matrix read from @p values, as factorize() above reads them. */
     void refactorize(const sparse::CSCMatrix  &matrix,
                      const double             *values,
                      const std::vector<Index> &changed_columns,
-                     Refresh                   refresh = Refresh::all);
+                     Refresh                   refresh = Refresh::all,
+                     ChangeListing             listing = ChangeListing::searched);
 
     /**
      * L L^T + C C^T: the factor of A + C C^T, in place (CHOLMOD's cholmod_updown). @p c is
@@ -458,7 +480,8 @@ namespace warpchol::cholesky
     void refactorize_values(const sparse::CSCMatrix  &matrix,
                             const double             *values,
                             const std::vector<Index> &changed_columns,
-                            Refresh                   refresh);
+                            Refresh                   refresh,
+                            ChangeListing             listing);
 
     /** solve(), with the preconditioner's copy of the factor if @p preconditioner. */
     void solve_in(const double *b, double *x, Index n_rhs, bool preconditioner) const;

@@ -164,6 +164,14 @@ namespace warpchol::fem
     /** Exchange A's values with those of @p other, a matrix of the same body. */
     void swap_values(SystemMatrix &other);
 
+    /**
+     * How many times A's values changed other than in the columns that reassemble() and
+     * reassemble_vertices() return: assemblies of all of A, swap_values(), load(). A caller
+     * that finds the same count as at its last look knows the columns those returned since
+     * are all that changed (cholesky::ChangeListing::complete).
+     */
+    std::uint64_t n_whole_changes() const;
+
     /** A's lower triangle (unknown numbering): what the solver factors. */
     const sparse::CSCMatrix &lower() const;
     /** A in CSC form with full storage, same values (made from lower() when asked). */
@@ -234,6 +242,7 @@ namespace warpchol::fem
     const ElasticBody           &body;
     SystemCoefficients           coefficients;
     sparse::CSCMatrix            lower_matrix;
+    std::uint64_t                whole_changes = 0;
     std::vector<ElementScatter>  scatter;
     /**
      * Per element, bit k: block k lands as its transpose (its row vertex a has the smaller

@@ -12,7 +12,9 @@
 
 #include <deal.II/lac/vector.h>
 
+#include <cstdint>
 #include <functional>
+#include <limits>
 #include <memory>
 #include <string>
 #include <vector>
@@ -541,10 +543,22 @@ namespace warpchol::fem
     cholesky::Refresh        last_refresh = cholesky::Refresh::all;
     /** Whether A changed (apply_change()) since the peer last factored it. */
     bool                     peer_factor_stale = false;
+    /**
+     * SystemMatrix::n_whole_changes() when cholesky_solver last read A: while it is the
+     * same, the columns that re-assembly returned since are all that changed, and the
+     * solver reads only those (cholesky::ChangeListing::complete).
+     */
+    std::uint64_t            whole_changes_read = std::numeric_limits<std::uint64_t>::max();
     /** The peer that replaces cholesky_solver (Solver/Backend); null: warpchol's own. */
     std::unique_ptr<backends::LinearSolver> peer_solver;
 
   private:
+    /**
+     * cholesky_solver.refactorize() of A, telling it the listing of @p changed_columns is
+     * complete where no whole change of A came between (whole_changes_read).
+     */
+    void refactorize_solver(const std::vector<Index> &changed_columns, cholesky::Refresh refresh);
+
     /** solve(), untimed: it calls itself again after a refresh of a failed CG. */
     void solve_in_frame(const std::vector<Vector3> &right_hand_side, std::vector<Vector3> &velocities,
                         StepStatistics &statistics);
