@@ -502,6 +502,10 @@ namespace warpchol::cholesky
       const Index *rows       = symbolic.row_index.data() + symbolic.row_start[s];
       if (n_rhs == 1)
         {
+          // A right-hand side still zero on the supernode's columns (a sparse one, as a
+          // contact correction's) stays zero there and takes nothing from the rows below.
+          if (std::all_of(x + f, x + f + nc, [](const Real value) { return value == Real(0); }))
+            return;
           // One right-hand side: the supernode's own kernel (supernode_solve_kernel.h),
           // without a BLAS call's set-up per supernode.
           forward_supernode_gathered(symbolic, values, s, x, below);
