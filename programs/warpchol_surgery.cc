@@ -40,6 +40,7 @@
 #include <warpchol/cholesky/low_rank_change.h>
 #include <warpchol/cholesky/ordering.h>
 #include <warpchol/reports/machine.h>
+#include <warpchol/sparse/residual.h>
 
 #include <algorithm>
 #include <filesystem>
@@ -164,20 +165,6 @@ namespace
     return cholesky::low_rank_form(after.n_cols, changes);
   }
 
-  /** The columns (the user's numbering) where @p after differs from @p before, of the same pattern. */
-  std::vector<Index> changed_columns(const sparse::CSCMatrix &before, const sparse::CSCMatrix &after)
-  {
-    std::vector<Index> columns;
-    for (Index j = 0; j < after.n_cols; ++j)
-      for (Index k = after.column_start[j]; k < after.column_start[j + 1]; ++k)
-        if (after.values[k] != before.values[k])
-          {
-            columns.push_back(j);
-            break;
-          }
-    return columns;
-  }
-
   /** CHOLMOD's update and downdate of @p change (one call each sign), on its LDL^T factor of @p before. */
   double cholmod_updown_seconds(const sparse::CSCMatrix &before, const cholesky::LowRankChange &change,
                                 const cholesky::SparseCholesky &solver, const unsigned int repeat)
@@ -258,7 +245,7 @@ namespace
             // Each way from a copy of the factor of the step before, assigned anew for each
             // repetition: the copy keeps its buffers from one to the next, warm as the
             // run's own solver's are, and the first, cold one is not the best.
-            const std::vector<Index> listed = changed_columns(before_matrix, after);
+            const std::vector<Index> listed = sparse::changed_columns(before_matrix, after);
             const auto from_before = [&](const cholesky::ChangeMethod method, const bool full) {
               cholesky::SparseCholesky solver = before;
               return best_of(repeat + 1, [&, method, full] {

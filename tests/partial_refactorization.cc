@@ -177,14 +177,7 @@ int main()
   std::cout << "complete listing:" << std::endl;
   const sparse::CSCMatrix before = matrix;
   sparse::perturb_columns_spd(matrix, {30, 40}, 2);
-  std::vector<Index> listed;
-  for (Index j = 0; j < matrix.n_cols; ++j)
-    for (Index k = matrix.column_start[j]; k < matrix.column_start[j + 1]; ++k)
-      if (matrix.values[k] != before.values[k])
-        {
-          listed.push_back(j);
-          break;
-        }
+  const std::vector<Index> listed = sparse::changed_columns(before, matrix);
   solver.refactorize(matrix, listed, cholesky::Refresh::all, cholesky::ChangeListing::complete);
   full.factorize(matrix);
   tests::check_below("  listed: |L_partial - L_full| / |L_full|", sparse::relative_difference(full.factor(), solver.factor()),

@@ -85,4 +85,16 @@ namespace warpchol::sparse
       }
     return reference > 0 ? std::sqrt(difference / reference) : std::sqrt(difference);
   }
+
+  std::vector<Index> changed_columns(const CSCMatrix &a, const CSCMatrix &b)
+  {
+    if (a.n_cols != b.n_cols || a.column_start != b.column_start || a.row_index != b.row_index)
+      throw MatrixError("changed_columns(): the two matrices have different patterns");
+    std::vector<Index> columns;
+    for (Index j = 0; j < b.n_cols; ++j)
+      if (!std::equal(b.values.begin() + b.column_start[j], b.values.begin() + b.column_start[j + 1],
+                      a.values.begin() + a.column_start[j]))
+        columns.push_back(j);
+    return columns;
+  }
 } // namespace warpchol::sparse

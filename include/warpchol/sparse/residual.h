@@ -6,7 +6,7 @@
 
 /**
  * @file
- * Accuracy measures of a computed solution of A x = b.
+ * Accuracy measures of a computed solution of A x = b, and how two matrices differ.
  */
 namespace warpchol::sparse
 {
@@ -26,4 +26,11 @@ namespace warpchol::sparse
    * count as zero): how far two factors or matrices of the same size are apart.
    */
   double relative_difference(const CSCMatrix &a, const CSCMatrix &b);
+
+  /**
+   * The columns (sorted) where a stored value of @p b differs from @p a's, both of the same
+   * pattern (MatrixError otherwise): a complete listing of the change for
+   * SparseCholesky::refactorize().
+   */
+  std::vector<Index> changed_columns(const CSCMatrix &a, const CSCMatrix &b);
 } // namespace warpchol::sparse
