@@ -150,10 +150,10 @@ namespace warpchol::fem
       }
   }
 
-  void ElasticityModel::set_up_rest_system()
+  void ElasticityModel::set_up_rest_system(const ElementFrames &frames)
   {
     Stopwatch stopwatch;
-    system.assemble(ElementFrames::rest());
+    system.assemble(frames);
     StepStatistics setup;
     factorize(setup);
     setup_time = stopwatch.seconds();

@@ -127,8 +127,11 @@ namespace warpchol::fem
     if (const auto conflict = wcc_setting_conflict(rerotation_threshold, target_error, strategy, solver_settings.method))
       throw InputError(conflict->subsection + "/" + conflict->entry + ": " + conflict->message);
     measure_velocity_error = target_error > 0;
-    // At rest every rotation is the identity: A is the rest matrix.
-    set_up_rest_system();
+    // At rest every rotation is the identity: A is the rest matrix, in the warped form that
+    // re-assembly uses (a grasp's columns then change on their diagonal only).
+    stored_frames.assign(body.n_elements(), {{Matrix3::Identity(), Matrix3::Identity(),
+                                               Matrix3::Identity(), Matrix3::Identity()}});
+    set_up_rest_system(ElementFrames::warped(stored_frames));
     // That is also the exact corotational matrix at rest, factored: what the set-up spent
     // on it (all but the analysis) stands for an exact step's cost until one is measured,
     // so that auto's first step, whose factor is exact already, is not made exact again
@@ -141,9 +144,6 @@ namespace warpchol::fem
         cost_model.record_setup_factorization(factor_statistics.factorize_seconds);
       }
     solve_frame = &elastic_state.nodal_rotations;
-    // At rest every frame is the identity.
-    stored_frames.assign(body.n_elements(), {{Matrix3::Identity(), Matrix3::Identity(),
-                                               Matrix3::Identity(), Matrix3::Identity()}});
     // Estimates exist only between the two limits (0: all re-rotated, inf: none); at rest
     // they are 0. The background refresh estimates nothing.
     if (rerotation_threshold > 0 && !std::isinf(rerotation_threshold) && strategy.kind != StepStrategy::Kind::background)

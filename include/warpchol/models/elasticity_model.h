@@ -462,9 +462,11 @@ namespace warpchol::fem
 
     /**
      * Assemble A at rest (every rotation the identity) and factor it, timing it as the
-     * model's set-up: what every model starts from.
+     * model's set-up: what every model starts from. @p frames: the identity in the form the
+     * model re-assembles A's columns in later (contribution_frames()), so that a column
+     * re-assembled unchanged keeps its bits (the rest and the warped forms round apart).
      */
-    void set_up_rest_system();
+    void set_up_rest_system(const ElementFrames &frames = ElementFrames::rest());
 
     /** Full numeric factorization of the current A (analyzed on the first call). */
     void factorize(StepStatistics &statistics);
