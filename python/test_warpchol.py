@@ -149,22 +149,21 @@ class Refactorize(unittest.TestCase):
                 self.assertLess(relative_error(x, fresh.solve(b)), 1e-12)
                 self.assertLess(relative_error(x, spla.spsolve(a2, b)), 1e-10)
 
-    def test_unlisted_change_is_found(self):
+    def factored_and_changed(self):
+        """A 20 x 20 grid's Laplacian factored, and the same with the block of unknowns 100-109 doubled."""
         a = laplacian(20)
-        b = np.ones(a.shape[0])
         solver = warpchol.SparseCholesky()
         solver.factorize(a)
-        a2 = scaled_block(a, np.arange(100, 110), 2.0)
+        return solver, np.ones(a.shape[0]), scaled_block(a, np.arange(100, 110), 2.0)
+
+    def test_unlisted_change_is_found(self):
+        solver, b, a2 = self.factored_and_changed()
         solver.refactorize(a2, [])
         self.assertGreaterEqual(solver.columns_recomputed, 10)
         self.assertLess(relative_error(solver.solve(b), spla.spsolve(a2, b)), 1e-10)
 
     def test_complete_listing_reads_only_those_columns(self):
-        a = laplacian(20)
-        b = np.ones(a.shape[0])
-        solver = warpchol.SparseCholesky()
-        solver.factorize(a)
-        a2 = scaled_block(a, np.arange(100, 110), 2.0)
+        solver, b, a2 = self.factored_and_changed()
         solver.refactorize(a2, np.arange(100, 110), complete=True)
         self.assertLess(relative_error(solver.solve(b), spla.spsolve(a2, b)), 1e-10)
         # A change left out of a complete listing is not read.
