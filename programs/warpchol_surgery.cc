@@ -15,9 +15,9 @@
  *    permutation (the conversion not counted), and CHOLMOD analyzing anew and factoring
  *    (as SOFA does after a topological change). Each of warpchol's ways is told the
  *    changed columns, as the scene's model tells its solver (a complete listing: nothing
- *    else is compared), as cholmod_updown is given the change; then what the run chose, what it
- *    predicted the update and the partial refactorization would cost, and the chosen
- *    method's time over the fastest of update, partial and full.
+ *    else is compared), as cholmod_updown is given the change. Then what the run chose,
+ *    what it predicted the update and the partial refactorization would cost, and the
+ *    chosen method's time over the fastest of update, partial and full.
  * 2. Whole runs, seconds per step: the scene as its parameters say; the same without the
  *    changes; exact corotation refactored every step by warpchol and by CHOLMOD (which
  *    analyzes anew after each cut); the stale rest factor as CG's preconditioner (SOFA's

@@ -561,8 +561,9 @@ choice on any machine), "recompute" (never update) or "update" (whenever possibl
          "Partial refactorization: A has the analyzed pattern (or a subset of it, as factorize() takes) and new "
          "values in changed_columns (and the same rows); a column that changed without being listed is found and "
          "recomputed as well, unless complete=True: the caller vouches that no stored entry outside those columns "
-         "changed, and only they are read (for a caller that re-assembled only them). A change of low rank may be taken as an update of the factor instead, where that is "
-         "cheaper (statistics[\"method\"]). Raises as factorize() does, and InputError for a column out of range.")
+         "changed, and only they are read (for a caller that re-assembled only them). A change of low rank may be "
+         "taken as an update of the factor instead, where that is cheaper (statistics[\"method\"]). Raises as "
+         "factorize() does, and InputError for a column out of range.")
     .def(
       "update", [](SciPyCholesky &self, const py::object &c) { self.modify(c, 1.); }, py::arg("C"),
       "The factor of A + C C^T, in place, without refactorizing (CHOLMOD's cholmod_updown, scikit-sparse's "
