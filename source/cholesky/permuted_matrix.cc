@@ -26,6 +26,15 @@ namespace warpchol::cholesky
       return "pattern is not symmetric: entry " + entry_name(i, j) + " is stored but " +
              entry_name(j, i) + " is not";
     }
+
+    /** matrix.values, once checked to hold a value per entry. */
+    const double *values_of(const sparse::CSCMatrix &matrix)
+    {
+      if (static_cast<Index>(matrix.values.size()) != static_cast<Index>(matrix.row_index.size()))
+        throw MatrixError("matrix has " + std::to_string(matrix.values.size()) + " values for " +
+                          std::to_string(matrix.row_index.size()) + " entries");
+      return matrix.values.data();
+    }
   } // namespace
 
   void PermutedMatrix::setup(const sparse::CSCMatrix &matrix, const std::vector<Index> &permutation)
@@ -128,18 +137,6 @@ namespace warpchol::cholesky
     factored_values.clear();
     loaded = false;
   }
-
-  namespace
-  {
-    /** matrix.values, once checked to hold a value per entry. */
-    const double *values_of(const sparse::CSCMatrix &matrix)
-    {
-      if (static_cast<Index>(matrix.values.size()) != static_cast<Index>(matrix.row_index.size()))
-        throw MatrixError("matrix has " + std::to_string(matrix.values.size()) + " values for " +
-                          std::to_string(matrix.row_index.size()) + " entries");
-      return matrix.values.data();
-    }
-  } // namespace
 
   std::vector<Index> PermutedMatrix::load(const sparse::CSCMatrix &matrix)
   {

@@ -150,10 +150,10 @@ namespace warpchol::fem
       }
   }
 
-  void ElasticityModel::set_up_rest_system(const ElementFrames &frames)
+  void ElasticityModel::set_up_rest_system()
   {
     Stopwatch stopwatch;
-    system.assemble(frames);
+    system.assemble(contribution_frames());
     StepStatistics setup;
     factorize(setup);
     setup_time = stopwatch.seconds();

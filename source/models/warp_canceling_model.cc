@@ -127,11 +127,12 @@ namespace warpchol::fem
     if (const auto conflict = wcc_setting_conflict(rerotation_threshold, target_error, strategy, solver_settings.method))
       throw InputError(conflict->subsection + "/" + conflict->entry + ": " + conflict->message);
     measure_velocity_error = target_error > 0;
-    // At rest every rotation is the identity: A is the rest matrix, in the warped form that
-    // re-assembly uses (a grasp's columns then change on their diagonal only).
+    // At rest every rotation is the identity: A is the rest matrix, assembled in the warped
+    // form of these frames, as re-assembly will (a grasp's columns then change on their
+    // diagonal only).
     stored_frames.assign(body.n_elements(), {{Matrix3::Identity(), Matrix3::Identity(),
                                                Matrix3::Identity(), Matrix3::Identity()}});
-    set_up_rest_system(ElementFrames::warped(stored_frames));
+    set_up_rest_system();
     // That is also the exact corotational matrix at rest, factored: what the set-up spent
     // on it (all but the analysis) stands for an exact step's cost until one is measured,
     // so that auto's first step, whose factor is exact already, is not made exact again

@@ -462,11 +462,12 @@ namespace warpchol::fem
 
     /**
      * Assemble A at rest (every rotation the identity) and factor it, timing it as the
-     * model's set-up: what every model starts from. @p frames: the identity in the form the
-     * model re-assembles A's columns in later (contribution_frames()), so that a column
-     * re-assembled unchanged keeps its bits (the rest and the warped forms round apart).
+     * model's set-up: what every model starts from. A is assembled in contribution_frames(),
+     * the form the model re-assembles A's columns in later, so that a column re-assembled
+     * unchanged keeps its bits (the rest and the warped forms round apart): called from the
+     * model's own constructor, once its frames are set.
      */
-    void set_up_rest_system(const ElementFrames &frames = ElementFrames::rest());
+    void set_up_rest_system();
 
     /** Full numeric factorization of the current A (analyzed on the first call). */
     void factorize(StepStatistics &statistics);
