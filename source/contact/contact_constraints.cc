@@ -356,22 +356,15 @@ namespace warpchol::fem
     return ht;
   }
 
-  std::vector<double> ContactConstraints::compliance_from_kept_columns(const ElasticBody     &body,
-                                                                       const ElasticityModel &model,
-                                                                       const bool             lag)
+  ContactCompliance ContactConstraints::compliance_from_kept_columns(const ElasticBody     &body,
+                                                                     const ElasticityModel &model,
+                                                                     const bool             lag)
   {
     // The contacts' vertices that have unknowns, each once: S, 3 unknowns per vertex.
-    const std::vector<Matrix3> *rotations = model.solve_rotations();
-    std::unordered_map<unsigned int, Index> slot_of_vertex;
-    std::vector<Index>                      unknowns;
-    /** A contact's rows on one of its vertices: its slot in S and D = w R^T [n t_1 t_2]. */
-    struct VertexRows
-    {
-      Index   slot = 0;
-      Matrix3 rows;
-    };
-    std::vector<std::array<VertexRows, 3>> parts(step_contacts.size());
-    std::vector<unsigned int>              n_parts(step_contacts.size(), 0);
+    const std::vector<Matrix3>                  *rotations = model.solve_rotations();
+    std::unordered_map<unsigned int, Index>      slot_of_vertex;
+    std::vector<Index>                           unknowns;
+    std::vector<ContactCompliance::ContactRows> rows(step_contacts.size());
     for (std::size_t j = 0; j < step_contacts.size(); ++j)
       {
         const Contact &contact = step_contacts[j];
@@ -387,8 +380,8 @@ namespace warpchol::fem
             if (added)
               for (Index c = 0; c < 3; ++c)
                 unknowns.push_back(first + c);
-            VertexRows &part = parts[j][n_parts[j]++];
-            part.slot        = place->second;
+            ContactCompliance::VertexRows &part = rows[j].parts[rows[j].n_parts++];
+            part.slot                           = place->second;
             part.rows = contact.weights[k] * (rotations ? Matrix3((*rotations)[v].transpose() * directions) : directions);
           }
       }
@@ -396,30 +389,7 @@ namespace warpchol::fem
     model.solver().inverse_block(unknowns, kept_columns);
     report.kept_columns   = static_cast<unsigned int>(kept_columns.kept);
     report.solved_columns = static_cast<unsigned int>(kept_columns.solved);
-
-    const Index         s = static_cast<Index>(unknowns.size()), m = 3 * static_cast<Index>(step_contacts.size());
-    std::vector<double> w(static_cast<std::size_t>(m) * m, 0.);
-    using Block = Eigen::Map<const Matrix3, 0, Eigen::OuterStride<>>;
-    for (std::size_t j = 0; j < step_contacts.size(); ++j)
-      for (std::size_t i = 0; i <= j; ++i)
-        {
-          Matrix3 block = Matrix3::Zero();
-          for (unsigned int a = 0; a < n_parts[i]; ++a)
-            for (unsigned int b = 0; b < n_parts[j]; ++b)
-              {
-                const VertexRows &u = parts[i][a], &v = parts[j][b];
-                const Block inverse(kept_columns.gram.data() + 3 * u.slot + 3 * v.slot * static_cast<std::size_t>(s),
-                                    Eigen::OuterStride<>(s));
-                block.noalias() += u.rows.transpose() * inverse * v.rows;
-              }
-          for (Index c = 0; c < 3; ++c)
-            for (Index r = 0; r < 3; ++r)
-              {
-                w[(3 * i + r) + (3 * j + c) * static_cast<std::size_t>(m)] = block(r, c);
-                w[(3 * j + c) + (3 * i + r) * static_cast<std::size_t>(m)] = block(r, c);
-              }
-        }
-    return w;
+    return ContactCompliance::factored(kept_columns.gram, std::move(rows));
   }
 
   void ContactConstraints::correct(const ElasticBody &body, ElasticityModel &model,
@@ -450,19 +420,21 @@ namespace warpchol::fem
     const bool by_paths = contact_settings.compliance == cholesky::ComplianceMethod::paths;
     const bool may_lag  = by_paths && contact_settings.keep_compliance_across_factor_changes &&
                          !model.solves_iteratively();
-    const auto compliance = [&]() {
+    // A factored W reads the kept columns' G: renewing them (dropping what was kept)
+    // comes with a new W.
+    const auto compliance = [&](const bool renew) {
       StageTimer timer(statistics.stages, stage::contact_compliance);
+      if (renew)
+        {
+          kept_columns         = cholesky::KeptInverseColumns();
+          rounds_since_renewal = 0;
+        }
       return by_paths ? compliance_from_kept_columns(body, model, may_lag) :
-                        model.solver().compliance(constraint_columns(body, step_contacts, model.solve_rotations()),
-                                                  contact_settings.compliance);
+                        ContactCompliance::whole(model.solver().compliance(
+                          constraint_columns(body, step_contacts, model.solve_rotations()), contact_settings.compliance));
     };
-    if (renew_compliance)
-      {
-        kept_columns         = cholesky::KeptInverseColumns();
-        rounds_since_renewal = 0;
-      }
-    renew_compliance      = false;
-    std::vector<double> w = compliance();
+    ContactCompliance w = compliance(renew_compliance);
+    renew_compliance    = false;
     report.compliance_lag = by_paths ? kept_columns.factor_changes_behind : 0;
 
     // u = free + W lambda is where Gauss-Seidel aims the contacts (u_n >= 0 keeps the next
@@ -483,19 +455,9 @@ namespace warpchol::fem
     record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
   }
 
-  std::vector<double> ContactConstraints::times_lambda(const std::vector<double> &w) const
-  {
-    const std::size_t   m = lambda.size();
-    std::vector<double> product(m, 0.);
-    for (std::size_t i = 0; i < m; ++i)
-      for (std::size_t k = 0; k < m; ++k)
-        product[i] += w[k + i * m] * lambda[k]; // W is symmetric: its column i, contiguous
-    return product;
-  }
-
   void ContactConstraints::aim_again(const ElasticBody &body, ElasticityModel &model,
-                                     const std::function<std::vector<double>()> &renewed_compliance,
-                                     std::vector<double> &w, std::vector<double> free_velocity,
+                                     const std::function<ContactCompliance(bool)> &compliance,
+                                     ContactCompliance &w, std::vector<double> free_velocity,
                                      const std::vector<double> &friction, const GaussSeidelSettings &gauss_seidel,
                                      const std::vector<Vector3> &obstacle_velocity, const double time_step,
                                      std::vector<Vector3> &velocities, StepStatistics &statistics)
@@ -506,7 +468,7 @@ namespace warpchol::fem
     const auto          measure_miss = [&]() {
       StageTimer timer(statistics.stages, stage::contact_correction);
       reached          = contact_velocities(velocities, obstacle_velocity, time_step);
-      w_lambda         = times_lambda(w);
+      w_lambda         = w.times(lambda);
       report.aim_error = 0;
       for (std::size_t i = 0; i < reached.size(); ++i)
         report.aim_error = std::max(report.aim_error, std::abs(reached[i] - free_velocity[i] - w_lambda[i]));
@@ -521,12 +483,10 @@ namespace warpchol::fem
       {
         if (round == rounds_with_lagged_w)
           {
-            kept_columns          = cholesky::KeptInverseColumns();
-            w                     = renewed_compliance();
-            w_lambda              = times_lambda(w);
+            w                     = compliance(true);
+            w_lambda              = w.times(lambda);
             report.compliance_lag = 0;
             renewed               = true;
-            rounds_since_renewal  = 0;
           }
         const std::size_t m = reached.size();
         for (std::size_t i = 0; i < m; ++i)
@@ -649,7 +609,7 @@ namespace warpchol::fem
     record_gaps_and_totals(positions, velocities, time, time_step);
   }
 
-  void ContactConstraints::solve_for_impulses(const std::vector<double> &w, const std::vector<double> &free_velocity,
+  void ContactConstraints::solve_for_impulses(const ContactCompliance &w, const std::vector<double> &free_velocity,
                                               const std::vector<double> &friction, const GaussSeidelSettings &settings,
                                               StepStatistics &statistics)
   {

@@ -7,29 +7,21 @@
 
 namespace warpchol::fem
 {
-  GaussSeidelResult solve_friction_cone(const std::vector<double> &w, const std::vector<double> &free_velocity,
+  GaussSeidelResult solve_friction_cone(const ContactCompliance &w, const std::vector<double> &free_velocity,
                                         const std::vector<double> &friction, const GaussSeidelSettings &settings,
                                         std::vector<double> &lambda)
   {
-    const std::size_t m = free_velocity.size(), n_contacts = m / 3;
-    if (m != 3 * n_contacts || friction.size() != n_contacts || w.size() != m * m)
-      throw Error("solve_friction_cone(): " + std::to_string(m) + " rows, " + std::to_string(friction.size()) +
-                  " friction coefficients, W of " + std::to_string(w.size()) + " entries");
+    const std::size_t n_contacts = w.n_contacts(), m = 3 * n_contacts;
+    if (free_velocity.size() != m || friction.size() != n_contacts)
+      throw Error("solve_friction_cone(): " + std::to_string(free_velocity.size()) + " rows, " +
+                  std::to_string(friction.size()) + " friction coefficients, W of " + std::to_string(m) + " rows");
     if (lambda.size() != m)
       lambda.assign(m, 0.);
 
-    // u = free + W lambda, kept up to date as each contact's impulse changes (a column of
-    // W per changed row: W is symmetric, its columns contiguous).
-    std::vector<double> u = free_velocity;
-    const auto          add_column = [&](const std::size_t row, const double delta) {
-      if (delta == 0.)
-        return;
-      const double *column = w.data() + row * m;
-      for (std::size_t i = 0; i < m; ++i)
-        u[i] += column[i] * delta;
-    };
-    for (std::size_t row = 0; row < m; ++row)
-      add_column(row, lambda[row]);
+    // W lambda, kept up to date as each contact's impulse changes.
+    ContactCompliance::Product product(w);
+    for (std::size_t j = 0; j < n_contacts; ++j)
+      product.add(j, Vector3(lambda[3 * j], lambda[3 * j + 1], lambda[3 * j + 2]));
 
     GaussSeidelResult result;
     result.converged = n_contacts == 0;
@@ -40,13 +32,14 @@ namespace warpchol::fem
         for (std::size_t j = 0; j < n_contacts; ++j)
           {
             const std::size_t n = 3 * j, t1 = n + 1, t2 = n + 2;
-            const auto        entry = [&](const std::size_t i, const std::size_t k) { return w[i + k * m]; };
+            const Matrix3    &block = w.diagonal_block(j);
             const double      old_n = lambda[n], old_t1 = lambda[t1], old_t2 = lambda[t2];
+            Vector3           u = product.velocity(j) + Vector3(free_velocity[n], free_velocity[t1], free_velocity[t2]);
 
-            // The normal: the impulse that makes u_n vanish, or none if it separates.
-            const double new_n = std::max(0., old_n - u[n] / entry(n, n));
-            add_column(n, new_n - old_n);
-            lambda[n] = new_n;
+            // The normal: the impulse that makes u_n vanish, or none if it separates. The
+            // tangential velocities then move by the block's first column.
+            const double new_n = std::max(0., old_n - u[0] / block(0, 0));
+            u += block.col(0) * (new_n - old_n);
 
             // The tangents: the impulse that stops sliding (2 x 2 block) if it lies in the
             // friction disk; else a step along -u_t scaled by the block's mean diagonal,
@@ -58,15 +51,15 @@ namespace warpchol::fem
             const double bound  = friction[j] * new_n;
             if (bound > 0)
               {
-                const double a = entry(t1, t1), b = entry(t1, t2), d = entry(t2, t2);
+                const double a = block(1, 1), b = block(1, 2), d = block(2, 2);
                 const double determinant = a * d - b * b;
-                new_t1 = old_t1 - (d * u[t1] - b * u[t2]) / determinant;
-                new_t2 = old_t2 - (a * u[t2] - b * u[t1]) / determinant;
+                new_t1 = old_t1 - (d * u[1] - b * u[2]) / determinant;
+                new_t2 = old_t2 - (a * u[2] - b * u[1]) / determinant;
                 if (std::hypot(new_t1, new_t2) > bound)
                   {
                     const double mean_diagonal = (a + d) / 2;
-                    new_t1                     = old_t1 - u[t1] / mean_diagonal;
-                    new_t2                     = old_t2 - u[t2] / mean_diagonal;
+                    new_t1                     = old_t1 - u[1] / mean_diagonal;
+                    new_t2                     = old_t2 - u[2] / mean_diagonal;
                     const double size          = std::hypot(new_t1, new_t2);
                     if (size > bound)
                       {
@@ -75,15 +68,15 @@ namespace warpchol::fem
                       }
                   }
               }
-            add_column(t1, new_t1 - old_t1);
-            add_column(t2, new_t2 - old_t2);
+            product.add(j, Vector3(new_n - old_n, new_t1 - old_t1, new_t2 - old_t2));
+            lambda[n]  = new_n;
             lambda[t1] = new_t1;
             lambda[t2] = new_t2;
 
             // How much this visit moved the contact's velocities.
-            result.residual = std::max({result.residual, std::abs(entry(n, n) * (new_n - old_n)),
-                                        std::abs(entry(t1, t1) * (new_t1 - old_t1)),
-                                        std::abs(entry(t2, t2) * (new_t2 - old_t2))});
+            result.residual = std::max({result.residual, std::abs(block(0, 0) * (new_n - old_n)),
+                                        std::abs(block(1, 1) * (new_t1 - old_t1)),
+                                        std::abs(block(2, 2) * (new_t2 - old_t2))});
           }
         result.converged = result.residual <= settings.tolerance;
       }

@@ -3,6 +3,7 @@
 #include <warpchol/base/binary_io.h>
 #include <warpchol/cholesky/compliance.h>
 #include <warpchol/contact/contact.h>
+#include <warpchol/contact/contact_compliance.h>
 #include <warpchol/contact/friction_cone_solver.h>
 #include <warpchol/contact/obstacle.h>
 #include <warpchol/contact/penalty_springs.h>
@@ -212,22 +213,22 @@ namespace warpchol::fem
                          StepStatistics &statistics);
 
     /**
-     * W = H A~^-1 H^T of the step's contacts from the block of A^-1 among their vertices'
-     * unknowns (SparseCholesky::inverse_block(), which keeps the columns of the vertices
-     * that persist while the factor does not change): W's 3 x 3 block of contacts i and j
-     * is the sum over their vertices u, v of D_iu^T (A^-1)_uv D_jv, D_iu = w_iu R_u^T
-     * [n t_1 t_2] (the contact's directions, its weight on u, the nodal rotation). With
-     * @p lag the kept columns outlive the factor's changes (KeptInverseColumns).
+     * W = H A~^-1 H^T of the step's contacts, factored as D^T G D with G the block of A^-1
+     * among their vertices' unknowns (SparseCholesky::inverse_block(), which keeps the
+     * columns of the vertices that persist while the factor does not change): W's 3 x 3
+     * block of contacts i and j is the sum over their vertices u, v of D_iu^T G_uv D_jv,
+     * D_iu = w_iu R_u^T [n t_1 t_2] (the contact's directions, its weight on u, the nodal
+     * rotation). It reads kept_columns' G: valid until the next call. With @p lag the
+     * kept columns outlive the factor's changes (KeptInverseColumns).
      */
-    std::vector<double> compliance_from_kept_columns(const ElasticBody &body, const ElasticityModel &model,
-                                                     bool lag);
+    ContactCompliance compliance_from_kept_columns(const ElasticBody &body, const ElasticityModel &model, bool lag);
 
     /**
      * lambda: the impulses of the step's contacts by projected Gauss-Seidel on @p w, warm
      * started from those of the contacts that persist (same vertex, same obstacle), to
      * @p settings.
      */
-    void solve_for_impulses(const std::vector<double> &w, const std::vector<double> &free_velocity,
+    void solve_for_impulses(const ContactCompliance &w, const std::vector<double> &free_velocity,
                             const std::vector<double> &friction, const GaussSeidelSettings &settings,
                             StepStatistics &statistics);
 
@@ -239,19 +240,16 @@ namespace warpchol::fem
     std::vector<double> contact_velocities(const std::vector<Vector3> &velocities,
                                            const std::vector<Vector3> &obstacle_velocity, double time_step) const;
 
-    /** W lambda (@p w m x m, symmetric). */
-    std::vector<double> times_lambda(const std::vector<double> &w) const;
-
     /**
      * The check of a lagged W after the correction: the miss (report's aim_error) between
      * the contacts' velocities and Gauss-Seidel's aim, @p free_velocity + W lambda. Past a
      * quarter of the tolerance in the step, Gauss-Seidel again from where the correction
      * left the contacts, and another correcting solve; twice with @p w (to @p gauss_seidel),
-     * then with W renewed (@p renewed_compliance). Counts the rounds toward the next
-     * renewal.
+     * then with W renewed (@p compliance(true), which drops the kept columns). Counts the
+     * rounds toward the next renewal.
      */
     void aim_again(const ElasticBody &body, ElasticityModel &model,
-                   const std::function<std::vector<double>()> &renewed_compliance, std::vector<double> &w,
+                   const std::function<ContactCompliance(bool)> &compliance, ContactCompliance &w,
                    std::vector<double> free_velocity, const std::vector<double> &friction,
                    const GaussSeidelSettings &gauss_seidel, const std::vector<Vector3> &obstacle_velocity,
                    double time_step, std::vector<Vector3> &velocities, StepStatistics &statistics);

@@ -1,5 +1,7 @@
 #pragma once
 
+#include <warpchol/contact/contact_compliance.h>
+
 #include <vector>
 
 /**
@@ -31,9 +33,9 @@ namespace warpchol::fem
   };
 
   /**
-   * Solve for the impulses lambda of @p n_contacts contacts, each three rows (its normal,
-   * then two tangents), given their velocities without impulses @p free_velocity and the
-   * m x m compliance @p w (m = 3 n_contacts, column-major): the contact velocities are
+   * Solve for the impulses lambda of W's contacts, each three rows (its normal, then two
+   * tangents), given their velocities without impulses @p free_velocity and the compliance
+   * @p w (m = 3 n_contacts rows, whole or factored): the contact velocities are
    *   u = free_velocity + W lambda,
    * and each contact j has u_n >= 0, lambda_n >= 0, u_n lambda_n = 0 (Signorini), and
    * |lambda_t| <= mu_j lambda_n, with lambda_t opposing u_t when it slides (Coulomb, the
@@ -44,7 +46,7 @@ namespace warpchol::fem
    * block, projected on the disk of radius mu lambda_n. @p lambda holds the starting guess
    * (a kept solution: warm start) or is resized to zeros.
    */
-  GaussSeidelResult solve_friction_cone(const std::vector<double> &w, const std::vector<double> &free_velocity,
+  GaussSeidelResult solve_friction_cone(const ContactCompliance &w, const std::vector<double> &free_velocity,
                                         const std::vector<double> &friction, const GaussSeidelSettings &settings,
                                         std::vector<double> &lambda);
 } // namespace warpchol::fem

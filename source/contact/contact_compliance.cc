@@ -1,0 +1,150 @@
+#include <warpchol/base/exceptions.h>
+#include <warpchol/contact/contact_compliance.h>
+
+#include <string>
+
+namespace warpchol::fem
+{
+  ContactCompliance ContactCompliance::whole(std::vector<double> w)
+  {
+    ContactCompliance compliance;
+    std::size_t       m = 0;
+    while (m * m < w.size())
+      ++m;
+    if (m * m != w.size() || m % 3 != 0)
+      throw Error("ContactCompliance::whole(): W of " + std::to_string(w.size()) +
+                  " entries is not m x m with 3 rows per contact");
+    compliance.n = m / 3;
+    compliance.diagonal.resize(compliance.n);
+    for (std::size_t j = 0; j < compliance.n; ++j)
+      for (std::size_t c = 0; c < 3; ++c)
+        for (std::size_t r = 0; r < 3; ++r)
+          compliance.diagonal[j](r, c) = w[(3 * j + r) + (3 * j + c) * m];
+    compliance.entries = std::move(w);
+    return compliance;
+  }
+
+  ContactCompliance ContactCompliance::factored(const std::vector<double> &gram, std::vector<ContactRows> contacts)
+  {
+    ContactCompliance compliance;
+    Index             order = 0;
+    while (order * order < static_cast<Index>(gram.size()))
+      ++order;
+    if (order * order != static_cast<Index>(gram.size()) || order % 3 != 0)
+      throw Error("ContactCompliance::factored(): G of " + std::to_string(gram.size()) +
+                  " entries is not |S| x |S| with 3 unknowns per vertex");
+    compliance.gram  = &gram;
+    compliance.order = order;
+    compliance.n     = contacts.size();
+    compliance.diagonal.assign(compliance.n, Matrix3::Zero());
+    using Block = Eigen::Map<const Matrix3, 0, Eigen::OuterStride<>>;
+    for (std::size_t j = 0; j < compliance.n; ++j)
+      {
+        const ContactRows &contact = contacts[j];
+        for (unsigned int a = 0; a < contact.n_parts; ++a)
+          {
+            if (contact.parts[a].slot < 0 || 3 * contact.parts[a].slot >= order)
+              throw Error("ContactCompliance::factored(): contact " + std::to_string(j) + " on slot " +
+                          std::to_string(contact.parts[a].slot) + " of " + std::to_string(order / 3));
+            for (unsigned int b = 0; b < contact.n_parts; ++b)
+              {
+                const VertexRows &u = contact.parts[a], &v = contact.parts[b];
+                const Block       g(gram.data() + 3 * u.slot + 3 * v.slot * order, Eigen::OuterStride<>(order));
+                compliance.diagonal[j].noalias() += u.rows.transpose() * g * v.rows;
+              }
+          }
+      }
+    compliance.contact_rows = std::move(contacts);
+    return compliance;
+  }
+
+  std::size_t ContactCompliance::n_contacts() const
+  {
+    return n;
+  }
+
+  const Matrix3 &ContactCompliance::diagonal_block(const std::size_t j) const
+  {
+    return diagonal[j];
+  }
+
+  std::vector<double> ContactCompliance::times(const std::vector<double> &lambda) const
+  {
+    if (lambda.size() != 3 * n)
+      throw Error("ContactCompliance::times(): " + std::to_string(lambda.size()) + " impulses for " +
+                  std::to_string(n) + " contacts");
+    Product product(*this);
+    for (std::size_t j = 0; j < n; ++j)
+      product.add(j, Vector3(lambda[3 * j], lambda[3 * j + 1], lambda[3 * j + 2]));
+    std::vector<double> result(3 * n);
+    for (std::size_t j = 0; j < n; ++j)
+      {
+        const Vector3 u = product.velocity(j);
+        for (std::size_t d = 0; d < 3; ++d)
+          result[3 * j + d] = u[d];
+      }
+    return result;
+  }
+
+  std::vector<double> ContactCompliance::matrix() const
+  {
+    if (gram == nullptr)
+      return entries;
+    const std::size_t   m = 3 * n;
+    std::vector<double> w(m * m);
+    for (std::size_t j = 0; j < n; ++j)
+      for (std::size_t c = 0; c < 3; ++c)
+        {
+          Product product(*this);
+          product.add(j, Vector3::Unit(static_cast<Eigen::Index>(c)));
+          for (std::size_t i = 0; i < n; ++i)
+            {
+              const Vector3 u = product.velocity(i);
+              for (std::size_t r = 0; r < 3; ++r)
+                w[(3 * i + r) + (3 * j + c) * m] = u[r];
+            }
+        }
+    return w;
+  }
+
+  ContactCompliance::Product::Product(const ContactCompliance &compliance)
+    : compliance(compliance)
+    , state(compliance.gram ? static_cast<std::size_t>(compliance.order) : 3 * compliance.n, 0.)
+  {}
+
+  Vector3 ContactCompliance::Product::velocity(const std::size_t j) const
+  {
+    if (compliance.gram == nullptr)
+      return Vector3(state[3 * j], state[3 * j + 1], state[3 * j + 2]);
+    Vector3                           u     = Vector3::Zero();
+    const ContactCompliance::ContactRows &rows = compliance.contact_rows[j];
+    for (unsigned int a = 0; a < rows.n_parts; ++a)
+      u.noalias() += rows.parts[a].rows.transpose() * Eigen::Map<const Vector3>(state.data() + 3 * rows.parts[a].slot);
+    return u;
+  }
+
+  void ContactCompliance::Product::add(const std::size_t j, const Vector3 &delta)
+  {
+    if (delta.isZero(0))
+      return;
+    // Three columns of W (or of G) times the change, fused into one pass over the state.
+    const auto add_columns = [this](const double *columns, const std::size_t length, const Vector3 &times) {
+      const double *c0 = columns, *c1 = columns + length, *c2 = columns + 2 * length;
+      const double  t0 = times[0], t1 = times[1], t2 = times[2];
+      double       *y  = state.data();
+      for (std::size_t i = 0; i < length; ++i)
+        y[i] += c0[i] * t0 + c1[i] * t1 + c2[i] * t2;
+    };
+    if (compliance.gram == nullptr)
+      {
+        const std::size_t m = 3 * compliance.n;
+        add_columns(compliance.entries.data() + 3 * j * m, m, delta);
+        return;
+      }
+    const std::size_t                     s    = static_cast<std::size_t>(compliance.order);
+    const ContactCompliance::ContactRows &rows = compliance.contact_rows[j];
+    for (unsigned int b = 0; b < rows.n_parts; ++b)
+      add_columns(compliance.gram->data() + 3 * static_cast<std::size_t>(rows.parts[b].slot) * s, s,
+                  rows.parts[b].rows * delta);
+  }
+} // namespace warpchol::fem
