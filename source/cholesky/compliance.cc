@@ -410,14 +410,25 @@ namespace warpchol::cholesky
 
     // The kept entries of G, and the kept layers with their columns' new places.
     next.factor_changes_behind = columns.factor_changes_behind;
+    // Gathered column by column over the kept rows only, without a test per entry; the
+    // fresh rows and columns, zero here, are summed by add_fresh_rows_of_gram().
+    next.gram = std::move(columns.spare_gram);
     next.gram.assign(static_cast<std::size_t>(m) * m, 0.);
-    const std::size_t m_kept = columns.rows.size();
-    for (Index j = 0; j < m; ++j)
-      if (was[j] >= 0)
-        for (Index i = 0; i < m; ++i)
-          if (was[i] >= 0)
-            next.gram[i + static_cast<std::size_t>(j) * m] =
-              columns.gram[was[i] + static_cast<std::size_t>(was[j]) * m_kept];
+    const std::size_t  m_kept = columns.rows.size();
+    std::vector<Index> kept_rows, kept_from;
+    for (Index i = 0; i < m; ++i)
+      if (was[i] >= 0)
+        {
+          kept_rows.push_back(i);
+          kept_from.push_back(was[i]);
+        }
+    for (const Index j : kept_rows)
+      {
+        double       *to   = next.gram.data() + static_cast<std::size_t>(j) * m;
+        const double *from = columns.gram.data() + static_cast<std::size_t>(was[j]) * m_kept;
+        for (std::size_t k = 0; k < kept_rows.size(); ++k)
+          to[kept_rows[k]] = from[kept_from[k]];
+      }
     std::size_t stored_columns = 0;
     for (std::size_t l = 0; l < columns.layers.size(); ++l)
       {
@@ -445,7 +456,8 @@ namespace warpchol::cholesky
     constexpr std::size_t most_layers = 16;
     if (stored_columns > 2 * static_cast<std::size_t>(m) || next.layers.size() > most_layers)
       merge_layers(symbolic, next);
-    columns = std::move(next);
+    next.spare_gram = std::move(columns.gram);
+    columns         = std::move(next);
   }
 
   std::vector<double> compliance_by_full_solves(const SupernodalSymbolic &symbolic,

@@ -126,6 +126,8 @@ namespace warpchol::cholesky
     std::vector<std::vector<Index>> layer_positions;
     /** G = Y^T Y, |S| x |S|, column-major, both triangles. */
     std::vector<double> gram;
+    /** The G before, whose storage the next call fills: a new G of megabytes would touch fresh pages. */
+    std::vector<double> spare_gram;
     /** Of the last call: the unknowns whose column was kept, and those solved. */
     Index kept = 0, solved = 0;
   };
