@@ -37,18 +37,6 @@ namespace
     return block;
   }
 
-  /** max |a - b| / max |b|. */
-  double relative_difference(const std::vector<double> &a, const std::vector<double> &b)
-  {
-    double difference = 0, scale = 0;
-    for (std::size_t k = 0; k < b.size(); ++k)
-      {
-        difference = std::max(difference, std::abs(a[k] - b[k]));
-        scale      = std::max(scale, std::abs(b[k]));
-      }
-    return difference / scale;
-  }
-
   /** Bring @p columns to @p unknowns and check them against full solves; print what was kept. */
   void check_block(const std::string &label, const cholesky::SparseCholesky &solver,
                    const std::vector<Index> &unknowns, cholesky::KeptInverseColumns &columns)
@@ -57,10 +45,10 @@ namespace
     std::cout << label << ": " << unknowns.size() << " unknowns, " << columns.kept << " kept, " << columns.solved
               << " solved" << std::endl;
     tests::check_below("  max |G - A^-1 block| / max |A^-1 block|",
-                       relative_difference(columns.gram, block_by_solves(solver, unknowns)), 1e-10);
+                       tests::max_relative_difference(columns.gram, block_by_solves(solver, unknowns)), 1e-10);
     cholesky::KeptInverseColumns fresh;
     solver.inverse_block(unknowns, fresh);
-    tests::check_below("  max |G - G anew| / max |G anew|", relative_difference(columns.gram, fresh.gram), 1e-12);
+    tests::check_below("  max |G - G anew| / max |G anew|", tests::max_relative_difference(columns.gram, fresh.gram), 1e-12);
   }
 } // namespace
 
@@ -148,10 +136,10 @@ int main()
         new_block.push_back(lagged.gram[i + j * m]);
         new_block_fresh.push_back(fresh.gram[i + j * m]);
       }
-  tests::check_below("  the new vertices' block of G against G anew", relative_difference(new_block, new_block_fresh),
+  tests::check_below("  the new vertices' block of G against G anew", tests::max_relative_difference(new_block, new_block_fresh),
                      1e-12);
   tests::check("  the kept ones' block differs from G anew (it is the old factor's)",
-               relative_difference(lagged.gram, fresh.gram) > 1e-8);
+               tests::max_relative_difference(lagged.gram, fresh.gram) > 1e-8);
 
   // A sliding set, as a contact patch moves: each call drops two vertices anywhere in it
   // and takes two new ones (or one back that was dropped). The kept columns stay in the layers they were
@@ -181,7 +169,7 @@ int main()
         merges += sliding.layers.size() == 1 && layers_before > 1 ? 1 : 0;
         cholesky::KeptInverseColumns anew;
         solver.inverse_block(unknowns_of(patch), anew);
-        worst = std::max(worst, relative_difference(sliding.gram, anew.gram));
+        worst = std::max(worst, tests::max_relative_difference(sliding.gram, anew.gram));
       }
     std::cout << "a sliding set of 12 vertices, 30 calls: " << solved / 3 << " vertices solved, " << most_layers << " layers at most, " << merges << " merges" << std::endl;
     tests::check_below("  max over the calls of max |G - G anew| / max |G anew|", worst, 1e-12);

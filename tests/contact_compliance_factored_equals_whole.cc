@@ -22,21 +22,6 @@
 
 using namespace warpchol;
 
-namespace
-{
-  /** max |a - b| / max |b|. */
-  double relative_difference(const std::vector<double> &a, const std::vector<double> &b)
-  {
-    double difference = 0, scale = 0;
-    for (std::size_t k = 0; k < b.size(); ++k)
-      {
-        difference = std::max(difference, std::abs(a[k] - b[k]));
-        scale      = std::max(scale, std::abs(b[k]));
-      }
-    return difference / scale;
-  }
-} // namespace
-
 int main()
 {
   tests::TorusElasticity             torus;
@@ -102,7 +87,7 @@ int main()
   solver.inverse_block(unknowns, columns);
   const fem::ContactCompliance factored = fem::ContactCompliance::factored(columns.gram, contacts);
   const fem::ContactCompliance given    = fem::ContactCompliance::whole(whole);
-  tests::check_below("max |W factored - W from solves| / max |W|", relative_difference(factored.matrix(), whole),
+  tests::check_below("max |W factored - W from solves| / max |W|", tests::max_relative_difference(factored.matrix(), whole),
                      1e-12);
   bool blocks_equal = true;
   for (Index j = 0; j < n_contacts; ++j)
@@ -114,7 +99,7 @@ int main()
   for (double &value : lambda)
     value = random.uniform() - 0.5;
   tests::check_below("max |W lambda factored - whole| / max |W lambda|",
-                     relative_difference(factored.times(lambda), given.times(lambda)), 1e-12);
+                     tests::max_relative_difference(factored.times(lambda), given.times(lambda)), 1e-12);
 
   // Pressed in at 1 cm/s with a sideways slide, friction 0.5: some contacts stick, some slide.
   std::vector<double> free_velocity(m), friction(n_contacts, 0.5);
@@ -134,7 +119,7 @@ int main()
     fem::solve_friction_cone(given, free_velocity, friction, gauss_seidel, lambda_whole);
   tests::check("Gauss-Seidel converges on both", by_factored.converged && by_whole.converged);
   tests::check("in the same sweeps", by_factored.iterations == by_whole.iterations);
-  tests::check_below("max |lambda factored - whole| / max |lambda|", relative_difference(lambda_factored, lambda_whole),
+  tests::check_below("max |lambda factored - whole| / max |lambda|", tests::max_relative_difference(lambda_factored, lambda_whole),
                      1e-12);
   Index active = 0;
   for (Index j = 0; j < n_contacts; ++j)

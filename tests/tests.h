@@ -61,6 +61,20 @@ namespace tests
     return text.str();
   }
 
+  /** max |a - b| / max |b| over the entries (1 if the sizes differ; max |a - b| where b is 0). */
+  inline double max_relative_difference(const std::vector<double> &a, const std::vector<double> &b)
+  {
+    if (a.size() != b.size())
+      return 1;
+    double largest = 0, difference = 0;
+    for (std::size_t k = 0; k < b.size(); ++k)
+      {
+        largest    = std::max(largest, std::abs(b[k]));
+        difference = std::max(difference, std::abs(a[k] - b[k]));
+      }
+    return largest > 0 ? difference / largest : difference;
+  }
+
   /** Print "label: value <= bound: yes" (or NO); returns whether the check held. */
   inline bool check_below(const std::string &label, const double value, const double bound)
   {

@@ -97,8 +97,8 @@ namespace warpchol::cholesky
    * the new unknowns' columns are solved, and only their rows of G multiplied. Unit columns
    * rather than a contact's rows: the rows h = w R^T n (a contact's normal or tangent, its
    * weight, the nodal rotation of a model that solves in a rotated frame) change from step
-   * to step while the vertex does not, and W = H A^-1 H^T is then formed from G by 3 x 3
-   * blocks.
+   * to step while the vertex does not, and W = H A^-1 H^T is then read from G through them
+   * (fem::ContactCompliance: W = D^T G D, never formed).
    */
   struct KeptInverseColumns
   {
