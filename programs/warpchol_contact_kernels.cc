@@ -125,14 +125,18 @@ namespace
     return part;
   }
 
+  /** The rows of the kept W that Gauss-Seidel re-solves (the haptic loop's goal is stated at about 200). */
+  constexpr Index kept_w_rows = 201;
+
   /**
-   * Gauss-Seidel re-solved on a kept W of 201 rows (67 contacts on @p patch): every contact
-   * pressed in at 1 cm/s with a sideways slide, friction 0.5, from zero impulses each time.
+   * Gauss-Seidel re-solved on a kept W of kept_w_rows rows (67 contacts on @p patch): every
+   * contact pressed in at 1 cm/s with a sideways slide, friction 0.5, from zero impulses
+   * each time.
    */
   void time_gauss_seidel_on_kept_w(const cholesky::SparseCholesky &solver, const fem::ElasticBody &body,
                                    const std::vector<unsigned int> &patch, const fem::Vector3 &centre)
   {
-    const Index               m = 201;
+    const Index               m = kept_w_rows;
     const sparse::CSCMatrix    ht = first_columns(
       fem::ContactConstraints::constraint_columns(body, contacts_on(patch, body, centre), nullptr), m);
     const fem::ContactCompliance w = fem::ContactCompliance::whole(solver.compliance(ht));
@@ -183,10 +187,12 @@ namespace
     fem::Vector3 centre = fem::Vector3::Zero();
     for (const fem::Vector3 &x : body.rest_positions())
       centre += x / body.n_vertices();
-    const Index max_rows = *std::max_element(options.rows.begin(), options.rows.end());
+    // The patch holds Gauss-Seidel's contacts too, whatever --rows asks.
+    const Index max_rows = std::max(*std::max_element(options.rows.begin(), options.rows.end()), kept_w_rows);
     const auto  n_vertices = static_cast<std::size_t>((max_rows + 2) / 3);
     if (n_vertices > surface.size())
-      throw InputError("--rows: " + std::to_string(max_rows) + " rows need more surface vertices than the " +
+      throw InputError("--rows: " + std::to_string(max_rows) + " rows (at least Gauss-Seidel's " +
+                       std::to_string(kept_w_rows) + ") need more surface vertices than the " +
                        std::to_string(surface.size()) + " of the mesh");
     // A patch: the surface vertices nearest the highest one; spread: a random sample.
     std::vector<unsigned int> patch = surface, spread = surface;
