@@ -14,9 +14,9 @@ namespace warpchol::fem
     if (m * m != w.size() || m % 3 != 0)
       throw Error("ContactCompliance::whole(): W of " + std::to_string(w.size()) +
                   " entries is not m x m with 3 rows per contact");
-    compliance.n = m / 3;
-    compliance.diagonal.resize(compliance.n);
-    for (std::size_t j = 0; j < compliance.n; ++j)
+    compliance.contact_count = m / 3;
+    compliance.diagonal.resize(compliance.contact_count);
+    for (std::size_t j = 0; j < compliance.contact_count; ++j)
       for (std::size_t c = 0; c < 3; ++c)
         for (std::size_t r = 0; r < 3; ++r)
           compliance.diagonal[j](r, c) = w[(3 * j + r) + (3 * j + c) * m];
@@ -33,12 +33,12 @@ namespace warpchol::fem
     if (order * order != static_cast<Index>(gram.size()) || order % 3 != 0)
       throw Error("ContactCompliance::factored(): G of " + std::to_string(gram.size()) +
                   " entries is not |S| x |S| with 3 unknowns per vertex");
-    compliance.gram  = &gram;
-    compliance.order = order;
-    compliance.n     = contacts.size();
-    compliance.diagonal.assign(compliance.n, Matrix3::Zero());
+    compliance.gram          = &gram;
+    compliance.order         = order;
+    compliance.contact_count = contacts.size();
+    compliance.diagonal.assign(compliance.contact_count, Matrix3::Zero());
     using Block = Eigen::Map<const Matrix3, 0, Eigen::OuterStride<>>;
-    for (std::size_t j = 0; j < compliance.n; ++j)
+    for (std::size_t j = 0; j < compliance.contact_count; ++j)
       {
         const ContactRows &contact = contacts[j];
         for (unsigned int a = 0; a < contact.n_parts; ++a)
@@ -60,7 +60,7 @@ namespace warpchol::fem
 
   std::size_t ContactCompliance::n_contacts() const
   {
-    return n;
+    return contact_count;
   }
 
   const Matrix3 &ContactCompliance::diagonal_block(const std::size_t j) const
@@ -70,14 +70,14 @@ namespace warpchol::fem
 
   std::vector<double> ContactCompliance::times(const std::vector<double> &lambda) const
   {
-    if (lambda.size() != 3 * n)
+    if (lambda.size() != 3 * contact_count)
       throw Error("ContactCompliance::times(): " + std::to_string(lambda.size()) + " impulses for " +
-                  std::to_string(n) + " contacts");
+                  std::to_string(contact_count) + " contacts");
     Product product(*this);
-    for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t j = 0; j < contact_count; ++j)
       product.add(j, Vector3(lambda[3 * j], lambda[3 * j + 1], lambda[3 * j + 2]));
-    std::vector<double> result(3 * n);
-    for (std::size_t j = 0; j < n; ++j)
+    std::vector<double> result(3 * contact_count);
+    for (std::size_t j = 0; j < contact_count; ++j)
       {
         const Vector3 u = product.velocity(j);
         for (std::size_t d = 0; d < 3; ++d)
@@ -90,14 +90,14 @@ namespace warpchol::fem
   {
     if (gram == nullptr)
       return entries;
-    const std::size_t   m = 3 * n;
+    const std::size_t   m = 3 * contact_count;
     std::vector<double> w(m * m);
-    for (std::size_t j = 0; j < n; ++j)
+    for (std::size_t j = 0; j < contact_count; ++j)
       for (std::size_t c = 0; c < 3; ++c)
         {
           Product product(*this);
           product.add(j, Vector3::Unit(static_cast<Eigen::Index>(c)));
-          for (std::size_t i = 0; i < n; ++i)
+          for (std::size_t i = 0; i < contact_count; ++i)
             {
               const Vector3 u = product.velocity(i);
               for (std::size_t r = 0; r < 3; ++r)
@@ -109,14 +109,14 @@ namespace warpchol::fem
 
   ContactCompliance::Product::Product(const ContactCompliance &compliance)
     : compliance(compliance)
-    , state(compliance.gram ? static_cast<std::size_t>(compliance.order) : 3 * compliance.n, 0.)
+    , state(compliance.gram ? static_cast<std::size_t>(compliance.order) : 3 * compliance.contact_count, 0.)
   {}
 
   Vector3 ContactCompliance::Product::velocity(const std::size_t j) const
   {
     if (compliance.gram == nullptr)
       return Vector3(state[3 * j], state[3 * j + 1], state[3 * j + 2]);
-    Vector3                           u     = Vector3::Zero();
+    Vector3                               u    = Vector3::Zero();
     const ContactCompliance::ContactRows &rows = compliance.contact_rows[j];
     for (unsigned int a = 0; a < rows.n_parts; ++a)
       u.noalias() += rows.parts[a].rows.transpose() * Eigen::Map<const Vector3>(state.data() + 3 * rows.parts[a].slot);
@@ -137,7 +137,7 @@ namespace warpchol::fem
     };
     if (compliance.gram == nullptr)
       {
-        const std::size_t m = 3 * compliance.n;
+        const std::size_t m = 3 * compliance.contact_count;
         add_columns(compliance.entries.data() + 3 * j * m, m, delta);
         return;
       }

@@ -93,8 +93,8 @@ namespace warpchol::fem
     const std::vector<double> *gram = nullptr;
     Index                      order = 0;
     std::vector<ContactRows>   contact_rows;
-    /** The diagonal blocks, one per contact. */
+    /** The diagonal blocks, one per contact, and the number of contacts. */
     std::vector<Matrix3> diagonal;
-    std::size_t          n = 0;
+    std::size_t          contact_count = 0;
   };
 } // namespace warpchol::fem
