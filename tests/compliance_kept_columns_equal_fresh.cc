@@ -57,10 +57,7 @@ int main()
   tests::TorusElasticity   torus;
   sparse::CSCMatrix        matrix = torus.system->lower();
   const Index              n      = matrix.n_cols;
-  cholesky::SparseCholesky::Settings settings;
-  settings.ordering.method = cholesky::OrderingMethod::metis;
-  settings.method          = cholesky::FactorizationMethod::supernodal;
-  cholesky::SparseCholesky solver(settings);
+  cholesky::SparseCholesky solver = tests::supernodal_metis_solver();
   solver.factorize(matrix);
   std::cout << "torus elasticity: n = " << n << ", " << solver.supernodal_symbolic().n_supernodes() << " supernodes"
             << std::endl;

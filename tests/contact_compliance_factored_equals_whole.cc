@@ -24,13 +24,10 @@ using namespace warpchol;
 
 int main()
 {
-  tests::TorusElasticity             torus;
-  const sparse::CSCMatrix            matrix = torus.system->lower();
-  const Index                        n      = matrix.n_cols;
-  cholesky::SparseCholesky::Settings settings;
-  settings.ordering.method = cholesky::OrderingMethod::metis;
-  settings.method          = cholesky::FactorizationMethod::supernodal;
-  cholesky::SparseCholesky solver(settings);
+  tests::TorusElasticity   torus;
+  const sparse::CSCMatrix  matrix = torus.system->lower();
+  const Index              n      = matrix.n_cols;
+  cholesky::SparseCholesky solver = tests::supernodal_metis_solver();
   solver.factorize(matrix);
 
   // 30 contacts: 1, 2 or 3 vertices each (the last one on the first contact's vertex).

@@ -6,6 +6,7 @@
  * every 97th vertex fixed, its implicit Euler matrix at rest.
  */
 
+#include <warpchol/cholesky/sparse_cholesky.h>
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/system_matrix.h>
 #include <warpchol/mesh/mesh_generators.h>
@@ -41,4 +42,13 @@ namespace tests
       });
     }
   };
+
+  /** warpchol's solver as the solver tests factor the torus: supernodal, METIS ordering. */
+  inline warpchol::cholesky::SparseCholesky supernodal_metis_solver()
+  {
+    warpchol::cholesky::SparseCholesky::Settings settings;
+    settings.ordering.method = warpchol::cholesky::OrderingMethod::metis;
+    settings.method          = warpchol::cholesky::FactorizationMethod::supernodal;
+    return warpchol::cholesky::SparseCholesky(settings);
+  }
 } // namespace tests

@@ -429,9 +429,10 @@ namespace warpchol::fem
           kept_columns         = cholesky::KeptInverseColumns();
           rounds_since_renewal = 0;
         }
-      return by_paths ? compliance_from_kept_columns(body, model, may_lag) :
-                        ContactCompliance::whole(model.solver().compliance(
-                          constraint_columns(body, step_contacts, model.solve_rotations()), contact_settings.compliance));
+      if (by_paths)
+        return compliance_from_kept_columns(body, model, may_lag);
+      const sparse::CSCMatrix ht = constraint_columns(body, step_contacts, model.solve_rotations());
+      return ContactCompliance::whole(model.solver().compliance(ht, contact_settings.compliance));
     };
     ContactCompliance w = compliance(renew_compliance);
     renew_compliance    = false;

@@ -30,13 +30,19 @@ namespace warpchol::fem
   class ContactCompliance
   {
   public:
-    /** A contact's three rows on one of its vertices: the vertex's slot in G (3 unknowns each) and D = w R^T [n t_1 t_2]. */
+    /**
+     * A contact's three rows on one of its vertices: the vertex's slot in G (3 unknowns
+     * each) and D = w R^T [n t_1 t_2].
+     */
     struct VertexRows
     {
       Index   slot = 0;
       Matrix3 rows = Matrix3::Zero();
     };
-    /** A contact's rows on each of its vertices that have unknowns (1 to 3: a vertex, an edge's or a triangle's point). */
+    /**
+     * A contact's rows on each of its vertices that have unknowns (1 to 3: a vertex, an
+     * edge's or a triangle's point).
+     */
     struct ContactRows
     {
       std::array<VertexRows, 3> parts;
