@@ -5,13 +5,23 @@
 
 namespace warpchol::fem
 {
+  namespace
+  {
+    /** The order of a square matrix of @p entries entries that has 3 rows per contact or vertex (0: none such). */
+    std::size_t order_of(const std::size_t entries)
+    {
+      std::size_t order = 0;
+      while (order * order < entries)
+        ++order;
+      return order * order == entries && order % 3 == 0 ? order : 0;
+    }
+  } // namespace
+
   ContactCompliance ContactCompliance::whole(std::vector<double> w)
   {
     ContactCompliance compliance;
-    std::size_t       m = 0;
-    while (m * m < w.size())
-      ++m;
-    if (m * m != w.size() || m % 3 != 0)
+    const std::size_t m = order_of(w.size());
+    if (m == 0 && !w.empty())
       throw Error("ContactCompliance::whole(): W of " + std::to_string(w.size()) +
                   " entries is not m x m with 3 rows per contact");
     compliance.contact_count = m / 3;
@@ -27,10 +37,8 @@ namespace warpchol::fem
   ContactCompliance ContactCompliance::factored(const std::vector<double> &gram, std::vector<ContactRows> contacts)
   {
     ContactCompliance compliance;
-    Index             order = 0;
-    while (order * order < static_cast<Index>(gram.size()))
-      ++order;
-    if (order * order != static_cast<Index>(gram.size()) || order % 3 != 0)
+    const Index       order = static_cast<Index>(order_of(gram.size()));
+    if (order == 0 && !gram.empty())
       throw Error("ContactCompliance::factored(): G of " + std::to_string(gram.size()) +
                   " entries is not |S| x |S| with 3 unknowns per vertex");
     compliance.gram          = &gram;
@@ -73,9 +81,7 @@ namespace warpchol::fem
     if (lambda.size() != 3 * contact_count)
       throw Error("ContactCompliance::times(): " + std::to_string(lambda.size()) + " impulses for " +
                   std::to_string(contact_count) + " contacts");
-    Product product(*this);
-    for (std::size_t j = 0; j < contact_count; ++j)
-      product.add(j, Vector3(lambda[3 * j], lambda[3 * j + 1], lambda[3 * j + 2]));
+    const Product       product(*this, lambda);
     std::vector<double> result(3 * contact_count);
     for (std::size_t j = 0; j < contact_count; ++j)
       {
@@ -111,6 +117,13 @@ namespace warpchol::fem
     : compliance(compliance)
     , state(compliance.gram ? static_cast<std::size_t>(compliance.order) : 3 * compliance.contact_count, 0.)
   {}
+
+  ContactCompliance::Product::Product(const ContactCompliance &compliance, const std::vector<double> &lambda)
+    : Product(compliance)
+  {
+    for (std::size_t j = 0; j < compliance.contact_count; ++j)
+      add(j, Vector3(lambda[3 * j], lambda[3 * j + 1], lambda[3 * j + 2]));
+  }
 
   Vector3 ContactCompliance::Product::velocity(const std::size_t j) const
   {

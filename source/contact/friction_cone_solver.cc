@@ -19,9 +19,7 @@ namespace warpchol::fem
       lambda.assign(m, 0.);
 
     // W lambda, kept up to date as each contact's impulse changes.
-    ContactCompliance::Product product(w);
-    for (std::size_t j = 0; j < n_contacts; ++j)
-      product.add(j, Vector3(lambda[3 * j], lambda[3 * j + 1], lambda[3 * j + 2]));
+    ContactCompliance::Product product(w, lambda);
 
     GaussSeidelResult result;
     result.converged = n_contacts == 0;

@@ -78,7 +78,10 @@ namespace warpchol::fem
     class Product
     {
     public:
+      /** lambda = 0. */
       explicit Product(const ContactCompliance &compliance);
+      /** From @p lambda (3 per contact). */
+      Product(const ContactCompliance &compliance, const std::vector<double> &lambda);
       /** Contact @p j's three rows of W lambda. */
       Vector3 velocity(std::size_t j) const;
       /** lambda_j += @p delta. */
