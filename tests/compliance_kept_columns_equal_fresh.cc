@@ -6,8 +6,9 @@
 // computed anew to 1e-12); an unchanged set keeps every column; a refactorize() that
 // changes nothing keeps them, a refactorize() that changes a column, an update() and a
 // full factorize() drop them all (factor_revision() changes), and the block then is the new
-// matrix's. Columns that outlive the factor's changes (a lagged W) are kept as they were
-// and new ones solved with the new factor. A copy of the solver has its revision. An
+// matrix's. Columns that outlive the factor's changes (a lagged W) are renewed in single
+// precision (G to 1e-5 relative), then kept as they were and new ones solved with the new
+// factor. A copy of the solver has its revision. An
 // unknown out of range is refused.
 
 #include <warpchol/cholesky/sparse_cholesky.h>
@@ -115,6 +116,11 @@ int main()
   cholesky::KeptInverseColumns lagged;
   lagged.outlive_factor_changes = true;
   solver.inverse_block(unknowns_of(first), lagged);
+  tests::check("lagged: renewed in single precision", lagged.single_precision);
+  const double single_error =
+    tests::max_relative_difference(lagged.gram, block_by_solves(solver, unknowns_of(first)));
+  std::cout << "  max |G - A^-1 block| / max |A^-1 block| " << (single_error < 1e-5 ? "<= 1e-5" : "> 1e-5")
+            << ", > 1e-12 (single, not double): " << (single_error > 1e-12 ? "yes" : "no") << std::endl;
   const std::vector<double> before = lagged.gram;
   solver.update(spring);
   solver.inverse_block(unknowns_of(first), lagged);

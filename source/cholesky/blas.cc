@@ -25,6 +25,8 @@ extern "C"
   void strsm_(const char *side, const char *uplo, const char *transa, const char *diag, const int *m,
               const int *n, const float *alpha, const float *a, const int *lda, float *b,
               const int *ldb);
+  void ssyrk_(const char *uplo, const char *trans, const int *n, const int *k, const float *alpha,
+              const float *a, const int *lda, const float *beta, float *c, const int *ldc);
   void  openblas_set_num_threads(int n_threads);
   char *openblas_get_corename(void);
 }
@@ -148,6 +150,26 @@ namespace warpchol::cholesky::blas
     const float one = 1.f;
     if (n > 0 && nrhs > 0)
       strsm_("L", "L", transpose ? "T" : "N", "N", &n, &nrhs, &one, l, &ldl, b, &ldb);
+  }
+
+  void gemm_nt(const int m, const int n, const int k, const float alpha, const float *a, const int lda,
+               const float *b, const int ldb, const float beta, float *c, const int ldc)
+  {
+    gemm(false, true, m, n, k, alpha, a, lda, b, ldb, beta, c, ldc);
+  }
+
+  void syrk_lower(const int n, const int k, const float alpha, const float *a, const int lda, const float beta,
+                  float *c, const int ldc)
+  {
+    if (n > 0)
+      ssyrk_("L", "N", &n, &k, &alpha, a, &lda, &beta, c, &ldc);
+  }
+
+  void trsm_right_lower_transpose(const int m, const int n, const float *l, const int ldl, float *b, const int ldb)
+  {
+    const float one = 1.f;
+    if (m > 0 && n > 0)
+      strsm_("R", "L", "T", "N", &m, &n, &one, l, &ldl, b, &ldb);
   }
 
   int potrf_lower(const int n, double *a, const int lda)

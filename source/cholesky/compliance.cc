@@ -103,136 +103,203 @@ namespace warpchol::cholesky
     }
   } // namespace
 
+  namespace
+  {
+    /**
+     * B = B L^-T for the m x n panel B and the n x n diagonal block L of a supernode, in
+     * blocks of columns: a triangular solve on each block's diagonal, then a product
+     * (gemm) for the columns after it. BLAS's right-sided trsm alone runs at a third to a
+     * half of gemm's rate on the panels of the top supernodes (m several hundred).
+     */
+    template <typename Scalar>
+    void solve_panel(const Index m, const Index n, const Scalar *l, const Index ldl, Scalar *b)
+    {
+      constexpr Index block = 32;
+      for (Index j = 0; j < n; j += block)
+        {
+          const Index width = std::min(block, n - j), after = n - j - width;
+          blas::trsm_right_lower_transpose(static_cast<int>(m), static_cast<int>(width), l + j + j * ldl,
+                                           static_cast<int>(ldl), b + j * m, static_cast<int>(m));
+          if (after > 0)
+            blas::gemm_nt(static_cast<int>(m), static_cast<int>(after), static_cast<int>(width), Scalar(-1),
+                          b + j * m, static_cast<int>(m), l + j + width + j * ldl, static_cast<int>(ldl), Scalar(1),
+                          b + (j + width) * m, static_cast<int>(m));
+        }
+    }
+
+    /**
+     * The panels of @p solve (its structure from path_structure()) solved with the factor
+     * @p values (laid out as the supernodal factor's values, in the precision Scalar):
+     * the right-hand sides of @p ht placed, then supernode by supernode, children first,
+     * Y_s = L_ss^-1 b_s on the panel (transposed: Y_s^T L_ss^-T), then the rows below it,
+     * L_bs Y_s (gemm), subtracted from the panels of the ancestors that hold those rows.
+     */
+    template <typename Scalar>
+    void solve_panels(const SupernodalSymbolic &symbolic, const Scalar *values, const sparse::CSCMatrix &ht,
+                      PathForwardSolve &solve, std::vector<Scalar> &panels)
+    {
+      const std::vector<Index> position_of = positions_of(symbolic, solve);
+      panels.assign(solve.panel_start.back(), Scalar(0));
+      const auto local_constraint = [&](const Index k, const Index i) {
+        const auto begin = solve.constraints.begin() + solve.constraint_start[k];
+        const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
+        return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
+      };
+      for (Index i = 0; i < ht.n_cols; ++i)
+        for (Index p = ht.column_start[i]; p < ht.column_start[i + 1]; ++p)
+          {
+            const Index row = ht.row_index[p], s = symbolic.supernode_of[row], k = position_of[s];
+            const Index n_constraints = solve.constraint_start[k + 1] - solve.constraint_start[k];
+            panels[solve.panel_start[k] + local_constraint(k, i) +
+                   static_cast<std::size_t>(row - symbolic.first_column[s]) * n_constraints] +=
+              static_cast<Scalar>(ht.values[p]);
+          }
+
+      std::vector<Scalar> below;
+      std::vector<Index>  map;
+      for (std::size_t k = 0; k < solve.supernodes.size(); ++k)
+        {
+          const Index   s  = solve.supernodes[k];
+          const Index   kc = solve.constraint_start[k + 1] - solve.constraint_start[k];
+          const Index   nc = symbolic.n_columns(s), nr = symbolic.n_rows(s), rows_below = nr - nc;
+          const Scalar *ls = values + symbolic.value_start[s];
+          const Index  *rows = symbolic.row_index.data() + symbolic.row_start[s];
+          Scalar       *panel = panels.data() + solve.panel_start[k];
+          solve_panel(kc, nc, ls, nr, panel);
+          solve.solve_flops += static_cast<double>(kc) * nc * nc;
+          if (rows_below == 0)
+            continue;
+          below.resize(static_cast<std::size_t>(kc) * rows_below);
+          blas::gemm_nt(static_cast<int>(kc), static_cast<int>(rows_below), static_cast<int>(nc), Scalar(1), panel,
+                        static_cast<int>(kc), ls + nc, static_cast<int>(nr), Scalar(0), below.data(),
+                        static_cast<int>(kc));
+          solve.solve_flops += 2. * static_cast<double>(kc) * nc * rows_below;
+
+          // The rows below, grouped by the ancestor holding them (rows are sorted, and a
+          // supernode's columns contiguous). Every path through s goes on through that
+          // ancestor, so its constraints include those of s: map them by a merge.
+          const Index *own = solve.constraints.data() + solve.constraint_start[k];
+          for (Index q = 0; q < rows_below;)
+            {
+              const Index t     = symbolic.supernode_of[rows[nc + q]];
+              const Index kt    = position_of[t];
+              const Index ct    = solve.constraint_start[kt + 1] - solve.constraint_start[kt];
+              const Index end_t = symbolic.first_column[t + 1];
+              Index       end   = q;
+              while (end < rows_below && rows[nc + end] < end_t)
+                ++end;
+              Scalar *target = panels.data() + solve.panel_start[kt];
+              if (ct == kc)
+                for (; q < end; ++q)
+                  {
+                    Scalar *to = target + static_cast<std::size_t>(rows[nc + q] - symbolic.first_column[t]) * ct;
+                    const Scalar *from = below.data() + static_cast<std::size_t>(q) * kc;
+                    for (Index a = 0; a < kc; ++a)
+                      to[a] -= from[a];
+                  }
+              else
+                {
+                  map.resize(kc);
+                  const Index *theirs = solve.constraints.data() + solve.constraint_start[kt];
+                  for (Index a = 0, b = 0; a < kc; ++a)
+                    {
+                      while (theirs[b] != own[a])
+                        ++b;
+                      map[a] = b;
+                    }
+                  for (; q < end; ++q)
+                    {
+                      Scalar *to = target + static_cast<std::size_t>(rows[nc + q] - symbolic.first_column[t]) * ct;
+                      const Scalar *from = below.data() + static_cast<std::size_t>(q) * kc;
+                      for (Index a = 0; a < kc; ++a)
+                        to[map[a]] -= from[a];
+                    }
+                }
+            }
+        }
+    }
+
+    /**
+     * W = Y^T Y (m x m, column-major, both triangles) from @p panels, laid out as the
+     * panels of @p solve, summed in the precision Scalar.
+     */
+    template <typename Scalar>
+    std::vector<double> product_of_panels(const SupernodalSymbolic &symbolic, PathForwardSolve &solve,
+                                          const std::vector<Scalar> &panels)
+    {
+      const Index         m = solve.m;
+      std::vector<Scalar> w(static_cast<std::size_t>(m) * m, Scalar(0));
+      std::vector<Scalar> gram;
+      solve.product_flops = 0;
+      // W = sum over the supernodes on the paths of Y_s^T Y_s, each on its constraints: at
+      // the top, where every path meets, straight into W. Consecutive supernodes with the
+      // same constraints (a chain no path joins) have their panels one after the other, as
+      // one wider panel: one product for the run.
+      const auto same_constraints = [&](const std::size_t a, const std::size_t b) {
+        return std::equal(solve.constraints.begin() + solve.constraint_start[a],
+                          solve.constraints.begin() + solve.constraint_start[a + 1],
+                          solve.constraints.begin() + solve.constraint_start[b],
+                          solve.constraints.begin() + solve.constraint_start[b + 1]);
+      };
+      for (std::size_t k = 0, next = 0; k < solve.supernodes.size(); k = next)
+        {
+          const Index kc    = solve.constraint_start[k + 1] - solve.constraint_start[k];
+          Index       width = 0;
+          for (next = k; next < solve.supernodes.size() && (next == k || same_constraints(k, next)); ++next)
+            width += symbolic.n_columns(solve.supernodes[next]);
+          const Scalar *panel = panels.data() + solve.panel_start[k];
+          solve.product_flops += static_cast<double>(kc) * (kc + 1) * width;
+          if (kc == m)
+            {
+              blas::syrk_lower(static_cast<int>(m), static_cast<int>(width), Scalar(1), panel, static_cast<int>(m),
+                               Scalar(1), w.data(), static_cast<int>(m));
+              continue;
+            }
+          gram.resize(static_cast<std::size_t>(kc) * kc);
+          blas::syrk_lower(static_cast<int>(kc), static_cast<int>(width), Scalar(1), panel, static_cast<int>(kc),
+                           Scalar(0), gram.data(), static_cast<int>(kc));
+          const Index *own = solve.constraints.data() + solve.constraint_start[k];
+          for (Index b = 0; b < kc; ++b)
+            for (Index a = b; a < kc; ++a)
+              w[own[a] + static_cast<std::size_t>(own[b]) * m] += gram[a + static_cast<std::size_t>(b) * kc];
+        }
+      std::vector<double> result(w.begin(), w.end());
+      symmetrize(result, m);
+      return result;
+    }
+  } // namespace
+
   PathForwardSolve forward_solve_on_paths(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
                                           const sparse::CSCMatrix &ht)
   {
     check_constraints(symbolic, values, ht);
-    const Index              m           = ht.n_cols;
-    PathForwardSolve         solve       = path_structure(symbolic, ht);
-    const std::vector<Index> position_of = positions_of(symbolic, solve);
-
-    // The right-hand sides into the panels (constraints x columns of the supernode).
-    const auto local_constraint = [&](const Index k, const Index i) {
-      const auto begin = solve.constraints.begin() + solve.constraint_start[k];
-      const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
-      return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
-    };
-    for (Index i = 0; i < m; ++i)
-      for (Index p = ht.column_start[i]; p < ht.column_start[i + 1]; ++p)
-        {
-          const Index row = ht.row_index[p], s = symbolic.supernode_of[row], k = position_of[s];
-          const Index n_constraints = solve.constraint_start[k + 1] - solve.constraint_start[k];
-          solve.panels[solve.panel_start[k] + local_constraint(k, i) +
-                       static_cast<std::size_t>(row - symbolic.first_column[s]) * n_constraints] += ht.values[p];
-        }
-
-    // Supernode by supernode, children first: Y_s = L_ss^-1 b_s on the panel (transposed:
-    // Y_s^T L_ss^-T, dtrsm), then the rows below it, L_bs Y_s (dgemm), subtracted from the
-    // panels of the ancestors that hold those rows.
-    std::vector<double> below;
-    std::vector<Index>  map;
-    for (std::size_t k = 0; k < solve.supernodes.size(); ++k)
-      {
-        const Index   s  = solve.supernodes[k];
-        const Index   kc = solve.constraint_start[k + 1] - solve.constraint_start[k];
-        const Index   nc = symbolic.n_columns(s), nr = symbolic.n_rows(s), rows_below = nr - nc;
-        const double *ls = values.data() + symbolic.value_start[s];
-        const Index  *rows = symbolic.row_index.data() + symbolic.row_start[s];
-        double       *panel = solve.panels.data() + solve.panel_start[k];
-        blas::trsm_right_lower_transpose(static_cast<int>(kc), static_cast<int>(nc), ls, static_cast<int>(nr), panel,
-                                         static_cast<int>(kc));
-        solve.solve_flops += static_cast<double>(kc) * nc * nc;
-        if (rows_below == 0)
-          continue;
-        below.resize(static_cast<std::size_t>(kc) * rows_below);
-        blas::gemm_nt(static_cast<int>(kc), static_cast<int>(rows_below), static_cast<int>(nc), 1., panel,
-                      static_cast<int>(kc), ls + nc, static_cast<int>(nr), 0., below.data(), static_cast<int>(kc));
-        solve.solve_flops += 2. * static_cast<double>(kc) * nc * rows_below;
-
-        // The rows below, grouped by the ancestor holding them (rows are sorted, and a
-        // supernode's columns contiguous). Every path through s goes on through that
-        // ancestor, so its constraints include those of s: map them by a merge.
-        const Index *own = solve.constraints.data() + solve.constraint_start[k];
-        for (Index q = 0; q < rows_below;)
-          {
-            const Index t     = symbolic.supernode_of[rows[nc + q]];
-            const Index kt    = position_of[t];
-            const Index ct    = solve.constraint_start[kt + 1] - solve.constraint_start[kt];
-            const Index end_t = symbolic.first_column[t + 1];
-            Index       end   = q;
-            while (end < rows_below && rows[nc + end] < end_t)
-              ++end;
-            double *target = solve.panels.data() + solve.panel_start[kt];
-            if (ct == kc)
-              for (; q < end; ++q)
-                {
-                  double       *to   = target + static_cast<std::size_t>(rows[nc + q] - symbolic.first_column[t]) * ct;
-                  const double *from = below.data() + static_cast<std::size_t>(q) * kc;
-                  for (Index a = 0; a < kc; ++a)
-                    to[a] -= from[a];
-                }
-            else
-              {
-                map.resize(kc);
-                const Index *theirs = solve.constraints.data() + solve.constraint_start[kt];
-                for (Index a = 0, b = 0; a < kc; ++a)
-                  {
-                    while (theirs[b] != own[a])
-                      ++b;
-                    map[a] = b;
-                  }
-                for (; q < end; ++q)
-                  {
-                    double *to = target + static_cast<std::size_t>(rows[nc + q] - symbolic.first_column[t]) * ct;
-                    const double *from = below.data() + static_cast<std::size_t>(q) * kc;
-                    for (Index a = 0; a < kc; ++a)
-                      to[map[a]] -= from[a];
-                  }
-              }
-          }
-      }
+    PathForwardSolve solve = path_structure(symbolic, ht);
+    solve_panels(symbolic, values.data(), ht, solve, solve.panels);
     return solve;
   }
 
   std::vector<double> compliance_from_paths(const SupernodalSymbolic &symbolic, PathForwardSolve &solve)
   {
-    const Index         m = solve.m;
-    std::vector<double> w(static_cast<std::size_t>(m) * m, 0.);
-    std::vector<double> gram;
-    solve.product_flops = 0;
-    // W = sum over the supernodes on the paths of Y_s^T Y_s, each on its constraints: at
-    // the top, where every path meets, straight into W. Consecutive supernodes with the
-    // same constraints (a chain no path joins) have their panels one after the other, as
-    // one wider panel: one product for the run.
-    const auto same_constraints = [&](const std::size_t a, const std::size_t b) {
-      return std::equal(solve.constraints.begin() + solve.constraint_start[a],
-                        solve.constraints.begin() + solve.constraint_start[a + 1],
-                        solve.constraints.begin() + solve.constraint_start[b],
-                        solve.constraints.begin() + solve.constraint_start[b + 1]);
-    };
-    for (std::size_t k = 0, next = 0; k < solve.supernodes.size(); k = next)
+    return product_of_panels(symbolic, solve, solve.panels);
+  }
+
+  std::vector<double> compliance_on_paths_in_single_precision(const SupernodalSymbolic &symbolic,
+                                                              const std::vector<double> &values,
+                                                              const sparse::CSCMatrix &ht, PathForwardSolve &solve)
+  {
+    check_constraints(symbolic, values, ht);
+    solve = path_structure(symbolic, ht);
+    // The factor's values on the paths, rounded, where the factor holds them.
+    std::vector<float> rounded(values.size());
+    for (const Index s : solve.supernodes)
       {
-        const Index kc    = solve.constraint_start[k + 1] - solve.constraint_start[k];
-        Index       width = 0;
-        for (next = k; next < solve.supernodes.size() && (next == k || same_constraints(k, next)); ++next)
-          width += symbolic.n_columns(solve.supernodes[next]);
-        const double *panel = solve.panels.data() + solve.panel_start[k];
-        solve.product_flops += static_cast<double>(kc) * (kc + 1) * width;
-        if (kc == m)
-          {
-            blas::syrk_lower(static_cast<int>(m), static_cast<int>(width), 1., panel, static_cast<int>(m), 1.,
-                             w.data(), static_cast<int>(m));
-            continue;
-          }
-        gram.resize(static_cast<std::size_t>(kc) * kc);
-        blas::syrk_lower(static_cast<int>(kc), static_cast<int>(width), 1., panel, static_cast<int>(kc), 0.,
-                         gram.data(), static_cast<int>(kc));
-        const Index *own = solve.constraints.data() + solve.constraint_start[k];
-        for (Index b = 0; b < kc; ++b)
-          for (Index a = b; a < kc; ++a)
-            w[own[a] + static_cast<std::size_t>(own[b]) * m] += gram[a + static_cast<std::size_t>(b) * kc];
+        const auto begin = values.begin() + symbolic.value_start[s];
+        std::copy(begin, begin + symbolic.n_rows(s) * symbolic.n_columns(s), rounded.begin() + symbolic.value_start[s]);
       }
-    symmetrize(w, m);
+    std::vector<float> panels;
+    solve_panels(symbolic, rounded.data(), ht, solve, panels);
+    std::vector<double> w = product_of_panels(symbolic, solve, panels);
+    solve.panels.assign(panels.begin(), panels.end());
     return w;
   }
 
@@ -390,26 +457,37 @@ namespace warpchol::cholesky
       else
         fresh.push_back(i);
 
-    // The new unknowns' columns, on their paths.
-    PathForwardSolve   solved = forward_solve_on_paths(symbolic, values, unit_columns(symbolic.n, rows, fresh));
     KeptInverseColumns next;
     next.factor_revision        = factor_revision;
     next.outlive_factor_changes = columns.outlive_factor_changes;
     next.rows                   = rows;
     next.kept                   = m - static_cast<Index>(fresh.size());
     next.solved                 = static_cast<Index>(fresh.size());
+    const sparse::CSCMatrix unit = unit_columns(symbolic.n, rows, fresh);
     if (next.kept == 0)
       {
-        // Nothing kept: Y is the solve itself, G its product.
-        next.gram = compliance_from_paths(symbolic, solved);
+        // Nothing kept: Y is the solve itself, G its product; in single precision where
+        // W is checked anyway.
+        PathForwardSolve solved;
+        next.single_precision = next.outlive_factor_changes;
+        if (next.single_precision)
+          next.gram = compliance_on_paths_in_single_precision(symbolic, values, unit, solved);
+        else
+          {
+            solved    = forward_solve_on_paths(symbolic, values, unit);
+            next.gram = compliance_from_paths(symbolic, solved);
+          }
         next.layers.push_back(std::move(solved));
         next.layer_positions.push_back(fresh);
         columns = std::move(next);
         return;
       }
 
+    // The new unknowns' columns, on their paths.
+    PathForwardSolve solved = forward_solve_on_paths(symbolic, values, unit);
     // The kept entries of G, and the kept layers with their columns' new places.
     next.factor_changes_behind = columns.factor_changes_behind;
+    next.single_precision      = columns.single_precision;
     // Gathered column by column over the kept rows only, without a test per entry; the
     // fresh rows and columns, zero here, are summed by add_fresh_rows_of_gram().
     next.gram = std::move(columns.spare_gram);

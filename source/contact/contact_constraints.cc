@@ -437,6 +437,9 @@ namespace warpchol::fem
     ContactCompliance w = compliance(renew_compliance);
     renew_compliance    = false;
     report.compliance_lag = by_paths ? kept_columns.factor_changes_behind : 0;
+    // A lagged W, or one renewed in single precision, is checked by the correction's
+    // direct solve.
+    const bool checked = report.compliance_lag > 0 || (by_paths && kept_columns.single_precision);
 
     // u = free + W lambda is where Gauss-Seidel aims the contacts (u_n >= 0 keeps the next
     // position out of the obstacle, u_t is the sliding velocity relative to it).
@@ -444,12 +447,12 @@ namespace warpchol::fem
     // Gauss-Seidel need not resolve a lagged W finer than the check lets its correction
     // miss: a tenth of that, or Tolerance if larger.
     GaussSeidelSettings gauss_seidel = contact_settings.gauss_seidel;
-    if (report.compliance_lag > 0)
+    if (checked)
       gauss_seidel.tolerance = std::max(gauss_seidel.tolerance, contact_settings.tolerance / (40 * time_step));
     solve_for_impulses(w, free_velocity, friction, gauss_seidel, statistics);
     apply_impulses(body, model, lambda, velocities, statistics);
-    // W as the factor has it aims where the direct solve goes: only a lagged one is checked.
-    if (report.compliance_lag > 0)
+    // A W exactly as the factor has it aims where the direct solve goes: any other is checked.
+    if (checked)
       aim_again(body, model, compliance, w, free_velocity, friction, gauss_seidel, obstacle_velocity, time_step,
                 velocities, statistics);
 

@@ -88,4 +88,9 @@ namespace warpchol::cholesky::blas
   void gemm(bool transpose_a, bool transpose_b, int m, int n, int k, float alpha, const float *a,
             int lda, const float *b, int ldb, float beta, float *c, int ldc);
   void trsm_left_lower(bool transpose, int n, int nrhs, const float *l, int ldl, float *b, int ldb);
+  /** The same in single precision (sgemm, ssyrk, strsm): a compliance renewed in single precision. */
+  void gemm_nt(int m, int n, int k, float alpha, const float *a, int lda, const float *b, int ldb,
+               float beta, float *c, int ldc);
+  void syrk_lower(int n, int k, float alpha, const float *a, int lda, float beta, float *c, int ldc);
+  void trsm_right_lower_transpose(int m, int n, const float *l, int ldl, float *b, int ldb);
 } // namespace warpchol::cholesky::blas

@@ -87,6 +87,17 @@ namespace warpchol::cholesky
   std::vector<double> compliance_from_paths(const SupernodalSymbolic &symbolic, PathForwardSolve &solve);
 
   /**
+   * forward_solve_on_paths() into @p solve and compliance_from_paths() in single
+   * precision: the path supernodes' values rounded to float, then strsm, sgemm and ssyrk
+   * at about twice the double kernels' rate. W and Y (returned in double) are then those
+   * of the factor to about 1e-6 relative: for a W that is checked against the direct
+   * solve anyway (a lagged one, KeptInverseColumns::outlive_factor_changes).
+   */
+  std::vector<double> compliance_on_paths_in_single_precision(const SupernodalSymbolic &symbolic,
+                                                              const std::vector<double> &values,
+                                                              const sparse::CSCMatrix &ht, PathForwardSolve &solve);
+
+  /**
    * The block of A^-1 among a set S of A's unknowns, kept from one call to the next as a
    * contact step keeps it: Y = L^-1 P^T E_S (E_S the unit columns of S) on the
    * elimination-tree paths, and G = Y^T Y, which is A^-1 on S x S when the factor is exact
@@ -111,6 +122,13 @@ namespace warpchol::cholesky
      * as it is. False: every change of the factor drops what was kept.
      */
     bool outlive_factor_changes = false;
+    /**
+     * Whether the kept columns were renewed in single precision
+     * (compliance_on_paths_in_single_precision(), as every renewal of columns that outlive
+     * the factor's changes is): G is then A^-1 on S to about 1e-6 relative, and a caller
+     * checks the W it makes as it checks a lagged one.
+     */
+    bool single_precision = false;
     /** The changes of the factor since the oldest kept column was solved (0: all are the factor's as it is). */
     unsigned int factor_changes_behind = 0;
     /** The unknowns S in the factor's numbering (rows of P^T A P), in the order of G's rows. */
