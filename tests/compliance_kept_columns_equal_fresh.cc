@@ -46,10 +46,10 @@ namespace
     std::cout << label << ": " << unknowns.size() << " unknowns, " << columns.kept << " kept, " << columns.solved
               << " solved" << std::endl;
     tests::check_below("  max |G - A^-1 block| / max |A^-1 block|",
-                       tests::max_relative_difference(columns.gram, block_by_solves(solver, unknowns)), 1e-10);
+                       tests::max_relative_difference(columns.block(), block_by_solves(solver, unknowns)), 1e-10);
     cholesky::KeptInverseColumns fresh;
     solver.inverse_block(unknowns, fresh);
-    tests::check_below("  max |G - G anew| / max |G anew|", tests::max_relative_difference(columns.gram, fresh.gram), 1e-12);
+    tests::check_below("  max |G - G anew| / max |G anew|", tests::max_relative_difference(columns.block(), fresh.block()), 1e-12);
   }
 } // namespace
 
@@ -118,40 +118,43 @@ int main()
   solver.inverse_block(unknowns_of(first), lagged);
   tests::check("lagged: renewed in single precision", lagged.single_precision);
   const double single_error =
-    tests::max_relative_difference(lagged.gram, block_by_solves(solver, unknowns_of(first)));
+    tests::max_relative_difference(lagged.block(), block_by_solves(solver, unknowns_of(first)));
   std::cout << "  max |G - A^-1 block| / max |A^-1 block| " << (single_error < 1e-5 ? "<= 1e-5" : "> 1e-5")
             << ", > 1e-12 (single, not double): " << (single_error > 1e-12 ? "yes" : "no") << std::endl;
-  const std::vector<double> before = lagged.gram;
+  const std::vector<double> before = lagged.block();
   solver.update(spring);
   solver.inverse_block(unknowns_of(first), lagged);
   tests::check("lagged: the same set after an update() keeps G, one change behind",
-               lagged.kept == 60 && lagged.solved == 0 && lagged.factor_changes_behind == 1 && lagged.gram == before);
+               lagged.kept == 60 && lagged.solved == 0 && lagged.factor_changes_behind == 1 && lagged.block() == before);
   solver.inverse_block(unknowns_of(second), lagged);
   std::cout << "lagged, 14 vertices kept, 8 new: " << lagged.kept << " kept, " << lagged.solved << " solved, "
             << lagged.factor_changes_behind << " change behind" << std::endl;
   cholesky::KeptInverseColumns fresh;
   solver.inverse_block(unknowns_of(second), fresh);
   const std::size_t   m = unknowns_of(second).size(), first_new = m - 24;
-  std::vector<double> new_block, new_block_fresh;
+  const std::vector<double> lagged_block = lagged.block(), fresh_block = fresh.block();
+  std::vector<double>       new_block, new_block_fresh;
   for (std::size_t j = first_new; j < m; ++j)
     for (std::size_t i = first_new; i < m; ++i)
       {
-        new_block.push_back(lagged.gram[i + j * m]);
-        new_block_fresh.push_back(fresh.gram[i + j * m]);
+        new_block.push_back(lagged_block[i + j * m]);
+        new_block_fresh.push_back(fresh_block[i + j * m]);
       }
   tests::check_below("  the new vertices' block of G against G anew", tests::max_relative_difference(new_block, new_block_fresh),
                      1e-12);
   tests::check("  the kept ones' block differs from G anew (it is the old factor's)",
-               tests::max_relative_difference(lagged.gram, fresh.gram) > 1e-8);
+               tests::max_relative_difference(lagged.block(), fresh.block()) > 1e-8);
 
   // A sliding set, as a contact patch moves: each call drops two vertices anywhere in it
   // and takes two new ones (or one back that was dropped). The kept columns stay in the layers they were
   // solved in, dropped ones among them, until the layers merge.
   {
     cholesky::KeptInverseColumns sliding;
+    sliding.group = 3;
     std::vector<Index>           patch(vertices.begin(), vertices.begin() + 12), gone;
     double                       worst = 0;
-    std::size_t                  most_layers = 0, merges = 0, solved = 0;
+    std::size_t                  most_layers = 0, merges = 0, solved = 0, in_place = 0;
+    bool                         grouped = true;
     for (unsigned int call = 0; call < 30; ++call)
       {
         for (unsigned int k = 0; k < 2; ++k)
@@ -168,13 +171,23 @@ int main()
         const std::size_t layers_before = sliding.layers.size();
         solver.inverse_block(unknowns_of(patch), sliding);
         solved += static_cast<std::size_t>(sliding.solved);
+        // New vertices in the places of dropped ones: G's places are not in the order asked.
+        bool in_order = true;
+        for (std::size_t i = 0; i < sliding.places.size(); ++i)
+          in_order = in_order && sliding.places[i] == static_cast<Index>(i);
+        for (std::size_t i = 0; i < sliding.places.size(); i += 3)
+          grouped = grouped && sliding.places[i] % 3 == 0 && sliding.places[i + 1] == sliding.places[i] + 1 &&
+                    sliding.places[i + 2] == sliding.places[i] + 2;
+        in_place += in_order ? 0 : 1;
         most_layers = std::max(most_layers, sliding.layers.size());
         merges += sliding.layers.size() == 1 && layers_before > 1 ? 1 : 0;
         cholesky::KeptInverseColumns anew;
         solver.inverse_block(unknowns_of(patch), anew);
-        worst = std::max(worst, tests::max_relative_difference(sliding.gram, anew.gram));
+        worst = std::max(worst, tests::max_relative_difference(sliding.block(), anew.block()));
       }
-    std::cout << "a sliding set of 12 vertices, 30 calls: " << solved / 3 << " vertices solved, " << most_layers << " layers at most, " << merges << " merges" << std::endl;
+    std::cout << "a sliding set of 12 vertices, 30 calls: " << solved / 3 << " vertices solved, " << most_layers
+              << " layers at most, " << merges << " merges" << std::endl;
+    tests::check("  new vertices took dropped ones' places in G, a slot of 3 each", in_place > 10 && grouped);
     tests::check_below("  max over the calls of max |G - G anew| / max |G anew|", worst, 1e-12);
     tests::check("  the layers grew and were merged", most_layers > 2 && merges > 0);
   }

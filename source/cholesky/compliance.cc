@@ -320,14 +320,14 @@ namespace warpchol::cholesky
     }
 
     /**
-     * The layers of @p columns merged into one: Y on the paths of all the unknowns of
-     * columns.rows, each column copied from its layer. A column's path is that of its one
-     * nonzero: the same supernodes in either.
+     * The layers of @p columns merged into one: Y on the paths of the unknowns at the
+     * places in use, each column copied from its layer. A column's path is that of its
+     * one nonzero: the same supernodes in either.
      */
     void merge_layers(const SupernodalSymbolic &symbolic, KeptInverseColumns &columns)
     {
-      const Index                     m = static_cast<Index>(columns.rows.size());
-      std::vector<ColumnPlace>        place(m);
+      const Index              n_places = static_cast<Index>(columns.rows.size());
+      std::vector<ColumnPlace> place(n_places);
       std::vector<std::vector<Index>> at(columns.layers.size());
       for (std::size_t l = 0; l < columns.layers.size(); ++l)
         {
@@ -336,10 +336,11 @@ namespace warpchol::cholesky
             if (const Index i = columns.layer_positions[l][c]; i >= 0)
               place[i] = {static_cast<Index>(l), static_cast<Index>(c)};
         }
-      std::vector<Index> all(m);
-      for (Index i = 0; i < m; ++i)
-        all[i] = i;
-      PathForwardSolve merged = path_structure(symbolic, unit_columns(symbolic.n, columns.rows, all));
+      std::vector<Index> used;
+      for (Index p = 0; p < n_places; ++p)
+        if (columns.rows[p] >= 0)
+          used.push_back(p);
+      PathForwardSolve merged = path_structure(symbolic, unit_columns(symbolic.n, columns.rows, used));
       // Per supernode, where each of its constraints' rows comes from; then the panel
       // column by column, so that reads and writes both run down the rows.
       std::vector<const double *> from;
@@ -353,7 +354,7 @@ namespace warpchol::cholesky
           from_ld.resize(kc);
           for (Index a = 0; a < kc; ++a)
             {
-              const ColumnPlace       where  = place[merged.constraints[merged.constraint_start[k] + a]];
+              const ColumnPlace       where  = place[used[merged.constraints[merged.constraint_start[k] + a]]];
               const PathForwardSolve &source = columns.layers[where.layer];
               const Index             ks     = at[where.layer][s];
               from[a]    = source.panels.data() + source.panel_start[ks] + local_row(source, ks, where.column);
@@ -365,29 +366,33 @@ namespace warpchol::cholesky
               to[a + static_cast<std::size_t>(c) * kc] = from[a][static_cast<std::size_t>(c) * from_ld[a]];
         }
       columns.layers.assign(1, std::move(merged));
-      columns.layer_positions.assign(1, all);
+      columns.layer_positions.assign(1, std::move(used));
     }
 
     /**
-     * The rows of G of the new unknowns @p fresh (places in next.rows), solved as @p solved:
-     * among themselves from @p solved alone, and with each kept column supernode by
-     * supernode (their panel rows times the layer's panel, dgemm), mirrored into their
-     * columns.
+     * The rows of G at the places @p fresh of the unknowns solved as @p solved (in its
+     * column order): among themselves from @p solved alone, and with each kept column
+     * supernode by supernode (their panel rows times the layer's panel, dgemm), mirrored
+     * into their columns.
      */
     void add_fresh_rows_of_gram(const SupernodalSymbolic &symbolic, const std::vector<Index> &fresh,
-                                PathForwardSolve &solved, KeptInverseColumns &next)
+                                PathForwardSolve &solved, KeptInverseColumns &columns)
     {
-      const std::size_t         m     = next.rows.size();
+      const std::size_t ld    = columns.rows.size();
+      double           *gram  = columns.gram.data();
+      for (const Index i : fresh)
+        for (std::size_t j = 0; j < ld; ++j)
+          gram[i + j * ld] = 0.;
       const std::vector<double> among = compliance_from_paths(symbolic, solved);
       for (std::size_t b = 0; b < fresh.size(); ++b)
         for (std::size_t a = 0; a < fresh.size(); ++a)
-          next.gram[fresh[a] + fresh[b] * m] = among[a + b * fresh.size()];
+          gram[fresh[a] + fresh[b] * ld] = among[a + b * fresh.size()];
       const std::vector<Index> solved_at = positions_of(symbolic, solved);
       std::vector<double>      product;
-      for (std::size_t l = 0; l < next.layers.size(); ++l)
+      for (std::size_t l = 0; l < columns.layers.size(); ++l)
         {
-          const PathForwardSolve   &layer     = next.layers[l];
-          const std::vector<Index> &positions = next.layer_positions[l];
+          const PathForwardSolve   &layer     = columns.layers[l];
+          const std::vector<Index> &positions = columns.layer_positions[l];
           for (std::size_t k = 0; k < layer.supernodes.size(); ++k)
             {
               const Index ks = solved_at[layer.supernodes[k]];
@@ -406,21 +411,67 @@ namespace warpchol::cholesky
               for (Index b = 0; b < kc; ++b)
                 if (const Index j = positions[own_kept[b]]; j >= 0)
                   for (Index a = 0; a < kf; ++a)
-                    next.gram[fresh[own_fresh[a]] + static_cast<std::size_t>(j) * m] +=
+                    gram[fresh[own_fresh[a]] + static_cast<std::size_t>(j) * ld] +=
                       product[a + static_cast<std::size_t>(b) * kf];
             }
         }
       for (const Index i : fresh)
-        for (std::size_t j = 0; j < m; ++j)
-          next.gram[j + static_cast<std::size_t>(i) * m] = next.gram[i + j * m];
+        for (std::size_t j = 0; j < ld; ++j)
+          gram[j + static_cast<std::size_t>(i) * ld] = gram[i + j * ld];
+    }
+
+    /**
+     * @p columns laid out anew with the unknowns of @p asked at the places 0, 1, ... and
+     * @p spare free places after them: the entries of G among those kept (at @p kept_at,
+     * -1: new) copied, the layers' positions moved with them.
+     */
+    void lay_out_anew(const std::vector<Index> &asked, const std::vector<Index> &kept_at, const std::size_t spare,
+                      KeptInverseColumns &columns)
+    {
+      const std::size_t   n_places = asked.size() + spare, ld = columns.rows.size();
+      std::vector<Index>  goes(ld, -1), kept_rows;
+      std::vector<double> gram(n_places * n_places, 0.);
+      for (std::size_t i = 0; i < asked.size(); ++i)
+        if (kept_at[i] >= 0)
+          {
+            goes[kept_at[i]] = static_cast<Index>(i);
+            kept_rows.push_back(static_cast<Index>(i));
+          }
+      // Column by column over the kept rows only; the new rows and columns stay zero.
+      for (const Index j : kept_rows)
+        {
+          double       *to   = gram.data() + static_cast<std::size_t>(j) * n_places;
+          const double *from = columns.gram.data() + static_cast<std::size_t>(kept_at[j]) * ld;
+          for (const Index i : kept_rows)
+            to[i] = from[kept_at[i]];
+        }
+      for (std::vector<Index> &positions : columns.layer_positions)
+        for (Index &position : positions)
+          position = position >= 0 ? goes[position] : -1;
+      columns.gram = std::move(gram);
+      columns.rows = asked;
+      columns.rows.resize(n_places, -1);
     }
   } // namespace
 
+  std::vector<double> KeptInverseColumns::block() const
+  {
+    const std::size_t   m = places.size(), ld = rows.size();
+    std::vector<double> g(m * m);
+    for (std::size_t j = 0; j < m; ++j)
+      for (std::size_t i = 0; i < m; ++i)
+        g[i + j * m] = gram[places[i] + places[j] * ld];
+    return g;
+  }
+
   void update_inverse_columns(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
-                              const std::uint64_t factor_revision, const std::vector<Index> &rows,
+                              const std::uint64_t factor_revision, const std::vector<Index> &asked,
                               KeptInverseColumns &columns)
   {
-    const Index m = static_cast<Index>(rows.size());
+    const Index m = static_cast<Index>(asked.size()), group = columns.group;
+    if (group < 1 || m % group != 0)
+      throw Error("update_inverse_columns(): " + std::to_string(m) + " unknowns in groups of " +
+                  std::to_string(group));
     if (columns.factor_revision != factor_revision)
       {
         if (columns.outlive_factor_changes && columns.factor_revision != 0)
@@ -430,112 +481,128 @@ namespace warpchol::cholesky
           }
         else
           {
-            const bool outlive = columns.outlive_factor_changes;
-            columns            = KeptInverseColumns();
-            columns.outlive_factor_changes = outlive;
+            KeptInverseColumns anew;
+            anew.outlive_factor_changes = columns.outlive_factor_changes;
+            anew.group                  = group;
+            columns                     = std::move(anew);
           }
       }
-    if (columns.factor_revision != 0 && rows == columns.rows)
+
+    // A group is kept where all of its unknowns sit, in order, at places starting at a
+    // multiple of the group; otherwise it is new, and the places it had are freed.
+    std::unordered_map<Index, Index> place_of;
+    for (std::size_t p = 0; p < columns.rows.size(); ++p)
+      if (columns.rows[p] >= 0)
+        place_of.emplace(columns.rows[p], static_cast<Index>(p));
+    const auto find = [&](const Index unknown) {
+      const auto found = place_of.find(unknown);
+      return found == place_of.end() ? Index(-1) : found->second;
+    };
+    std::vector<Index> kept_at(m, -1), fresh; // fresh: indices into asked
+    for (Index g = 0; g < m; g += group)
       {
-        // The same unknowns in the same order (the same contacts): everything is kept.
-        columns.kept   = m;
-        columns.solved = 0;
-        return;
+        const Index first = find(asked[g]);
+        bool        kept  = first >= 0 && first % group == 0;
+        for (Index c = 1; c < group && kept; ++c)
+          kept = find(asked[g + c]) == first + c;
+        for (Index c = 0; c < group; ++c)
+          if (kept)
+            kept_at[g + c] = first + c;
+          else
+            fresh.push_back(g + c);
       }
-
-    // Where each unknown was in the kept columns (-1: new), and where each kept one goes.
-    std::unordered_map<Index, Index> kept_position;
-    for (std::size_t i = 0; i < columns.rows.size(); ++i)
-      kept_position.emplace(columns.rows[i], static_cast<Index>(i));
-    std::vector<Index> was(m, -1), fresh, goes(columns.rows.size(), -1);
-    for (Index i = 0; i < m; ++i)
-      if (const auto found = kept_position.find(rows[i]); found != kept_position.end())
-        {
-          was[i]              = found->second;
-          goes[found->second] = i;
-        }
-      else
-        fresh.push_back(i);
-
-    KeptInverseColumns next;
-    next.factor_revision        = factor_revision;
-    next.outlive_factor_changes = columns.outlive_factor_changes;
-    next.rows                   = rows;
-    next.kept                   = m - static_cast<Index>(fresh.size());
-    next.solved                 = static_cast<Index>(fresh.size());
-    const sparse::CSCMatrix unit = unit_columns(symbolic.n, rows, fresh);
-    if (next.kept == 0)
+    columns.kept   = m - static_cast<Index>(fresh.size());
+    columns.solved = static_cast<Index>(fresh.size());
+    const sparse::CSCMatrix unit = unit_columns(symbolic.n, asked, fresh);
+    if (columns.kept == 0)
       {
         // Nothing kept: Y is the solve itself, G its product; in single precision where
         // W is checked anyway.
         PathForwardSolve solved;
-        next.single_precision = next.outlive_factor_changes;
-        if (next.single_precision)
-          next.gram = compliance_on_paths_in_single_precision(symbolic, values, unit, solved);
+        columns.single_precision      = columns.outlive_factor_changes;
+        columns.factor_revision       = factor_revision;
+        columns.factor_changes_behind = 0;
+        if (columns.single_precision)
+          columns.gram = compliance_on_paths_in_single_precision(symbolic, values, unit, solved);
         else
           {
-            solved    = forward_solve_on_paths(symbolic, values, unit);
-            next.gram = compliance_from_paths(symbolic, solved);
+            solved       = forward_solve_on_paths(symbolic, values, unit);
+            columns.gram = compliance_from_paths(symbolic, solved);
           }
-        next.layers.push_back(std::move(solved));
-        next.layer_positions.push_back(fresh);
-        columns = std::move(next);
+        columns.rows   = asked;
+        columns.places = fresh;
+        columns.layers.assign(1, std::move(solved));
+        columns.layer_positions.assign(1, fresh);
         return;
       }
 
-    // The new unknowns' columns, on their paths.
-    PathForwardSolve solved = forward_solve_on_paths(symbolic, values, unit);
-    // The kept entries of G, and the kept layers with their columns' new places.
-    next.factor_changes_behind = columns.factor_changes_behind;
-    next.single_precision      = columns.single_precision;
-    // Gathered column by column over the kept rows only, without a test per entry; the
-    // fresh rows and columns, zero here, are summed by add_fresh_rows_of_gram().
-    next.gram = std::move(columns.spare_gram);
-    next.gram.assign(static_cast<std::size_t>(m) * m, 0.);
-    const std::size_t  m_kept = columns.rows.size();
-    std::vector<Index> kept_rows, kept_from;
-    for (Index i = 0; i < m; ++i)
-      if (was[i] >= 0)
-        {
-          kept_rows.push_back(i);
-          kept_from.push_back(was[i]);
-        }
-    for (const Index j : kept_rows)
-      {
-        double       *to   = next.gram.data() + static_cast<std::size_t>(j) * m;
-        const double *from = columns.gram.data() + static_cast<std::size_t>(was[j]) * m_kept;
-        for (std::size_t k = 0; k < kept_rows.size(); ++k)
-          to[kept_rows[k]] = from[kept_from[k]];
-      }
+    // The places no longer asked for are freed, and the columns kept for them dropped.
+    std::vector<char> asked_at(columns.rows.size(), 0);
+    for (const Index p : kept_at)
+      if (p >= 0)
+        asked_at[p] = 1;
+    for (std::size_t p = 0; p < columns.rows.size(); ++p)
+      if (!asked_at[p])
+        columns.rows[p] = -1;
     std::size_t stored_columns = 0;
-    for (std::size_t l = 0; l < columns.layers.size(); ++l)
+    for (std::size_t l = 0; l < columns.layers.size();)
       {
-        std::vector<Index> positions = std::move(columns.layer_positions[l]);
-        bool               live      = false;
-        for (Index &position : positions)
+        bool live = false;
+        for (Index &position : columns.layer_positions[l])
           {
-            position = position >= 0 ? goes[position] : -1;
+            position = position >= 0 && columns.rows[position] >= 0 ? position : -1;
             live     = live || position >= 0;
           }
-        if (!live)
-          continue;
-        stored_columns += positions.size();
-        next.layers.push_back(std::move(columns.layers[l]));
-        next.layer_positions.push_back(std::move(positions));
+        if (live)
+          stored_columns += columns.layer_positions[l++].size();
+        else
+          {
+            columns.layers.erase(columns.layers.begin() + static_cast<std::ptrdiff_t>(l));
+            columns.layer_positions.erase(columns.layer_positions.begin() + static_cast<std::ptrdiff_t>(l));
+          }
       }
-    if (!fresh.empty())
+
+    // The new groups into free places, lowest first. A set that outgrows the places is
+    // laid out anew in the order asked with an eighth more places, for the next to grow
+    // into; one that would leave a quarter of them free, without.
+    const Index        n_places = static_cast<Index>(columns.rows.size());
+    std::vector<Index> free_groups;
+    for (Index p = 0; p < n_places; p += group)
+      if (columns.rows[p] < 0)
+        free_groups.push_back(p);
+    const Index n_fresh_groups = static_cast<Index>(fresh.size()) / group;
+    const bool  outgrown       = n_fresh_groups > static_cast<Index>(free_groups.size());
+    if (outgrown || 4 * (n_places - m) > m)
       {
-        add_fresh_rows_of_gram(symbolic, fresh, solved, next);
-        stored_columns += fresh.size();
-        next.layer_positions.push_back(fresh);
-        next.layers.push_back(std::move(solved));
+        const Index spare = outgrown ? group * ((m / group + 7) / 8) : 0;
+        lay_out_anew(asked, kept_at, static_cast<std::size_t>(spare), columns);
+        for (Index i = 0; i < m; ++i)
+          kept_at[i] = i;
       }
+    else
+      for (Index f = 0; f < n_fresh_groups; ++f)
+        for (Index c = 0; c < group; ++c)
+          {
+            const Index i            = fresh[f * group + c];
+            kept_at[i]               = free_groups[f] + c;
+            columns.rows[kept_at[i]] = asked[i];
+          }
+    columns.places = std::move(kept_at);
+    if (fresh.empty())
+      return;
+
+    std::vector<Index> fresh_places(fresh.size());
+    for (std::size_t f = 0; f < fresh.size(); ++f)
+      fresh_places[f] = columns.places[fresh[f]];
+    PathForwardSolve solved = forward_solve_on_paths(symbolic, values, unit);
+    add_fresh_rows_of_gram(symbolic, fresh_places, solved, columns);
+    stored_columns += fresh.size();
+    columns.layer_positions.push_back(std::move(fresh_places));
+    columns.layers.push_back(std::move(solved));
     // Merged once the dropped columns outnumber the kept ones, or the layers grow many.
     constexpr std::size_t most_layers = 16;
-    if (stored_columns > 2 * static_cast<std::size_t>(m) || next.layers.size() > most_layers)
-      merge_layers(symbolic, next);
-    next.spare_gram = std::move(columns.gram);
-    columns         = std::move(next);
+    if (stored_columns > 2 * static_cast<std::size_t>(m) || columns.layers.size() > most_layers)
+      merge_layers(symbolic, columns);
   }
 
   std::vector<double> compliance_by_full_solves(const SupernodalSymbolic &symbolic,

@@ -381,14 +381,19 @@ namespace warpchol::fem
               for (Index c = 0; c < 3; ++c)
                 unknowns.push_back(first + c);
             ContactCompliance::VertexRows &part = rows[j].parts[rows[j].n_parts++];
-            part.slot                           = place->second;
+            part.slot                           = place->second; // its place among S, until G places it
             part.rows = contact.weights[k] * (rotations ? Matrix3((*rotations)[v].transpose() * directions) : directions);
           }
       }
     kept_columns.outlive_factor_changes = lag;
+    kept_columns.group                  = 3;
     model.solver().inverse_block(unknowns, kept_columns);
     report.kept_columns   = static_cast<unsigned int>(kept_columns.kept);
     report.solved_columns = static_cast<unsigned int>(kept_columns.solved);
+    // Each vertex's slot in G: where its three unknowns were placed.
+    for (ContactCompliance::ContactRows &contact : rows)
+      for (unsigned int k = 0; k < contact.n_parts; ++k)
+        contact.parts[k].slot = kept_columns.places[3 * contact.parts[k].slot] / 3;
     return ContactCompliance::factored(kept_columns.gram, std::move(rows));
   }
 

@@ -104,11 +104,12 @@ namespace warpchol::cholesky
    * (the preconditioner's inverse otherwise, as SparseCholesky::compliance() takes it).
    *
    * While the factor does not change (SparseCholesky::factor_revision()), an unknown that
-   * stays in S keeps its column of Y and its entries of G with the others that stay: only
-   * the new unknowns' columns are solved, and only their rows of G multiplied. Unit columns
-   * rather than a contact's rows: the rows h = w R^T n (a contact's normal or tangent, its
-   * weight, the nodal rotation of a model that solves in a rotated frame) change from step
-   * to step while the vertex does not, and W = H A^-1 H^T is then read from G through them
+   * stays in S keeps its column of Y and its place in G with its entries there: only the
+   * new unknowns' columns are solved, their rows of G multiplied and written into places
+   * that dropped unknowns left, so that nothing of G is copied. Unit columns rather than a
+   * contact's rows: the rows h = w R^T n (a contact's normal or tangent, its weight, the
+   * nodal rotation of a model that solves in a rotated frame) change from step to step
+   * while the vertex does not, and W = H A^-1 H^T is then read from G through them
    * (fem::ContactCompliance: W = D^T G D, never formed).
    */
   struct KeptInverseColumns
@@ -131,23 +132,37 @@ namespace warpchol::cholesky
     bool single_precision = false;
     /** The changes of the factor since the oldest kept column was solved (0: all are the factor's as it is). */
     unsigned int factor_changes_behind = 0;
-    /** The unknowns S in the factor's numbering (rows of P^T A P), in the order of G's rows. */
+    /**
+     * The unknowns come in groups of this many, each group's consecutive in the call and
+     * given consecutive places of G starting at a multiple of it (a vertex's 3 unknowns,
+     * which fem::ContactCompliance reads as one slot). The number of unknowns asked for
+     * must be a multiple of it.
+     */
+    Index group = 1;
+    /** The unknown (the factor's numbering, a row of P^T A P) at each place of G; -1: a free place. */
     std::vector<Index> rows;
+    /** Of the last call: the place in G of each unknown asked for, in the order asked. */
+    std::vector<Index> places;
     /**
      * Y, a unit column per unknown, in layers: those solved by one call each. A column
      * stays where it was solved while its unknown stays in S, so that a call whose S
-     * changes by a few unknowns solves and multiplies those few and copies nothing; the
-     * layers are merged into one once they hold more dropped columns than kept ones.
+     * changes by a few unknowns solves and multiplies those few; the layers are merged
+     * into one once they hold more dropped columns than kept ones.
      */
     std::vector<PathForwardSolve> layers;
-    /** For each layer, each column's row of G (its unknown's place in rows; -1: dropped). */
+    /** For each layer, each column's place in G (-1: dropped). */
     std::vector<std::vector<Index>> layer_positions;
-    /** G = Y^T Y, |S| x |S|, column-major, both triangles. */
+    /**
+     * G = Y^T Y on the places (rows.size() x rows.size(), column-major, both triangles);
+     * the entries of free places are stale. A set that outgrows the places, or leaves a
+     * quarter of them free, is laid out anew.
+     */
     std::vector<double> gram;
-    /** The G before, whose storage the next call fills: a new G of megabytes would touch fresh pages. */
-    std::vector<double> spare_gram;
     /** Of the last call: the unknowns whose column was kept, and those solved. */
     Index kept = 0, solved = 0;
+
+    /** G among the unknowns of the last call, in their order (|S| x |S|, a copy: tests). */
+    std::vector<double> block() const;
   };
 
   /**
