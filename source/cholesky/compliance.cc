@@ -3,6 +3,7 @@
 #include <warpchol/cholesky/compliance.h>
 
 #include <algorithm>
+#include <memory>
 #include <unordered_map>
 
 #include "supernode_solve_kernel.h"
@@ -22,12 +23,18 @@ namespace warpchol::cholesky
       ht.check_consistency();
     }
 
-    /** Copy the lower triangle of the m x m @p w into its upper one. */
+    /**
+     * Copy the lower triangle of the m x m @p w into its upper one, in tiles: a tile's
+     * strided writes then fall on a few dozen rows that stay in cache.
+     */
     void symmetrize(std::vector<double> &w, const Index m)
     {
-      for (Index j = 0; j < m; ++j)
-        for (Index i = j + 1; i < m; ++i)
-          w[j + i * m] = w[i + j * m];
+      constexpr Index tile = 32;
+      for (Index jb = 0; jb < m; jb += tile)
+        for (Index ib = jb; ib < m; ib += tile)
+          for (Index j = jb; j < std::min(jb + tile, m); ++j)
+            for (Index i = std::max(ib, j + 1); i < std::min(ib + tile, m); ++i)
+              w[j + i * m] = w[i + j * m];
     }
 
     /**
@@ -289,15 +296,16 @@ namespace warpchol::cholesky
   {
     check_constraints(symbolic, values, ht);
     solve = path_structure(symbolic, ht);
-    // The factor's values on the paths, rounded, where the factor holds them.
-    std::vector<float> rounded(values.size());
+    // The factor's values on the paths, rounded, where the factor holds them (the rest
+    // is never read, nor set).
+    const std::unique_ptr<float[]> rounded(new float[values.size()]);
     for (const Index s : solve.supernodes)
       {
         const auto begin = values.begin() + symbolic.value_start[s];
-        std::copy(begin, begin + symbolic.n_rows(s) * symbolic.n_columns(s), rounded.begin() + symbolic.value_start[s]);
+        std::copy(begin, begin + symbolic.n_rows(s) * symbolic.n_columns(s), rounded.get() + symbolic.value_start[s]);
       }
     std::vector<float> panels;
-    solve_panels(symbolic, rounded.data(), ht, solve, panels);
+    solve_panels(symbolic, rounded.get(), ht, solve, panels);
     std::vector<double> w = product_of_panels(symbolic, solve, panels);
     solve.panels.assign(panels.begin(), panels.end());
     return w;

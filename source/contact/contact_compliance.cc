@@ -81,15 +81,7 @@ namespace warpchol::fem
     if (lambda.size() != 3 * contact_count)
       throw Error("ContactCompliance::times(): " + std::to_string(lambda.size()) + " impulses for " +
                   std::to_string(contact_count) + " contacts");
-    const Product       product(*this, lambda);
-    std::vector<double> result(3 * contact_count);
-    for (std::size_t j = 0; j < contact_count; ++j)
-      {
-        const Vector3 u = product.velocity(j);
-        for (std::size_t d = 0; d < 3; ++d)
-          result[3 * j + d] = u[d];
-      }
-    return result;
+    return Product(*this, lambda).values();
   }
 
   std::vector<double> ContactCompliance::matrix() const
@@ -134,6 +126,18 @@ namespace warpchol::fem
     for (unsigned int a = 0; a < rows.n_parts; ++a)
       u.noalias() += rows.parts[a].rows.transpose() * Eigen::Map<const Vector3>(state.data() + 3 * rows.parts[a].slot);
     return u;
+  }
+
+  std::vector<double> ContactCompliance::Product::values() const
+  {
+    std::vector<double> result(3 * compliance.contact_count);
+    for (std::size_t j = 0; j < compliance.contact_count; ++j)
+      {
+        const Vector3 u = velocity(j);
+        for (std::size_t d = 0; d < 3; ++d)
+          result[3 * j + d] = u[d];
+      }
+    return result;
   }
 
   void ContactCompliance::Product::add(const std::size_t j, const Vector3 &delta)

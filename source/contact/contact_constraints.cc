@@ -454,19 +454,21 @@ namespace warpchol::fem
     GaussSeidelSettings gauss_seidel = contact_settings.gauss_seidel;
     if (checked)
       gauss_seidel.tolerance = std::max(gauss_seidel.tolerance, contact_settings.tolerance / (40 * time_step));
-    solve_for_impulses(w, free_velocity, friction, gauss_seidel, statistics);
+    std::optional<ContactCompliance::Product> w_lambda;
+    solve_for_impulses(w, free_velocity, friction, gauss_seidel, w_lambda, statistics);
     apply_impulses(body, model, lambda, velocities, statistics);
     // A W exactly as the factor has it aims where the direct solve goes: any other is checked.
     if (checked)
-      aim_again(body, model, compliance, w, free_velocity, friction, gauss_seidel, obstacle_velocity, time_step,
-                velocities, statistics);
+      aim_again(body, model, compliance, w, w_lambda, free_velocity, friction, gauss_seidel, obstacle_velocity,
+                time_step, velocities, statistics);
 
     record_forces_and_gaps(positions, velocities, obstacle_velocity, time, time_step);
   }
 
   void ContactConstraints::aim_again(const ElasticBody &body, ElasticityModel &model,
                                      const std::function<ContactCompliance(bool)> &compliance,
-                                     ContactCompliance &w, std::vector<double> free_velocity,
+                                     ContactCompliance &w, std::optional<ContactCompliance::Product> &product,
+                                     std::vector<double> free_velocity,
                                      const std::vector<double> &friction, const GaussSeidelSettings &gauss_seidel,
                                      const std::vector<Vector3> &obstacle_velocity, const double time_step,
                                      std::vector<Vector3> &velocities, StepStatistics &statistics)
@@ -477,7 +479,7 @@ namespace warpchol::fem
     const auto          measure_miss = [&]() {
       StageTimer timer(statistics.stages, stage::contact_correction);
       reached          = contact_velocities(velocities, obstacle_velocity, time_step);
-      w_lambda         = w.times(lambda);
+      w_lambda         = product->values();
       report.aim_error = 0;
       for (std::size_t i = 0; i < reached.size(); ++i)
         report.aim_error = std::max(report.aim_error, std::abs(reached[i] - free_velocity[i] - w_lambda[i]));
@@ -492,8 +494,9 @@ namespace warpchol::fem
       {
         if (round == rounds_with_lagged_w)
           {
-            w                     = compliance(true);
-            w_lambda              = w.times(lambda);
+            w = compliance(true);
+            product.emplace(w, lambda);
+            w_lambda              = product->values();
             report.compliance_lag = 0;
             renewed               = true;
           }
@@ -504,8 +507,8 @@ namespace warpchol::fem
         const unsigned int        iterations = report.gauss_seidel.iterations;
         {
           StageTimer timer(statistics.stages, stage::contact_gauss_seidel);
-          report.gauss_seidel = solve_friction_cone(w, free_velocity, friction,
-                                                    renewed ? contact_settings.gauss_seidel : gauss_seidel, lambda);
+          report.gauss_seidel = solve_friction_cone(
+            w, free_velocity, friction, renewed ? contact_settings.gauss_seidel : gauss_seidel, lambda, *product);
         }
         report.gauss_seidel.iterations += iterations;
         std::vector<double> change(m);
@@ -620,6 +623,7 @@ namespace warpchol::fem
 
   void ContactConstraints::solve_for_impulses(const ContactCompliance &w, const std::vector<double> &free_velocity,
                                               const std::vector<double> &friction, const GaussSeidelSettings &settings,
+                                              std::optional<ContactCompliance::Product> &w_lambda,
                                               StepStatistics &statistics)
   {
     const std::size_t n_contacts = step_contacts.size();
@@ -633,8 +637,9 @@ namespace warpchol::fem
       if (const auto found = previous.find(contact_key(step_contacts[j])); found != previous.end())
         for (std::size_t d = 0; d < 3; ++d)
           start[3 * j + d] = lambda[3 * found->second + d];
-    lambda              = std::move(start);
-    report.gauss_seidel = solve_friction_cone(w, free_velocity, friction, settings, lambda);
+    lambda = std::move(start);
+    w_lambda.emplace(w, lambda);
+    report.gauss_seidel = solve_friction_cone(w, free_velocity, friction, settings, lambda, *w_lambda);
   }
 
   void ContactConstraints::record_forces_and_gaps(const std::vector<Vector3> &positions,

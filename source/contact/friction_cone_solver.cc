@@ -11,15 +11,21 @@ namespace warpchol::fem
                                         const std::vector<double> &friction, const GaussSeidelSettings &settings,
                                         std::vector<double> &lambda)
   {
-    const std::size_t n_contacts = w.n_contacts(), m = 3 * n_contacts;
-    if (free_velocity.size() != m || friction.size() != n_contacts)
-      throw Error("solve_friction_cone(): " + std::to_string(free_velocity.size()) + " rows, " +
-                  std::to_string(friction.size()) + " friction coefficients, W of " + std::to_string(m) + " rows");
-    if (lambda.size() != m)
-      lambda.assign(m, 0.);
+    if (lambda.size() != 3 * w.n_contacts())
+      lambda.assign(3 * w.n_contacts(), 0.);
+    ContactCompliance::Product w_lambda(w, lambda);
+    return solve_friction_cone(w, free_velocity, friction, settings, lambda, w_lambda);
+  }
 
-    // W lambda, kept up to date as each contact's impulse changes.
-    ContactCompliance::Product product(w, lambda);
+  GaussSeidelResult solve_friction_cone(const ContactCompliance &w, const std::vector<double> &free_velocity,
+                                        const std::vector<double> &friction, const GaussSeidelSettings &settings,
+                                        std::vector<double> &lambda, ContactCompliance::Product &product)
+  {
+    const std::size_t n_contacts = w.n_contacts(), m = 3 * n_contacts;
+    if (free_velocity.size() != m || friction.size() != n_contacts || lambda.size() != m)
+      throw Error("solve_friction_cone(): " + std::to_string(free_velocity.size()) + " rows, " +
+                  std::to_string(friction.size()) + " friction coefficients, " + std::to_string(lambda.size()) +
+                  " impulses, W of " + std::to_string(m) + " rows");
 
     GaussSeidelResult result;
     result.converged = n_contacts == 0;

@@ -86,6 +86,8 @@ namespace warpchol::fem
       Vector3 velocity(std::size_t j) const;
       /** lambda_j += @p delta. */
       void add(std::size_t j, const Vector3 &delta);
+      /** W lambda, 3 rows per contact. */
+      std::vector<double> values() const;
 
     private:
       const ContactCompliance &compliance;

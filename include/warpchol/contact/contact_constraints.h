@@ -13,6 +13,7 @@
 #include <array>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -226,11 +227,11 @@ namespace warpchol::fem
     /**
      * lambda: the impulses of the step's contacts by projected Gauss-Seidel on @p w, warm
      * started from those of the contacts that persist (same vertex, same obstacle), to
-     * @p settings.
+     * @p settings; @p w_lambda then holds W lambda.
      */
     void solve_for_impulses(const ContactCompliance &w, const std::vector<double> &free_velocity,
                             const std::vector<double> &friction, const GaussSeidelSettings &settings,
-                            StepStatistics &statistics);
+                            std::optional<ContactCompliance::Product> &w_lambda, StepStatistics &statistics);
 
     /**
      * u = H v + the targets at @p velocities, 3 rows per contact of the step: the normal
@@ -245,12 +246,13 @@ namespace warpchol::fem
      * the contacts' velocities and Gauss-Seidel's aim, @p free_velocity + W lambda. Past a
      * quarter of the tolerance in the step, Gauss-Seidel again from where the correction
      * left the contacts, and another correcting solve; twice with @p w (to @p gauss_seidel),
-     * then with W renewed (@p compliance(true), which drops the kept columns). Counts the
-     * rounds toward the next renewal.
+     * then with W renewed (@p compliance(true), which drops the kept columns). @p product
+     * holds W lambda from Gauss-Seidel, and keeps it. Counts the rounds toward the next
+     * renewal.
      */
     void aim_again(const ElasticBody &body, ElasticityModel &model,
                    const std::function<ContactCompliance(bool)> &compliance, ContactCompliance &w,
-                   std::vector<double> free_velocity, const std::vector<double> &friction,
+                   std::optional<ContactCompliance::Product> &product, std::vector<double> free_velocity, const std::vector<double> &friction,
                    const GaussSeidelSettings &gauss_seidel, const std::vector<Vector3> &obstacle_velocity,
                    double time_step, std::vector<Vector3> &velocities, StepStatistics &statistics);
 

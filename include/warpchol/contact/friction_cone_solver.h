@@ -49,4 +49,13 @@ namespace warpchol::fem
   GaussSeidelResult solve_friction_cone(const ContactCompliance &w, const std::vector<double> &free_velocity,
                                         const std::vector<double> &friction, const GaussSeidelSettings &settings,
                                         std::vector<double> &lambda);
+
+  /**
+   * The same from W @p lambda as @p w_lambda holds it (ContactCompliance::Product of @p w
+   * at @p lambda, which a caller that solves again keeps), which then holds W lambda at
+   * the returned lambda: no product of W at the start or for the caller after.
+   */
+  GaussSeidelResult solve_friction_cone(const ContactCompliance &w, const std::vector<double> &free_velocity,
+                                        const std::vector<double> &friction, const GaussSeidelSettings &settings,
+                                        std::vector<double> &lambda, ContactCompliance::Product &w_lambda);
 } // namespace warpchol::fem
