@@ -125,6 +125,7 @@ namespace warpchol::app
       *elastic_body, all.time_stepping.time_step, all.time_stepping.rayleigh_mass,
       all.time_stepping.rayleigh_stiffness, scene_loads);
     elasticity_model = create_model(all.model, *elastic_body, coefficients, all.solver);
+    elasticity_model->set_run_length(all.time_stepping.n_steps);
     time_integrator  = std::make_unique<fem::ImplicitEuler>(*elastic_body, *elasticity_model, scene_loads,
                                                            all.time_stepping.time_step, surgery());
     // The obstacles: each refused, at its subsection, if it starts inside the body.

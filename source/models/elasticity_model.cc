@@ -430,6 +430,11 @@ namespace warpchol::fem
     last_solve_seconds = stopwatch.seconds();
   }
 
+  void ElasticityModel::set_run_length(const unsigned int steps)
+  {
+    run_length = steps;
+  }
+
   void ElasticityModel::solve_again(const std::vector<Vector3> &right_hand_side,
                                     std::vector<Vector3> &velocities, StepStatistics &statistics)
   {

@@ -129,7 +129,7 @@ namespace warpchol::fem
     return -1;
   }
 
-  bool StepCostModel::exact_step_is_due(const unsigned int staleness) const
+  bool StepCostModel::exact_step_is_due(const unsigned int staleness, const unsigned int steps_left) const
   {
     if (exact_seconds < 0)
       return true;
@@ -149,7 +149,20 @@ namespace warpchol::fem
         cycle += cost[length - 2];
         least_average = std::min(least_average, cycle / length);
       }
-    return cost[std::min(std::max(staleness, 1u), longest_staleness) - 1] > least_average;
+    const auto cost_at = [&](const unsigned int s) { return cost[std::min(std::max(s, 1u), longest_staleness) - 1]; };
+    if (cost_at(staleness) <= least_average)
+      return false;
+    if (steps_left == 0)
+      return true;
+    // Near the run's end a cycle cannot run its course: an exact step now, then the steps
+    // after it, against iterating on at the staleness reached.
+    double exact_now = exact_seconds, iterate_on = 0;
+    for (unsigned int k = 0; k < steps_left; ++k)
+      {
+        exact_now += k > 0 ? cost_at(k) : 0.;
+        iterate_on += cost_at(staleness + k);
+      }
+    return exact_now < iterate_on;
   }
 
   void StepCostModel::save(BinaryWriter &writer) const

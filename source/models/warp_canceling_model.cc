@@ -523,8 +523,9 @@ namespace warpchol::fem
     // (on the WCC matrix they would change the system being solved).
     const unsigned int staleness = history.step_count - history.factor_step;
     // With the refreshes beside the steps the factor is made exact there, never here.
+    const unsigned int steps_left = run_length >= history.step_count ? run_length - history.step_count + 1 : 0;
     if (automatic && strategy.iterate_on == StepStrategy::Target::corotational && !refreshes_beside_the_steps() &&
-        cost_model.exact_step_is_due(staleness))
+        cost_model.exact_step_is_due(staleness, steps_left))
       {
         // Iterating on would cost more than the least average of a cycle that starts now.
         statistics.choice            = StepChoice::exact;

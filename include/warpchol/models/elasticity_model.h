@@ -347,6 +347,13 @@ namespace warpchol::fem
      */
     bool solves_iteratively() const;
 
+    /**
+     * The steps the run takes in all (0, the default: not known). A strategy that makes
+     * its factor exact to serve the steps after it (the automatic one) does not do so for
+     * steps that cannot repay it.
+     */
+    void set_run_length(unsigned int steps);
+
     /** Whether the model uses rotations at all (all but the linear one). */
     virtual bool uses_rotations() const;
 
@@ -554,6 +561,8 @@ namespace warpchol::fem
     std::uint64_t            whole_changes_read = std::numeric_limits<std::uint64_t>::max();
     /** The peer that replaces cholesky_solver (Solver/Backend); null: warpchol's own. */
     std::unique_ptr<backends::LinearSolver> peer_solver;
+    /** set_run_length(): the steps of the run (0: not known). */
+    unsigned int             run_length = 0;
 
   private:
     /**

@@ -176,9 +176,11 @@ namespace warpchol::fem
     /**
      * Whether the step @p staleness steps after the last exact factor should be exact
      * (the rule above); true before an exact step was measured, false before an
-     * iterating one was.
+     * iterating one was. With @p steps_left (this one included; 0: not known) the run's
+     * end is in view: an exact step is due only if it and the steps after it up to the
+     * end cost less than iterating on to the end.
      */
-    bool exact_step_is_due(unsigned int staleness) const;
+    bool exact_step_is_due(unsigned int staleness, unsigned int steps_left = 0) const;
 
     /**
      * Whether enough was measured to weigh the refreshes of an iterating step: before that,
