@@ -40,7 +40,7 @@ namespace warpchol::fem
     const Index       order = static_cast<Index>(order_of(gram.size()));
     if (order == 0 && !gram.empty())
       throw Error("ContactCompliance::factored(): G of " + std::to_string(gram.size()) +
-                  " entries is not |S| x |S| with 3 unknowns per vertex");
+                  " entries is not square over slots of 3 unknowns");
     compliance.gram          = &gram;
     compliance.order         = order;
     compliance.contact_count = contacts.size();

@@ -53,9 +53,10 @@ namespace warpchol::fem
     static ContactCompliance whole(std::vector<double> w);
 
     /**
-     * W = D^T G D: @p gram is G, |S| x |S| column-major (3 unknowns per slot), which must
-     * outlive this object and stay unchanged; @p contacts the rows of each contact on its
-     * vertices' slots.
+     * W = D^T G D: @p gram is G, column-major, square over slots of 3 unknowns (slots no
+     * contact reads may be free: cholesky::KeptInverseColumns), which must outlive this
+     * object and stay unchanged; @p contacts the rows of each contact on its vertices'
+     * slots.
      */
     static ContactCompliance factored(const std::vector<double> &gram, std::vector<ContactRows> contacts);
 
