@@ -39,7 +39,8 @@ namespace warpchol::cholesky
 
     /**
      * The structure of the forward solve of the columns of @p ht on their paths: the
-     * supernodes, their constraints and where their panels start; the panels zero.
+     * supernodes, their constraints and where their panels start; the panels are left to
+     * the caller (in the precision it solves in).
      */
     PathForwardSolve path_structure(const SupernodalSymbolic &symbolic, const sparse::CSCMatrix &ht)
     {
@@ -83,7 +84,6 @@ namespace warpchol::cholesky
         const Index k = position_of[s];
         solve.constraints[solve.constraint_start[k] + filled[k]++] = i;
       });
-      solve.panels.assign(solve.panel_start.back(), 0.);
       return solve;
     }
 
@@ -349,6 +349,7 @@ namespace warpchol::cholesky
         if (columns.rows[p] >= 0)
           used.push_back(p);
       PathForwardSolve merged = path_structure(symbolic, unit_columns(symbolic.n, columns.rows, used));
+      merged.panels.resize(merged.panel_start.back());
       // Per supernode, where each of its constraints' rows comes from; then the panel
       // column by column, so that reads and writes both run down the rows.
       std::vector<const double *> from;
