@@ -3,7 +3,7 @@
 #include <warpchol/cholesky/compliance.h>
 
 #include <algorithm>
-#include <memory>
+#include <type_traits>
 #include <unordered_map>
 
 #include "supernode_solve_kernel.h"
@@ -136,15 +136,27 @@ namespace warpchol::cholesky
 
     /**
      * The panels of @p solve (its structure from path_structure()) solved with the factor
-     * @p values (laid out as the supernodal factor's values, in the precision Scalar):
-     * the right-hand sides of @p ht placed, then supernode by supernode, children first,
-     * Y_s = L_ss^-1 b_s on the panel (transposed: Y_s^T L_ss^-T), then the rows below it,
-     * L_bs Y_s (gemm), subtracted from the panels of the ancestors that hold those rows.
+     * @p values in the precision Scalar: the right-hand sides of @p ht placed, then
+     * supernode by supernode, children first, Y_s = L_ss^-1 b_s on the panel (transposed:
+     * Y_s^T L_ss^-T), then the rows below it, L_bs Y_s (gemm), subtracted from the panels
+     * of the ancestors that hold those rows. In single precision each supernode's values
+     * are rounded as it comes, into a buffer that stays in cache for its products.
      */
     template <typename Scalar>
-    void solve_panels(const SupernodalSymbolic &symbolic, const Scalar *values, const sparse::CSCMatrix &ht,
-                      PathForwardSolve &solve, std::vector<Scalar> &panels)
+    void solve_panels(const SupernodalSymbolic &symbolic, const std::vector<double> &values,
+                      const sparse::CSCMatrix &ht, PathForwardSolve &solve, std::vector<Scalar> &panels)
     {
+      std::vector<Scalar> rounded;
+      const auto          values_of = [&](const Index s) -> const Scalar * {
+        const double *begin = values.data() + symbolic.value_start[s];
+        if constexpr (std::is_same_v<Scalar, double>)
+          return begin;
+        else
+          {
+            rounded.assign(begin, begin + symbolic.n_rows(s) * symbolic.n_columns(s));
+            return rounded.data();
+          }
+      };
       const std::vector<Index> position_of = positions_of(symbolic, solve);
       panels.assign(solve.panel_start.back(), Scalar(0));
       const auto local_constraint = [&](const Index k, const Index i) {
@@ -169,7 +181,7 @@ namespace warpchol::cholesky
           const Index   s  = solve.supernodes[k];
           const Index   kc = solve.constraint_start[k + 1] - solve.constraint_start[k];
           const Index   nc = symbolic.n_columns(s), nr = symbolic.n_rows(s), rows_below = nr - nc;
-          const Scalar *ls = values + symbolic.value_start[s];
+          const Scalar *ls = values_of(s);
           const Index  *rows = symbolic.row_index.data() + symbolic.row_start[s];
           Scalar       *panel = panels.data() + solve.panel_start[k];
           solve_panel(kc, nc, ls, nr, panel);
@@ -281,7 +293,7 @@ namespace warpchol::cholesky
   {
     check_constraints(symbolic, values, ht);
     PathForwardSolve solve = path_structure(symbolic, ht);
-    solve_panels(symbolic, values.data(), ht, solve, solve.panels);
+    solve_panels(symbolic, values, ht, solve, solve.panels);
     return solve;
   }
 
@@ -296,16 +308,8 @@ namespace warpchol::cholesky
   {
     check_constraints(symbolic, values, ht);
     solve = path_structure(symbolic, ht);
-    // The factor's values on the paths, rounded, where the factor holds them (the rest
-    // is never read, nor set).
-    const std::unique_ptr<float[]> rounded(new float[values.size()]);
-    for (const Index s : solve.supernodes)
-      {
-        const auto begin = values.begin() + symbolic.value_start[s];
-        std::copy(begin, begin + symbolic.n_rows(s) * symbolic.n_columns(s), rounded.get() + symbolic.value_start[s]);
-      }
     std::vector<float> panels;
-    solve_panels(symbolic, rounded.get(), ht, solve, panels);
+    solve_panels(symbolic, values, ht, solve, panels);
     std::vector<double> w = product_of_panels(symbolic, solve, panels);
     solve.panels.assign(panels.begin(), panels.end());
     return w;
