@@ -42,7 +42,8 @@ namespace warpchol::app
                         "factor gives it), Gauss-Seidel stopping at Contact distance / (40 dt) if that "
                         "is above Tolerance; a step whose contacts end more than a quarter of Contact "
                         "distance from where Gauss-Seidel aimed them is solved again from there, and W "
-                        "is renewed after six such rounds. Faster steps, penetrations within a quarter "
+                        "is renewed (in single precision, which the same check covers) after six such "
+                        "rounds. Faster steps, penetrations within a quarter "
                         "of Contact distance instead of the exact compliance's. false: W renewed at "
                         "every change of the factor");
       prm.leave_subsection();
