@@ -49,7 +49,8 @@ namespace
                        tests::max_relative_difference(columns.block(), block_by_solves(solver, unknowns)), 1e-10);
     cholesky::KeptInverseColumns fresh;
     solver.inverse_block(unknowns, fresh);
-    tests::check_below("  max |G - G anew| / max |G anew|", tests::max_relative_difference(columns.block(), fresh.block()), 1e-12);
+    tests::check_below("  max |G - G anew| / max |G anew|",
+                       tests::max_relative_difference(columns.block(), fresh.block()), 1e-12);
   }
 } // namespace
 
@@ -125,7 +126,8 @@ int main()
   solver.update(spring);
   solver.inverse_block(unknowns_of(first), lagged);
   tests::check("lagged: the same set after an update() keeps G, one change behind",
-               lagged.kept == 60 && lagged.solved == 0 && lagged.factor_changes_behind == 1 && lagged.block() == before);
+               lagged.kept == 60 && lagged.solved == 0 && lagged.factor_changes_behind == 1 &&
+                 lagged.block() == before);
   solver.inverse_block(unknowns_of(second), lagged);
   std::cout << "lagged, 14 vertices kept, 8 new: " << lagged.kept << " kept, " << lagged.solved << " solved, "
             << lagged.factor_changes_behind << " change behind" << std::endl;

@@ -19,7 +19,7 @@ namespace warpchol::fem
 
   GaussSeidelResult solve_friction_cone(const ContactCompliance &w, const std::vector<double> &free_velocity,
                                         const std::vector<double> &friction, const GaussSeidelSettings &settings,
-                                        std::vector<double> &lambda, ContactCompliance::Product &product)
+                                        std::vector<double> &lambda, ContactCompliance::Product &w_lambda)
   {
     const std::size_t n_contacts = w.n_contacts(), m = 3 * n_contacts;
     if (free_velocity.size() != m || friction.size() != n_contacts || lambda.size() != m)
@@ -38,7 +38,7 @@ namespace warpchol::fem
             const std::size_t n = 3 * j, t1 = n + 1, t2 = n + 2;
             const Matrix3    &block = w.diagonal_block(j);
             const double      old_n = lambda[n], old_t1 = lambda[t1], old_t2 = lambda[t2];
-            Vector3           u = product.velocity(j) + Vector3(free_velocity[n], free_velocity[t1], free_velocity[t2]);
+            Vector3           u = w_lambda.velocity(j) + Vector3(free_velocity[n], free_velocity[t1], free_velocity[t2]);
 
             // The normal: the impulse that makes u_n vanish, or none if it separates. The
             // tangential velocities then move by the block's first column.
@@ -72,7 +72,7 @@ namespace warpchol::fem
                       }
                   }
               }
-            product.add(j, Vector3(new_n - old_n, new_t1 - old_t1, new_t2 - old_t2));
+            w_lambda.add(j, Vector3(new_n - old_n, new_t1 - old_t1, new_t2 - old_t2));
             lambda[n]  = new_n;
             lambda[t1] = new_t1;
             lambda[t2] = new_t2;
