@@ -38,7 +38,7 @@ namespace warpchol::fem
             const std::size_t n = 3 * j, t1 = n + 1, t2 = n + 2;
             const Matrix3    &block = w.diagonal_block(j);
             const double      old_n = lambda[n], old_t1 = lambda[t1], old_t2 = lambda[t2];
-            Vector3           u = w_lambda.velocity(j) + Vector3(free_velocity[n], free_velocity[t1], free_velocity[t2]);
+            Vector3 u = w_lambda.velocity(j) + Vector3(free_velocity[n], free_velocity[t1], free_velocity[t2]);
 
             // The normal: the impulse that makes u_n vanish, or none if it separates. The
             // tangential velocities then move by the block's first column.

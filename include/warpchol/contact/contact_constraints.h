@@ -253,8 +253,9 @@ namespace warpchol::fem
     void aim_again(const ElasticBody &body, ElasticityModel &model,
                    const std::function<ContactCompliance(bool)> &compliance, ContactCompliance &w,
                    std::optional<ContactCompliance::Product> &product, std::vector<double> free_velocity,
-                   const std::vector<double> &friction, const GaussSeidelSettings &gauss_seidel, const std::vector<Vector3> &obstacle_velocity,
-                   double time_step, std::vector<Vector3> &velocities, StepStatistics &statistics);
+                   const std::vector<double> &friction, const GaussSeidelSettings &gauss_seidel,
+                   const std::vector<Vector3> &obstacle_velocity, double time_step,
+                   std::vector<Vector3> &velocities, StepStatistics &statistics);
 
     /** v += A~^-1 H^T (@p impulses, 3 per contact of the step): one solve with the model. */
     void apply_impulses(const ElasticBody &body, ElasticityModel &model, const std::vector<double> &impulses,
