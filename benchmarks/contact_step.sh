@@ -7,7 +7,8 @@
 # CORE (default 1), REFINEMENTS (default: the scene's Mesh/Refinements; 0 runs SOFA's liver
 # as SOFA ships it, 596 tets, about a quarter of the rows). Per run: the contact stages' ms
 # per step (the summary's stage table), the rest of the step's, their ratio, and the rows of
-# H per step (3 per contact, log.csv).
+# H per step (3 per contact, log.csv); first the machine (CPU, SIMD targets, dgemm, read
+# bandwidth), last the ratio's median and range over the runs.
 set -eu
 cd "$(dirname "$0")/.."
 build=${BUILD:-build}
@@ -30,12 +31,14 @@ if [ -n "${REFINEMENTS:-}" ]; then
   trap 'rm -f "$summary" "parameters/$variant.prm"' EXIT
   scene=$variant
 fi
+taskset -c "$core" "$build/warpchol-kernels" parameters/torus_pull.prm --steps 0 | head -1
 echo "$scene, one core (taskset -c $core), $runs runs"
+ratios=""
 for run in $(seq "$runs"); do
   OMP_THREAD_LIMIT=1 OPENBLAS_NUM_THREADS=1 taskset -c "$core" "$build/warpchol" "parameters/$scene.prm" > "$summary"
   rows=$(awk -F, 'NR == 1 { for (k = 1; k <= NF; ++k) if ($k == "contacts") column = k; next }
                   { sum += 3 * $column; ++steps } END { printf "%.0f", sum / steps }' "output/$scene/log.csv")
-  awk -v run="$run" -v rows="$rows" '
+  line=$(awk -v run="$run" -v rows="$rows" '
     $1 == "contact" && $2 == "detection"    { detection = $4 }
     $1 == "contact" && $2 == "compliance"   { compliance = $4 }
     $1 == "contact" && $2 == "Gauss-Seidel" { gauss_seidel = $4 }
@@ -46,5 +49,11 @@ for run in $(seq "$runs"); do
       free = step - contact
       printf "run %d: %d rows per step; contact %.2f ms per step (detection %.2f, W %.2f, Gauss-Seidel %.2f, correction %.2f), contact-free %.2f ms: ratio %.2f\n",
              run, rows, 1e3 * contact, 1e3 * detection, 1e3 * compliance, 1e3 * gauss_seidel, 1e3 * correction, 1e3 * free, contact / free
-    }' "$summary"
+    }' "$summary")
+  echo "$line"
+  ratios="$ratios ${line##* }"
 done
+# On a shared machine the runs spread: their median and range.
+echo "$ratios" | tr ' ' '\n' | grep . | sort -n | awk '{ r[NR] = $1 }
+  END { m = NR % 2 ? r[(NR + 1) / 2] : (r[NR / 2] + r[NR / 2 + 1]) / 2
+        printf "ratio over the %d runs: median %.2f, range %.2f-%.2f\n", NR, m, r[1], r[NR] }'
