@@ -96,6 +96,14 @@ namespace warpchol::cholesky
       return position_of;
     }
 
+    /** The local row of constraint @p i in supernode entry @p k of @p solve. */
+    Index local_row(const PathForwardSolve &solve, const Index k, const Index i)
+    {
+      const auto begin = solve.constraints.begin() + solve.constraint_start[k];
+      const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
+      return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
+    }
+
     /** The unit columns (n x |which|) of the rows rows[which[0]], rows[which[1]], ... */
     sparse::CSCMatrix unit_columns(const Index n, const std::vector<Index> &rows, const std::vector<Index> &which)
     {
@@ -159,17 +167,12 @@ namespace warpchol::cholesky
       };
       const std::vector<Index> position_of = positions_of(symbolic, solve);
       panels.assign(solve.panel_start.back(), Scalar(0));
-      const auto local_constraint = [&](const Index k, const Index i) {
-        const auto begin = solve.constraints.begin() + solve.constraint_start[k];
-        const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
-        return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
-      };
       for (Index i = 0; i < ht.n_cols; ++i)
         for (Index p = ht.column_start[i]; p < ht.column_start[i + 1]; ++p)
           {
             const Index row = ht.row_index[p], s = symbolic.supernode_of[row], k = position_of[s];
             const Index n_constraints = solve.constraint_start[k + 1] - solve.constraint_start[k];
-            panels[solve.panel_start[k] + local_constraint(k, i) +
+            panels[solve.panel_start[k] + local_row(solve, k, i) +
                    static_cast<std::size_t>(row - symbolic.first_column[s]) * n_constraints] +=
               static_cast<Scalar>(ht.values[p]);
           }
@@ -282,9 +285,17 @@ namespace warpchol::cholesky
             for (Index a = b; a < kc; ++a)
               w[own[a] + static_cast<std::size_t>(own[b]) * m] += gram[a + static_cast<std::size_t>(b) * kc];
         }
-      std::vector<double> result(w.begin(), w.end());
-      symmetrize(result, m);
-      return result;
+      if constexpr (std::is_same_v<Scalar, double>)
+        {
+          symmetrize(w, m);
+          return w;
+        }
+      else
+        {
+          std::vector<double> result(w.begin(), w.end());
+          symmetrize(result, m);
+          return result;
+        }
     }
   } // namespace
 
@@ -322,14 +333,6 @@ namespace warpchol::cholesky
     {
       Index layer = -1, column = -1;
     };
-
-    /** The local row of constraint @p i in supernode entry @p k of @p solve. */
-    Index local_row(const PathForwardSolve &solve, const Index k, const Index i)
-    {
-      const auto begin = solve.constraints.begin() + solve.constraint_start[k];
-      const auto end   = solve.constraints.begin() + solve.constraint_start[k + 1];
-      return static_cast<Index>(std::lower_bound(begin, end, i) - begin);
-    }
 
     /**
      * The layers of @p columns merged into one: Y on the paths of the unknowns at the
