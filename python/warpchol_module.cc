@@ -574,7 +574,7 @@ choice on any machine), "recompute" (never update) or "update" (whenever possibl
     .def(
       "downdate", [](SciPyCholesky &self, const py::object &c) { self.modify(c, -1.); }, py::arg("C"),
       "The factor of A - C C^T, in place, as update() (scikit-sparse's update_inplace(C, subtract=True)). Raises "
-      "NotPositiveDefinite if A - C C^T is not positive definite; the factor of A is then left as it was.")
+      "NotPositiveDefinite if A - C C^T is not positive definite; the factor is then left that of A.")
     .def("solve", &SciPyCholesky::solve, py::arg("b"),
          "x with A x = b, for b of shape (n,) or (n, k) (a new float64 array of b's shape). Raises Error without a "
          "valid factorization, ValueError for b of another shape.")

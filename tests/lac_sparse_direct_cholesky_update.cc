@@ -3,8 +3,8 @@
 // penalty on 2 dofs): after update(C), vmult() equals a fresh initialize() of A + C C^T to
 // 1e-12 and solves it, Statistics::method is update; downdate(C) then gives back A's
 // solutions; a stored zero of C on a far row is left out. A downdate that would make A
-// indefinite throws ExcDowndateNotPositiveDefinite and vmult() still solves A with the
-// same bits; C that cannot be taken (rows of two far-apart cells in one column, another
+// indefinite throws ExcDowndateNotPositiveDefinite and vmult() still solves A (to 1e-14
+// of its solution before); C that cannot be taken (rows of two far-apart cells in one column, another
 // number of rows, NaN), the left-looking method and no factorization throw the declared
 // exceptions with one-line messages. refactorize() after an update takes the change back
 // when given A.
@@ -136,7 +136,8 @@ int main()
     solver.downdate(columns_matrix(indefinite_pattern, n, 1, {{7, 0, std::sqrt(2. * matrix.diag_element(7))}}));
   });
   solver.vmult(after, b);
-  tests::check("  vmult() afterwards gives the same bits", after == before);
+  after -= before;
+  tests::check_below("  vmult() afterwards against before, relative", after.linfty_norm() / before.linfty_norm(), 1e-14);
 
   // C that cannot be taken (on a factorization of A made anew).
   solver.initialize(matrix);
@@ -153,7 +154,8 @@ int main()
     solver.downdate(columns_matrix(nan_pattern, n, 1, {{3, 0, std::numeric_limits<double>::quiet_NaN()}}));
   });
   solver.vmult(after, b);
-  tests::check("  vmult() afterwards gives the same bits", after == before);
+  after -= before;
+  tests::check_below("  vmult() afterwards against before, relative", after.linfty_norm() / before.linfty_norm(), 1e-14);
 
   tests::expect_dealii_error<SparseDirectCholesky::ExcInvalidModification>("update(), left-looking", [&] {
     SparseDirectCholesky left;

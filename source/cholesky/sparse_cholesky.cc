@@ -607,23 +607,39 @@ namespace warpchol::cholesky
         permuted.column_start[t + 1] = static_cast<Index>(permuted.row_index.size());
       }
     check_modification_pattern(supernodal_structure, permuted, fill_reducing_permutation);
+    // A failed downdate leaves its paths' columns holding no factor. Where the copy of A
+    // holds the factored matrix, they are recomputed from it, which costs nothing unless it
+    // fails; otherwise the downdate keeps a copy of what it changes, which doubles the
+    // memory traffic of a downdate of low rank.
+    ModificationSettings settings = modification_settings();
+    settings.restore_on_failure   = !matrix_holds_factored;
     mark_factor_changed();
     try
       {
         const ModificationResult result = supernodal_factor.modify(
-          supernodal_structure, permuted, plan_modification(supernodal_structure, permuted), signs,
-          modification_settings());
+          supernodal_structure, permuted, plan_modification(supernodal_structure, permuted), signs, settings);
         stats.flops_recomputed      = result.flops;
         stats.columns_recomputed    = result.columns;
         stats.supernodes_recomputed = result.supernodes;
       }
     catch (const NotPositiveDefinite &failure)
       {
+        if (!settings.restore_on_failure)
+          {
+            // What the downdate changed lies on the paths from each column's first row.
+            std::vector<Index> first_rows;
+            for (Index t = 0; t < permuted.n_cols; ++t)
+              if (permuted.column_start[t] < permuted.column_start[t + 1])
+                first_rows.push_back(permuted.row_index[permuted.column_start[t]]);
+            std::sort(first_rows.begin(), first_rows.end());
+            first_rows.erase(std::unique(first_rows.begin(), first_rows.end()), first_rows.end());
+            run_numeric(plan_refresh(first_rows, Refresh::all));
+          }
         const Index column = fill_reducing_permutation[failure.column];
         throw NotPositiveDefinite(column, failure.pivot,
                                   "the downdate would leave the matrix not positive definite: the pivot of column " +
                                     std::to_string(column) + " would be " + format_number(failure.pivot) +
-                                    " (the factor is left as it was)");
+                                    " (the factor stays that of the matrix before)");
       }
     if (!permuted_matrix.add_low_rank(permuted, signs))
       matrix_holds_factored = false;

@@ -90,9 +90,10 @@ namespace warpchol::cholesky
     /**
      * Whether a downdate that fails puts back the values it changed. It keeps a copy of
      * them as it goes; where the paths' columns outgrow the caches, the copy's memory
-     * traffic makes a downdate of low rank up to twice as slow as an update. A caller that recomputes the columns on
-     * the paths anyway when it fails (SparseCholesky::refactorize()) does without: the
-     * factor is then invalid until it does.
+     * traffic makes a downdate of low rank two to three times as slow as an update. A
+     * caller that can recompute the columns on the paths when it fails
+     * (SparseCholesky::refactorize(), SparseCholesky::downdate() while its copy of A holds
+     * the factored matrix) does without: the factor is then invalid until it does.
      */
     bool         restore_on_failure = true;
   };

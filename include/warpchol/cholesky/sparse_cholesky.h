@@ -325,10 +325,12 @@ namespace warpchol::cholesky
     void update(const sparse::CSCMatrix &c);
 
     /**
-     * L L^T - C C^T, as update(). Throws NotPositiveDefinite, the factor left as it was,
+     * L L^T - C C^T, as update(). Throws NotPositiveDefinite, the factor left that of A,
      * if A - C C^T is not positive definite (or loses all but a few digits of a pivot,
      * Settings::downdate_pivot_tolerance): the caller may then factor the matrix it
-     * meant anew.
+     * meant anew. The columns the downdate changed are then recomputed from the copy of A
+     * (equal to a factorization's), or, after an update that reached outside A's pattern,
+     * put back from a copy the downdate kept as it went, bit for bit.
      */
     void downdate(const sparse::CSCMatrix &c);
 

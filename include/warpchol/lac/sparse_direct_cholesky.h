@@ -230,8 +230,10 @@ namespace warpchol
      * Downdate the factorization of A to that of A - C C^T in place, as update() (same
      * @p C, same errors). If A - C C^T is not positive definite, or so near to it that the
      * factor would keep only a few digits, throws ExcDowndateNotPositiveDefinite, naming
-     * the column whose pivot would fail, and leaves the factorization of A as it was, bit
-     * for bit: vmult() and solve() still solve with A.
+     * the column whose pivot would fail, and leaves the factorization that of A (the
+     * columns the downdate changed recomputed from A, to rounding; put back bit for bit
+     * after an update whose products fell outside A's pattern): vmult() and solve() still
+     * solve with A.
      */
     void downdate(const dealii::SparseMatrix<double> &C);
 
