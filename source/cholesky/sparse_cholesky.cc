@@ -613,11 +613,12 @@ namespace warpchol::cholesky
     // memory traffic of a downdate of low rank.
     ModificationSettings settings = modification_settings();
     settings.restore_on_failure   = !matrix_holds_factored;
+    const ModificationPlan plan   = plan_modification(supernodal_structure, permuted);
     mark_factor_changed();
     try
       {
-        const ModificationResult result = supernodal_factor.modify(
-          supernodal_structure, permuted, plan_modification(supernodal_structure, permuted), signs, settings);
+        const ModificationResult result =
+          supernodal_factor.modify(supernodal_structure, permuted, plan, signs, settings);
         stats.flops_recomputed      = result.flops;
         stats.columns_recomputed    = result.columns;
         stats.supernodes_recomputed = result.supernodes;
@@ -625,16 +626,7 @@ namespace warpchol::cholesky
     catch (const NotPositiveDefinite &failure)
       {
         if (!settings.restore_on_failure)
-          {
-            // What the downdate changed lies on the paths from each column's first row.
-            std::vector<Index> first_rows;
-            for (Index t = 0; t < permuted.n_cols; ++t)
-              if (permuted.column_start[t] < permuted.column_start[t + 1])
-                first_rows.push_back(permuted.row_index[permuted.column_start[t]]);
-            std::sort(first_rows.begin(), first_rows.end());
-            first_rows.erase(std::unique(first_rows.begin(), first_rows.end()), first_rows.end());
-            run_numeric(plan_refresh(first_rows, Refresh::all));
-          }
+          run_numeric(plan_refresh(modified_columns(supernodal_structure, plan), Refresh::all));
         const Index column = fill_reducing_permutation[failure.column];
         throw NotPositiveDefinite(column, failure.pivot,
                                   "the downdate would leave the matrix not positive definite: the pivot of column " +
