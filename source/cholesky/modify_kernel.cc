@@ -139,8 +139,10 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     struct ChunkKernel
     {
       /**
-       * Coefficients per reflector j: tau, v (K), S v (K), and its coupling with the
-       * reflector before it, v_{j-1} . S v_j (the look-ahead of apply_to_groups()).
+       * Coefficients per reflector j: tau, tau v (K), S v (K), and its coupling with the
+       * reflector before it, tau_{j-1} v_{j-1} . S v_j (the look-ahead of apply_to_groups()).
+       * A reflector maps (l, w) to (tau s - l, w - tau s v) with s = l + w . S v: both from
+       * s, so that its dot product is all that one reflector passes to the next.
        */
       static constexpr Index stride = 2 * K + 2;
 
@@ -157,8 +159,8 @@ namespace warpchol::cholesky::HWY_NAMESPACE
 
       /**
        * Row groups carried side by side: each reflector is a chain of dependent operations
-       * per group (the new entry, the sum that updates w, the next dot product), and
-       * independent groups fill the gaps of one another's chains. As many as the registers
+       * per group (the dot product, then the new entry and w), and independent groups fill
+       * the gaps of one another's chains and share each coefficient. As many as the registers
        * hold, each group with its K columns of W, its next row of L and next dot product,
        * two registers left for the sums, and at most eight.
        */
@@ -192,10 +194,10 @@ namespace warpchol::cholesky::HWY_NAMESPACE
        *
        * Each reflector's dot product is formed before the reflector ahead of it is applied
        * (a look-ahead): with w the carried columns before reflector j,
-       *   s_{j+1} = l_{j+1} + w . S v_{j+1} - (l_j + l_j') (v_j . S v_{j+1}),
-       * which equals l_{j+1} + w' . S v_{j+1} with w' = w - (l_j + l_j') v_j. The first part
+       *   s_{j+1} = l_{j+1} + w . S v_{j+1} - s_j (tau_j v_j . S v_{j+1}),
+       * which equals l_{j+1} + w' . S v_{j+1} with w' = w - s_j tau_j v_j. The first part
        * depends on w, not on reflector j's result, so it overlaps the chain of reflector j:
-       * what remains between two reflectors is two operations, not the whole dot product.
+       * what remains between two reflectors is one operation, not the whole dot product.
        */
       template <int G>
       void apply_to_groups(double *rows, const Index ld, const Index w_row, const Index j_begin,
@@ -225,13 +227,11 @@ namespace warpchol::cholesky::HWY_NAMESPACE
                 __builtin_prefetch(ahead + G * target_lanes - 1, 1);
               }
             const Coefficient *r = reflectors + j * stride;
-            Lanes              sum[G];
+            Lanes              s[G];
             for (int g = 0; g < G; ++g)
               {
-                const Lanes old     = next_old[g];
-                const Lanes changed = r[0] * next_dot[g] - old;
-                store(rows + j * ld + g * target_lanes, changed);
-                sum[g] = old + changed;
+                s[g] = next_dot[g];
+                store(rows + j * ld + g * target_lanes, r[0] * s[g] - next_old[g]);
               }
             if (j + 1 < j_end)
               {
@@ -239,12 +239,12 @@ namespace warpchol::cholesky::HWY_NAMESPACE
                 for (int g = 0; g < G; ++g)
                   {
                     next_old[g] = load(rows + (j + 1) * ld + g * target_lanes);
-                    next_dot[g] = dot(next_old[g], carried[g], next + 1 + K) - sum[g] * next[2 * K + 1];
+                    next_dot[g] = dot(next_old[g], carried[g], next + 1 + K) - s[g] * next[2 * K + 1];
                   }
               }
             for (int g = 0; g < G; ++g)
               for (int t = 0; t < K; ++t)
-                carried[g][t] -= sum[g] * r[1 + t];
+                carried[g][t] -= s[g] * r[1 + t];
           }
         for (int g = 0; g < G; ++g)
           for (int t = 0; t < K; ++t)
@@ -319,14 +319,8 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       static void apply_to_stored_groups(double *column, const Index ld, double *w_rows, Lanes *dots,
                                          const Coefficient *r, const Coefficient *next)
       {
-        Lanes sum[P];
         for (int p = 0; p < P; ++p)
-          {
-            const Lanes old     = load(column + p * target_lanes);
-            const Lanes changed = r[0] * dots[p] - old;
-            store(column + p * target_lanes, changed);
-            sum[p] = old + changed;
-          }
+          store(column + p * target_lanes, r[0] * dots[p] - load(column + p * target_lanes));
         if (!next)
           {
 #pragma GCC unroll 16
@@ -336,7 +330,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
                 for (int p = 0; p < P; ++p)
                   {
                     double *entry = w_rows + t * block_rows + p * target_lanes;
-                    store(entry, load(entry) - sum[p] * v);
+                    store(entry, load(entry) - dots[p] * v);
                   }
               }
             return;
@@ -351,7 +345,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
             for (int p = 0; p < P; ++p)
               {
                 double     *entry = w_rows + t * block_rows + p * target_lanes;
-                const Lanes moved = load(entry) - sum[p] * v;
+                const Lanes moved = load(entry) - dots[p] * v;
                 store(entry, moved);
                 if (t % 2 == 0 || K == 1)
                   even[p] += moved * scaled;
@@ -403,14 +397,14 @@ namespace warpchol::cholesky::HWY_NAMESPACE
           }
         if (!(r2 > tolerance * held) || !std::isfinite(r2))
           throw NotPositiveDefinite(first_column + j, r2);
-        const double r = std::sqrt(r2), denominator = alpha + r;
+        const double r = std::sqrt(r2), denominator = alpha + r, tau = 1. + alpha / r;
         Coefficient *reflector = reflectors + j * stride;
-        reflector[0]           = as_coefficient(1. + alpha / r);
+        reflector[0]           = as_coefficient(tau);
         double       coupling  = 0;
         for (int t = 0; t < K; ++t)
           {
             const double v       = row_w[t] / denominator;
-            reflector[1 + t]     = as_coefficient(v);
+            reflector[1 + t]     = as_coefficient(tau * v);
             reflector[1 + K + t] = as_coefficient(sign[t] * v);
             if (j > q)
               coupling += scalar_of(reflector[1 + t - stride]) * (sign[t] * v);
@@ -443,8 +437,8 @@ namespace warpchol::cholesky::HWY_NAMESPACE
             const Lanes   old       = load(column);
             const double  r         = make_reflector(j, q, old[lane], row_w, tolerance, first_column);
             const Coefficient *reflector = reflectors + j * stride;
-            Lanes              changed   = reflector[0] * dot(old, carried, reflector + 1 + K) - old;
-            const Lanes   sum       = old + changed;
+            const Lanes        s         = dot(old, carried, reflector + 1 + K);
+            Lanes              changed   = reflector[0] * s - old;
             // Rows above j keep their values; row j becomes (r, 0) exactly; those below move.
             const auto below = numbers > static_cast<double>(lane);
             changed          = below ? changed : old;
@@ -452,7 +446,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
             store(column, changed);
             for (int t = 0; t < K; ++t)
               {
-                const Lanes moved = carried[t] - sum * reflector[1 + t];
+                const Lanes moved = carried[t] - s * reflector[1 + t];
                 carried[t]        = below ? moved : carried[t];
                 carried[t][lane]  = 0.;
               }
@@ -512,11 +506,10 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       template <typename Value, typename Scaled>
       static Value reflected(const Value &old, Value *carried, const Scaled *r)
       {
-        const Value changed = r[0] * dot(old, carried, r + 1 + K) - old;
-        const Value sum     = old + changed;
+        const Value s = dot(old, carried, r + 1 + K);
         for (int t = 0; t < K; ++t)
-          carried[t] -= sum * r[1 + t];
-        return changed;
+          carried[t] -= s * r[1 + t];
+        return r[0] * s - old;
       }
 
       /**
