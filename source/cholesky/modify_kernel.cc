@@ -35,7 +35,8 @@ namespace warpchol::cholesky::HWY_NAMESPACE
 
     /**
      * Whether the rows below the diagonal block keep W in memory (ChunkKernel::apply_to_block)
-     * rather than in registers (apply_to_groups): on 16 registers, which hold one group's.
+     * rather than in registers (apply_to_groups): on 16 registers, which hold two groups'
+     * only up to most_carried_in_registers columns, over short runs of reflectors.
      */
     constexpr bool w_in_memory = vector_registers < 32;
 
@@ -62,17 +63,34 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     constexpr Index prefetch_columns = 12;
 
     /**
-     * How a reflector's coefficients are kept. AVX-512 multiplies by a double read from
-     * memory and broadcast by the instruction itself; the other targets would broadcast
-     * each into a register of its own, 2K + 1 of them beside the carried columns, so there
-     * each coefficient is kept as a whole vector (the same value in every lane), which a
-     * fused multiply-add reads from memory.
+     * How the reflectors of K columns keep their coefficients: as doubles, or as whole
+     * vectors (the same value in every lane) that a fused multiply-add reads from memory.
+     * AVX-512 broadcasts a double within the instruction. AVX2 broadcasts each double into
+     * a register, once per column for all the groups, from a quarter of the memory; only
+     * its walk down the columns at rank 1 (run_by_columns()), which reads each coefficient
+     * once per group, goes faster with whole vectors. On two lanes a broadcast costs about
+     * the operations it feeds: whole vectors.
      */
-    constexpr bool whole_vector_coefficients = vector_registers < 32;
-    using Coefficient                        = std::conditional_t<whole_vector_coefficients, Lanes, double>;
+    template <int K>
+    using CoefficientOf = std::conditional_t<(target_lanes <= 2 || K <= most_columns_by_columns), Lanes, double>;
+
+    /**
+     * The most columns of W that the targets of 16 registers carry in registers
+     * (apply_to_groups()): two groups side by side, each with its columns, row of L and dot
+     * product, and the coefficients' broadcasts.
+     */
+    constexpr int most_carried_in_registers = 3;
+
+    /**
+     * The most reflectors that the targets of 16 registers apply with W in registers: a
+     * longer run goes by blocks with W in memory (apply_to_block()). Each group's pass
+     * touches a cache line and a page per column; over long runs the passes of a block's
+     * groups fetch them again, where a block fetches each once.
+     */
+    constexpr Index most_columns_in_registers = 32;
 
     /** The double of a coefficient. */
-    template <typename Kept = Coefficient>
+    template <typename Kept>
     double scalar_of(const Kept &coefficient)
     {
       if constexpr (std::is_same_v<Kept, double>)
@@ -82,7 +100,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     }
 
     /** A coefficient of value @p value. */
-    template <typename Kept = Coefficient>
+    template <typename Kept>
     Kept as_coefficient(const double value)
     {
       if constexpr (std::is_same_v<Kept, double>)
@@ -145,6 +163,8 @@ namespace warpchol::cholesky::HWY_NAMESPACE
        * s, so that its dot product is all that one reflector passes to the next.
        */
       static constexpr Index stride = 2 * K + 2;
+
+      using Coefficient = CoefficientOf<K>;
 
       double       *l;
       Index         nr, nc;
@@ -366,13 +386,12 @@ namespace warpchol::cholesky::HWY_NAMESPACE
           return;
         Index i = row_begin;
         if constexpr (w_in_memory)
-          {
-            for (; i + target_lanes <= row_end; i += block_rows)
-              {
+          if (K > most_carried_in_registers || j_end - j_begin > most_columns_in_registers)
+            {
+              for (; i + target_lanes <= row_end; i += block_rows)
                 apply_to_block(l + i, nr, i, std::min(block_rows, row_end - i) / target_lanes, j_begin, j_end);
-              }
-            return;
-          }
+              return;
+            }
         if constexpr (groups > 1)
           for (; i + groups * target_lanes <= row_end; i += groups * target_lanes)
             apply_to_groups<groups>(l + i, nr, i, j_begin, j_end);
@@ -399,17 +418,17 @@ namespace warpchol::cholesky::HWY_NAMESPACE
           throw NotPositiveDefinite(first_column + j, r2);
         const double r = std::sqrt(r2), denominator = alpha + r, tau = 1. + alpha / r;
         Coefficient *reflector = reflectors + j * stride;
-        reflector[0]           = as_coefficient(tau);
+        reflector[0]           = as_coefficient<Coefficient>(tau);
         double       coupling  = 0;
         for (int t = 0; t < K; ++t)
           {
             const double v       = row_w[t] / denominator;
-            reflector[1 + t]     = as_coefficient(tau * v);
-            reflector[1 + K + t] = as_coefficient(sign[t] * v);
+            reflector[1 + t]     = as_coefficient<Coefficient>(tau * v);
+            reflector[1 + K + t] = as_coefficient<Coefficient>(sign[t] * v);
             if (j > q)
               coupling += scalar_of(reflector[1 + t - stride]) * (sign[t] * v);
           }
-        reflector[2 * K + 1] = as_coefficient(coupling);
+        reflector[2 * K + 1] = as_coefficient<Coefficient>(coupling);
         return r;
       }
 
@@ -581,6 +600,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
             return;
           }
       // The reflectors' room aligned to a vector (it has a vector of doubles to spare).
+      using Coefficient                  = typename ChunkKernel<K>::Coefficient;
       constexpr std::uintptr_t alignment = alignof(Coefficient);
       const auto               aligned   = reinterpret_cast<Coefficient *>(
         (reinterpret_cast<std::uintptr_t>(chunk.reflectors) + alignment - 1) / alignment * alignment);
