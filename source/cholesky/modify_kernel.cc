@@ -83,9 +83,10 @@ namespace warpchol::cholesky::HWY_NAMESPACE
 
     /**
      * The most reflectors that the targets of 16 registers apply with W in registers: a
-     * longer run goes by blocks with W in memory (apply_to_block()). Each group's pass
-     * touches a cache line and a page per column; over long runs the passes of a block's
-     * groups fetch them again, where a block fetches each once.
+     * longer run goes by blocks with W in memory (apply_to_block()), which take each
+     * reflector over 16 groups at once, where each pass of two groups in registers reads
+     * the run's coefficients and a line of L per column anew: the blocks were the faster
+     * over long runs on every matrix of benchmarks/updates.sh, the registers over short.
      */
     constexpr Index most_columns_in_registers = 32;
 
@@ -149,7 +150,8 @@ namespace warpchol::cholesky::HWY_NAMESPACE
      * copy padded with zeros to a group. Every row is computed by the same operations in
      * the same order whatever the split of the rows over threads: the same bits for any
      * number of threads. Across targets the results agree to rounding: the targets of 16
-     * registers keep W in memory below a group (apply_to_block()), and form the next
+     * registers keep W in memory below a group (apply_to_block()) at ranks above
+     * most_carried_in_registers and over long runs of reflectors, and form the next
      * reflector's dot product from it rather than by the look-ahead of apply_to_groups().
      * At rank 1 those targets go column by column instead (run_by_columns()).
      */
