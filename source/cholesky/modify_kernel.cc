@@ -76,8 +76,8 @@ namespace warpchol::cholesky::HWY_NAMESPACE
 
     /**
      * The most columns of W that the targets of 16 registers carry in registers
-     * (apply_to_groups()): two groups side by side, each with its columns, row of L and dot
-     * product, and the coefficients' broadcasts.
+     * (apply_to_groups()): two or three groups side by side (ChunkKernel::groups), each with
+     * its columns, row of L and dot product, and the coefficients' broadcasts.
      */
     constexpr int most_carried_in_registers = 3;
 

@@ -333,13 +333,13 @@ namespace warpchol
     /**
      * A downdate() that would leave a matrix that is not positive definite: the pivot of
      * the column (the matrix's own numbering) would be the value given. The factorization
-     * is left as it was.
+     * stays that of the matrix before (downdate()).
      */
     DeclException2(ExcDowndateNotPositiveDefinite,
                    size_type,
                    double,
                    << "the downdate would leave the matrix not positive definite: the pivot of column " << arg1
-                   << " would be " << arg2 << " (the factorization is left as it was)");
+                   << " would be " << arg2 << " (the factorization stays that of the matrix before)");
 
     /**
      * A C that update() or downdate() cannot take, in the words of the solver: another
