@@ -217,8 +217,14 @@ namespace warpchol::cholesky
       for (Index p = analyzed_column_start[j]; p < analyzed_column_start[j + 1]; ++p)
         if (analyzed_values[p] != input_values[p])
           changed.push_back(p);
-    std::sort(changed.begin(), changed.end());
-    changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+    // Listed columns in increasing order, each once (the usual call), give their entries
+    // in order already.
+    if (!std::is_sorted(columns.begin(), columns.end()) ||
+        std::adjacent_find(columns.begin(), columns.end()) != columns.end())
+      {
+        std::sort(changed.begin(), changed.end());
+        changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
+      }
     return load_entries(analyzed_values, changed);
   }
 
@@ -249,6 +255,10 @@ namespace warpchol::cholesky
                                 format_number(twin));
           }
       }
+    // Each changed column once, marked: a whole refactorization changes every entry, and
+    // sorting one column index per entry would cost a good part of the factorization.
+    const Index        n = permuted_lower.n_cols;
+    std::vector<char>  marked(n, 0);
     std::vector<Index> changed_columns;
     for (const Index p : changed)
       {
@@ -257,11 +267,23 @@ namespace warpchol::cholesky
         if (source[k] == p && permuted_lower.values[k] != values[p])
           {
             permuted_lower.values[k] = values[p];
-            changed_columns.push_back(entry_column[k]);
+            if (!marked[entry_column[k]])
+              {
+                marked[entry_column[k]] = 1;
+                changed_columns.push_back(entry_column[k]);
+              }
           }
       }
-    std::sort(changed_columns.begin(), changed_columns.end());
-    changed_columns.erase(std::unique(changed_columns.begin(), changed_columns.end()), changed_columns.end());
+    // In increasing order: a scan of the marks where many changed, else a sort of the few.
+    if (static_cast<Index>(changed_columns.size()) > n / 16)
+      {
+        changed_columns.clear();
+        for (Index j = 0; j < n; ++j)
+          if (marked[j])
+            changed_columns.push_back(j);
+      }
+    else
+      std::sort(changed_columns.begin(), changed_columns.end());
     return changed_columns;
   }
 
