@@ -203,7 +203,7 @@ namespace warpchol::cholesky
     for (Index p = 0; p < n_input; ++p)
       if (values[p] != input_values[p])
         changed.push_back(p);
-    return load_entries(values, changed);
+    return load_entries(values, changed, true);
   }
 
   std::vector<Index> PermutedMatrix::load_columns(const sparse::CSCMatrix &matrix, const double *const values,
@@ -228,7 +228,8 @@ namespace warpchol::cholesky
     return load_entries(analyzed_values, changed);
   }
 
-  std::vector<Index> PermutedMatrix::load_entries(const double *const values, const std::vector<Index> &changed)
+  std::vector<Index> PermutedMatrix::load_entries(const double *const values, const std::vector<Index> &changed,
+                                                  const bool every_change_listed)
   {
     if (changed.empty())
       return {};
@@ -254,6 +255,27 @@ namespace warpchol::cholesky
                                 format_number(value) + " but A" + entry_name(permutation[c], permutation[r]) + " = " +
                                 format_number(twin));
           }
+      }
+    // Most of A changed (a whole refactorization): C in its own order, each entry read from
+    // where it comes from in A, and its columns come out in order. An entry of A that is
+    // not listed holds its last value, which C holds too (add_low_rank() lists its entries).
+    const Index nnz = permuted_lower.n_nonzeros();
+    if (every_change_listed && 4 * static_cast<Index>(changed.size()) > nnz)
+      {
+        std::vector<Index> changed_columns;
+        for (Index k = 0; k < nnz; ++k)
+          {
+            const double value = values[source[k]];
+            if (permuted_lower.values[k] != value)
+              {
+                permuted_lower.values[k] = value;
+                if (changed_columns.empty() || changed_columns.back() != entry_column[k])
+                  changed_columns.push_back(entry_column[k]);
+              }
+          }
+        for (const Index p : changed)
+          input_values[p] = values[p];
+        return changed_columns;
       }
     // Each changed column once, marked: a whole refactorization changes every entry, and
     // sorting one column index per entry would cost a good part of the factorization.

@@ -122,8 +122,11 @@ namespace warpchol::cholesky
     /**
      * Check and copy the entries @p changed of A (positions in A's storage, increasing) of
      * @p values, all checked before any is written; returns the columns of C that changed.
+     * @p every_change_listed: every entry of @p values that differs from the last load is
+     * in @p changed (load_changed_values()), so that C may be read through whole.
      */
-    std::vector<Index> load_entries(const double *values, const std::vector<Index> &changed);
+    std::vector<Index> load_entries(const double *values, const std::vector<Index> &changed,
+                                    bool every_change_listed = false);
 
     /** Throw MatrixError for the value of A's stored entry @p p, NaN or infinite (naming it as such). */
     [[noreturn]] void refuse_value(Index p, double value) const;
