@@ -258,7 +258,8 @@ namespace warpchol::cholesky
       }
     // Most of A changed (a whole refactorization): C in its own order, each entry read from
     // where it comes from in A, and its columns come out in order. An entry of A that is
-    // not listed holds its last value, which C holds too (add_low_rank() lists its entries).
+    // not listed holds its last value, which C holds too (add_low_rank() marks the entries
+    // it changes in C so that the next load lists them).
     const Index nnz = permuted_lower.n_nonzeros();
     if (every_change_listed && 4 * static_cast<Index>(changed.size()) > nnz)
       {
@@ -277,8 +278,8 @@ namespace warpchol::cholesky
           input_values[p] = values[p];
         return changed_columns;
       }
-    // Each changed column once, marked: a whole refactorization changes every entry, and
-    // sorting one column index per entry would cost a good part of the factorization.
+    // Each changed column once, marked: a sort of one column index per changed entry would
+    // cost a good part of a large load.
     const Index        n = permuted_lower.n_cols;
     std::vector<char>  marked(n, 0);
     std::vector<Index> changed_columns;
