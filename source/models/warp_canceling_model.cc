@@ -469,8 +469,15 @@ namespace warpchol::fem
   {
     {
       StageTimer timer(statistics.stages, stage::assembly);
+      // The frames are written far ahead of their reads: ask for the lines being written
+      // a few elements ahead, so that their reads for ownership overlap.
       for (unsigned int e = 0; e < body.n_elements(); ++e)
-        rerotate_frames(e);
+        {
+          if (e + 8 < body.n_elements())
+            for (unsigned int line = 0; line < sizeof(stored_frames[e]); line += 64)
+              __builtin_prefetch(reinterpret_cast<const char *>(stored_frames.data() + e + 8) + line, 1);
+          rerotate_frames(e);
+        }
       system.assemble(ElementFrames::warped(stored_frames));
     }
     statistics.elements_rerotated = body.n_elements();
