@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numeric>
 #include <string>
@@ -219,8 +220,7 @@ namespace warpchol::cholesky
           changed.push_back(p);
     // Listed columns in increasing order, each once (the usual call), give their entries
     // in order already.
-    if (!std::is_sorted(columns.begin(), columns.end()) ||
-        std::adjacent_find(columns.begin(), columns.end()) != columns.end())
+    if (std::adjacent_find(columns.begin(), columns.end(), std::greater_equal<Index>()) != columns.end())
       {
         std::sort(changed.begin(), changed.end());
         changed.erase(std::unique(changed.begin(), changed.end()), changed.end());
@@ -260,20 +260,9 @@ namespace warpchol::cholesky
     // where it comes from in A, and its columns come out in order. An entry of A that is
     // not listed holds its last value, which C holds too (add_low_rank() marks the entries
     // it changes in C so that the next load lists them).
-    const Index nnz = permuted_lower.n_nonzeros();
-    if (every_change_listed && 4 * static_cast<Index>(changed.size()) > nnz)
+    if (every_change_listed && 4 * static_cast<Index>(changed.size()) > permuted_lower.n_nonzeros())
       {
-        std::vector<Index> changed_columns;
-        for (Index k = 0; k < nnz; ++k)
-          {
-            const double value = values[source[k]];
-            if (permuted_lower.values[k] != value)
-              {
-                permuted_lower.values[k] = value;
-                if (changed_columns.empty() || changed_columns.back() != entry_column[k])
-                  changed_columns.push_back(entry_column[k]);
-              }
-          }
+        std::vector<Index> changed_columns = copy_in_order(values, false);
         for (const Index p : changed)
           input_values[p] = values[p];
         return changed_columns;
@@ -310,12 +299,26 @@ namespace warpchol::cholesky
     return changed_columns;
   }
 
+  std::vector<Index> PermutedMatrix::copy_in_order(const double *const values, const bool all_columns)
+  {
+    const Index        nnz = permuted_lower.n_nonzeros();
+    std::vector<Index> changed_columns;
+    for (Index k = 0; k < nnz; ++k)
+      {
+        const double value = values[source[k]];
+        if (all_columns || value != permuted_lower.values[k])
+          if (changed_columns.empty() || changed_columns.back() != entry_column[k])
+            changed_columns.push_back(entry_column[k]);
+        permuted_lower.values[k] = value;
+      }
+    return changed_columns;
+  }
+
   std::vector<Index> PermutedMatrix::load_values(const double *const values)
   {
     if (loaded && input_values.size() == entry_of_input.size())
       return load_changed_values(values);
-    const Index        nnz = permuted_lower.n_nonzeros();
-    std::vector<Index> changed_columns;
+    const Index nnz = permuted_lower.n_nonzeros();
     for (Index k = 0; k < nnz; ++k)
       {
         const double value = values[source[k]];
@@ -324,11 +327,8 @@ namespace warpchol::cholesky
         // A twin that is not finite is named as such, not as an asymmetric pair.
         if (mirror[k] != -1 && !std::isfinite(values[mirror[k]]))
           refuse_value(mirror[k], values[mirror[k]]);
-        if (!loaded || value != permuted_lower.values[k])
-          if (changed_columns.empty() || changed_columns.back() != entry_column[k])
-            changed_columns.push_back(entry_column[k]);
-        permuted_lower.values[k] = value;
       }
+    const std::vector<Index> changed_columns = copy_in_order(values, !loaded);
     if (storage == sparse::Storage::full)
       {
         // Diagonal values first, to scale the symmetry tolerance of each pair.

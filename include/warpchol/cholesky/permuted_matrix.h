@@ -128,6 +128,13 @@ namespace warpchol::cholesky
     std::vector<Index> load_entries(const double *values, const std::vector<Index> &changed,
                                     bool every_change_listed = false);
 
+    /**
+     * C rewritten in its own order, each entry read from where it comes from in @p values
+     * (checked already); returns the columns in which a value changed, increasing, or with
+     * @p all_columns every column that holds an entry.
+     */
+    std::vector<Index> copy_in_order(const double *values, bool all_columns);
+
     /** Throw MatrixError for the value of A's stored entry @p p, NaN or infinite (naming it as such). */
     [[noreturn]] void refuse_value(Index p, double value) const;
 
