@@ -98,6 +98,15 @@ namespace warpchol::fem
     return result;
   }
 
+  ElementFrames ElementFrames::rerotated(const std::vector<std::array<Matrix3, 4>> &frames,
+                                         const std::vector<char> &stored, const std::vector<Matrix3> &rotations)
+  {
+    ElementFrames result     = warped(frames);
+    result.frames_stored     = &stored;
+    result.element_rotations = &rotations;
+    return result;
+  }
+
   namespace
   {
     /** Elements whose blocks are formed as a group (one AVX-512 register of doubles). */
@@ -744,7 +753,19 @@ namespace warpchol::fem::HWY_NAMESPACE
             store(k, i + 3 * j, i == j ? lambda_mu_u[i] * u[i] + in.diagonal[k] : lambda_mu_u[i] * u[j]);
       };
       const Part lambda_mu_volume = in.lambda_volume + in.mu_volume;
-      if (frames.kind != ElementFrames::Kind::warped)
+      // A group of warped elements none of which has frames of its own is a rotated one: the
+      // same bits as the assembly that gave them their rotations.
+      const auto has_frames = [&](const unsigned int l) {
+        return frames.frames_stored == nullptr || (*frames.frames_stored)[elements[std::min(first + l, count - 1)]];
+      };
+      bool rotated_group = frames.kind != ElementFrames::Kind::warped;
+      if (!rotated_group)
+        {
+          rotated_group = true;
+          for (unsigned int l = 0; l < width; ++l)
+            rotated_group = rotated_group && !has_frames(l);
+        }
+      if (rotated_group)
         {
           // h_a = R g_a (R = I at rest), and (lambda + mu) V h_a.
           Part h[4][3], lambda_mu_h[4][3];
@@ -800,10 +821,13 @@ namespace warpchol::fem::HWY_NAMESPACE
       Part t[4][9];
       for (unsigned int l = 0; l < width; ++l)
         {
-          const auto &element_frames = (*frames.vertex_frames)[elements[std::min(first + l, count - 1)]];
+          const unsigned int e = elements[std::min(first + l, count - 1)];
           for (unsigned int a = 0; a < 4; ++a)
-            for (unsigned int i = 0; i < 9; ++i)
-              t[a][i][l] = element_frames[a].data()[i];
+            {
+              const Matrix3 &frame = has_frames(l) ? (*frames.vertex_frames)[e][a] : (*frames.element_rotations)[e];
+              for (unsigned int i = 0; i < 9; ++i)
+                t[a][i][l] = frame.data()[i];
+            }
         }
       // u[a][b] = T_a g_b.
       Part u[4][4][3];

@@ -78,7 +78,7 @@ namespace warpchol::fem
     return step;
   }
 
-  double BackgroundRefresh::take(SystemMatrix &model_system, std::vector<std::array<Matrix3, 4>> &model_frames,
+  double BackgroundRefresh::take(SystemMatrix &model_system, ContributionFrames &model_frames,
                                  cholesky::SparseCholesky &model_solver)
   {
     if (!started)
@@ -89,7 +89,7 @@ namespace warpchol::fem
     if (failure)
       std::rethrow_exception(failure);
     model_system.swap_values(system);
-    model_frames.swap(frames);
+    model_frames.adopt(frames);
     // The solver's thread count stays with each: exchange everything else.
     const unsigned int model_threads = model_solver.settings().n_threads;
     std::swap(model_solver, solver);

@@ -120,6 +120,7 @@ namespace warpchol::fem
     : ElasticityModel(body, coefficients, solver_settings, std::move(peer))
     , threshold(rerotation_threshold)
     , target_control(target_error, rerotation_threshold)
+    , warp_frames(body.n_elements())
     , given_threads(std::max(1u, solver_settings.n_threads))
     , step_thread_count(given_threads)
   {
@@ -127,11 +128,9 @@ namespace warpchol::fem
     if (const auto conflict = wcc_setting_conflict(rerotation_threshold, target_error, strategy, solver_settings.method))
       throw InputError(conflict->subsection + "/" + conflict->entry + ": " + conflict->message);
     measure_velocity_error = target_error > 0;
-    // At rest every rotation is the identity: A is the rest matrix, assembled in the warped
-    // form of these frames, as re-assembly will (a grasp's columns then change on their
-    // diagonal only).
-    stored_frames.assign(body.n_elements(), {{Matrix3::Identity(), Matrix3::Identity(),
-                                               Matrix3::Identity(), Matrix3::Identity()}});
+    // At rest every rotation is the identity: A is the rest matrix, assembled in these
+    // frames (warp_frames at rest), as re-assembly will (a grasp's columns then change on
+    // their diagonal only).
     set_up_rest_system();
     // That is also the exact corotational matrix at rest, factored: what the set-up spent
     // on it (all but the analysis) stands for an exact step's cost until one is measured,
@@ -236,10 +235,10 @@ namespace warpchol::fem
   {
     const unsigned int  n_elements        = body.n_elements();
     const auto         &element_rotations = elastic_state.element_rotations;
-    const auto         &nodal_rotations   = elastic_state.nodal_rotations;
+    const auto         &nodal_rotations   = warp_frames.solve_rotations();
     std::vector<double> error(n_elements);
     std::vector<double> impulse(n_elements);
-    // z_v = R_v^T v_v, the velocities in the nodal frames, once per vertex.
+    // z_v = S_v^T v_v, the velocities in the solve's frames, once per vertex.
     nodal_velocities.resize(body.n_vertices());
     dealii::parallel::apply_to_subranges(
       0u, body.n_vertices(),
@@ -260,7 +259,7 @@ namespace warpchol::fem
           {
             const ElementErrorEstimate estimate =
               estimate_element_error(body, coefficients, e, velocities, nodal_velocities, nodal_rotations,
-                                     element_rotations[e], stored_frames[e],
+                                     element_rotations[e], warp_frames.of(e),
                                      elastic_state.element_force_norms[e]);
             error[e]   = estimate.error;
             impulse[e] = estimate.impulse;
@@ -291,9 +290,7 @@ namespace warpchol::fem
 
   ElementFrames WarpCancelingModel::contribution_frames() const
   {
-    // After the fall-back's steps A is the exact path's: in the elements' frames.
-    return history.matrix_in_element_frames ? ElementFrames::rotated(elastic_state.element_rotations) :
-                                              ElementFrames::warped(stored_frames);
+    return warp_frames.element_frames();
   }
 
   void WarpCancelingModel::apply_change(const SystemChange &change, StepStatistics &statistics)
@@ -304,9 +301,8 @@ namespace warpchol::fem
       {
         StageTimer timer(statistics.stages, stage::background_refresh);
         const unsigned int started = background->started_step();
-        checked([&]() { background->take(system, stored_frames, cholesky_solver); });
-        history.factor_step              = started;
-        history.matrix_in_element_frames = false;
+        checked([&]() { background->take(system, warp_frames, cholesky_solver); });
+        history.factor_step = started;
       }
     ElasticityModel::apply_change(change, statistics);
     change_pending = true;
@@ -329,7 +325,7 @@ namespace warpchol::fem
 
   void WarpCancelingModel::save_model_state(BinaryWriter &writer) const
   {
-    writer.write(stored_frames);
+    warp_frames.save(writer);
     write_object(writer, target_control);
     write_object(writer, history);
     cost_model.save(writer);
@@ -341,11 +337,7 @@ namespace warpchol::fem
 
   void WarpCancelingModel::load_model_state(BinaryReader &reader)
   {
-    const std::size_t n_frames = stored_frames.size();
-    reader.read(stored_frames);
-    if (stored_frames.size() != n_frames)
-      reader.fail("holds the frames of " + std::to_string(stored_frames.size()) +
-                  " elements, the model keeps " + std::to_string(n_frames));
+    warp_frames.load(reader);
     read_object(reader, target_control);
     if (!target_control.why_given_up().empty())
       give_up_target();
@@ -359,9 +351,7 @@ namespace warpchol::fem
 
   void WarpCancelingModel::rerotate_frames(const unsigned int e)
   {
-    const auto &vertices = body.element_vertices(e);
-    for (unsigned int a = 0; a < 4; ++a)
-      stored_frames[e][a] = elastic_state.nodal_rotations[vertices[a]].transpose() * elastic_state.element_rotations[e];
+    warp_frames.rerotate(e, body.element_vertices(e), elastic_state.element_rotations[e]);
   }
 
   void WarpCancelingModel::prepare_step(const std::vector<Vector3> &positions,
@@ -432,13 +422,14 @@ namespace warpchol::fem
     else
       {
         evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
+        warp_frames.update_solve_rotations(body, elastic_state.nodal_rotations);
         record_no_refactorization(statistics);
         stopwatch.restart();
         prepare_factor(velocities, statistics);
       }
-    // A y = R^T rhs with the nodal rotations R: in WCC's frames; the exact path's matrix
-    // is in the world frame.
-    solve_frame = history.matrix_in_element_frames ? nullptr : &elastic_state.nodal_rotations;
+    // A y = S^T rhs with the solve rotations S (ContributionFrames); the exact path's step
+    // solves in the world frame (its S = I).
+    solve_frame = history.last_step_fell_back ? nullptr : &warp_frames.solve_rotations();
     history.last_step_changed = change_pending;
     change_pending    = false;
     history.last_prepare_seconds = stopwatch.seconds();
@@ -458,9 +449,9 @@ namespace warpchol::fem
     if (background)
       take_background_refresh(statistics);
     corotational_exact_step(positions, statistics);
-    history.matrix_in_element_frames = true;
-    history.factor_step              = history.step_count;
-    exact_this_step                  = true;
+    warp_frames.reset(elastic_state.element_rotations, nullptr);
+    history.factor_step = history.step_count;
+    exact_this_step     = true;
     statistics.choice                = StepChoice::fallback;
     statistics.predicted_seconds     = fallback.exact_step_seconds();
   }
@@ -469,23 +460,18 @@ namespace warpchol::fem
   {
     {
       StageTimer timer(statistics.stages, stage::assembly);
-      // The frames are written far ahead of their reads: ask for the lines being written
-      // a few elements ahead, so that their reads for ownership overlap.
-      for (unsigned int e = 0; e < body.n_elements(); ++e)
-        {
-          if (e + 8 < body.n_elements())
-            for (unsigned int line = 0; line < sizeof(stored_frames[e]); line += 64)
-              __builtin_prefetch(reinterpret_cast<const char *>(stored_frames.data() + e + 8) + line, 1);
-          rerotate_frames(e);
-        }
-      system.assemble(ElementFrames::warped(stored_frames));
+      // A in the elements' frames, of reference the nodal rotations of this step: the
+      // exact path's assembly, with no frame per vertex to write.
+      system.assemble(ElementFrames::rotated(elastic_state.element_rotations));
+      warp_frames.reset(elastic_state.element_rotations, &elastic_state.nodal_rotations);
+      warp_frames.update_solve_rotations(body, elastic_state.nodal_rotations);
+      solve_frame = &warp_frames.solve_rotations();
     }
     statistics.elements_rerotated = body.n_elements();
     record_rerotations(true);
     factorize(statistics);
-    history.factor_step              = history.step_count;
-    history.matrix_in_element_frames = false;
-    exact_this_step                  = true;
+    history.factor_step = history.step_count;
+    exact_this_step     = true;
   }
 
   void WarpCancelingModel::prepare_factor(const std::vector<Vector3> &velocities, StepStatistics &statistics)
@@ -513,16 +499,6 @@ namespace warpchol::fem
     if (threshold == 0)
       {
         // Every element is re-rotated: exact corotation, assembled and factored in full.
-        exact_step(statistics);
-        return;
-      }
-    // The first own step after the fall-back's: A is the exact path's, in the elements'
-    // frames; an exact step makes it WCC's again (the start of a cycle of the rule of
-    // renewal).
-    if (history.matrix_in_element_frames)
-      {
-        statistics.choice            = StepChoice::exact;
-        statistics.predicted_seconds = cost_model.predicted_exact_seconds();
         exact_step(statistics);
         return;
       }
@@ -560,7 +536,7 @@ namespace warpchol::fem
         StageTimer timer(statistics.stages, stage::assembly);
         for (const unsigned int e : rerotate)
           rerotate_frames(e);
-        changed_columns = system.reassemble(rerotate, ElementFrames::warped(stored_frames));
+        changed_columns = system.reassemble(rerotate, warp_frames.element_frames());
       }
     // Nothing changed and nothing is left stale: the factor is that of A.
     if (changed_columns.empty() && factor_is_exact())
@@ -585,10 +561,9 @@ namespace warpchol::fem
     if (due)
       {
         const unsigned int started = background->started_step();
-        checked([&]() { background->take(system, stored_frames, cholesky_solver); });
-        history.factor_step              = started;
-        history.matrix_in_element_frames = false;
-        last_refresh                     = cholesky::Refresh::all;
+        checked([&]() { background->take(system, warp_frames, cholesky_solver); });
+        history.factor_step = started;
+        last_refresh        = cholesky::Refresh::all;
         statistics.refresh = "background";
         record_rerotations(true);
         statistics.elements_rerotated = body.n_elements();

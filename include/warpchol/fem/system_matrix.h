@@ -67,8 +67,9 @@ namespace warpchol::fem
    *   c_K T_a K_ab T_b^T + c_M m_ab T_a T_b^T,   T_a = S_a^T Q_e
    * (warped_element_matrix() with the frames T_a of its vertices). Three cases: at rest
    * (every T_a = I), rotated (every T_a = R_e, exact corotation) and warped (four frames
-   * per element, warp-canceling corotation's stored ones). The vectors are referenced,
-   * not copied: they must outlive the assembly.
+   * per element, warp-canceling corotation's stored ones, or where an element has none
+   * stored, its rotation for all four). The vectors are referenced, not copied: they must
+   * outlive the assembly.
    */
   struct ElementFrames
   {
@@ -81,12 +82,17 @@ namespace warpchol::fem
     Kind                                      kind              = Kind::rest;
     const std::vector<Matrix3>                *element_rotations = nullptr;
     const std::vector<std::array<Matrix3, 4>> *vertex_frames     = nullptr;
+    /** warped: where null or nonzero, element e has vertex_frames[e]; else element_rotations[e]. */
+    const std::vector<char>                   *frames_stored     = nullptr;
 
     static ElementFrames rest();
     /** T_a = @p rotations[e] for the four vertices of element e. */
     static ElementFrames rotated(const std::vector<Matrix3> &rotations);
     /** T_a = @p frames[e][a]. */
     static ElementFrames warped(const std::vector<std::array<Matrix3, 4>> &frames);
+    /** T_a = @p frames[e][a] where @p stored[e], else @p rotations[e]. */
+    static ElementFrames rerotated(const std::vector<std::array<Matrix3, 4>> &frames,
+                                   const std::vector<char> &stored, const std::vector<Matrix3> &rotations);
   };
 
   /**

@@ -5,6 +5,7 @@
 #include <warpchol/fem/elastic_body.h>
 #include <warpchol/fem/small_dense.h>
 #include <warpchol/fem/system_matrix.h>
+#include <warpchol/models/contribution_frames.h>
 
 #include <array>
 #include <atomic>
@@ -63,11 +64,12 @@ namespace warpchol::fem
 
     /**
      * Wait for the refresh in flight, then exchange its results with the model's: A's
-     * values into @p system, the frames S_v^T Q_e of every element into @p frames, the
-     * factor into @p solver (all exchanged, not copied). Returns the seconds it waited.
-     * Rethrows what the refresh threw (a matrix that is not positive definite).
+     * values into @p system, the frames S_v^T Q_e of every element into @p frames (of
+     * reference P = I), the factor into @p solver (all exchanged, not copied). Returns the
+     * seconds it waited. Rethrows what the refresh threw (a matrix that is not positive
+     * definite).
      */
-    double take(SystemMatrix &system, std::vector<std::array<Matrix3, 4>> &frames, cholesky::SparseCholesky &solver);
+    double take(SystemMatrix &system, ContributionFrames &frames, cholesky::SparseCholesky &solver);
 
     /** The seconds the last refresh taken worked (assembly and factorization). */
     double last_seconds() const;

@@ -1,6 +1,7 @@
 #pragma once
 
 #include <warpchol/models/background_refresh.h>
+#include <warpchol/models/contribution_frames.h>
 #include <warpchol/models/elasticity_model.h>
 #include <warpchol/models/target_error_controller.h>
 
@@ -199,9 +200,9 @@ namespace warpchol::fem
     std::vector<unsigned int> elements_to_rerotate(const std::vector<Vector3> &velocities);
 
     /**
-     * Re-rotate element @p e: its frames become S_a^T Q_e with the current rotations (S_a = R
-     * of its vertices, Q_e = R_e), which its contribution to A is made with until its next
-     * re-rotation.
+     * Re-rotate element @p e: its frames become S_a^T Q_e with this step's solve rotations
+     * S_a of its vertices and its rotation Q_e = R_e (ContributionFrames), which its
+     * contribution to A is made with until its next re-rotation.
      */
     void rerotate_frames(unsigned int e);
 
@@ -209,12 +210,8 @@ namespace warpchol::fem
     /** The threshold of the next step: the given one, or adapted to the target error. */
     TargetErrorController target_control;
 
-    /**
-     * Per element, T_a = S_a^T Q_e for its 4 vertices: the frames its contribution to A was
-     * made with (block (a, b) = c_M m_ab T_a T_b^T + c_K T_a K_ab T_b^T). 288 bytes per
-     * element instead of the 1152 of the contribution: what the estimate reads.
-     */
-    std::vector<std::array<Matrix3, 4>> stored_frames;
+    /** What each element's contribution to A was made with, and the rotations A is solved with. */
+    ContributionFrames warp_frames;
 
     /** The refresh of this step's factor, as the strategy says (timed if it weighs them). */
     cholesky::Refresh choose_refresh(const std::vector<Index> &changed_columns,
@@ -238,10 +235,11 @@ namespace warpchol::fem
     /**
      * The exact path's step, where auto's own steps cost more (ExactFallback): the element
      * rotations at @p positions, A assembled in the elements' frames (the corotational
-     * model's matrix, not WCC's: no nodal rotation, no frame per vertex) and factored in
-     * full, solved directly in the world frame. Nothing else: no error estimate, no
-     * refresh choice, nothing for the cost model. The next step of auto's own makes A
-     * WCC's again with an exact step.
+     * model's matrix: no nodal rotation, no frame per vertex) and factored in full, solved
+     * directly in the world frame. Nothing else: no error estimate, no refresh choice,
+     * nothing for the cost model. It is also WCC's exact matrix, of reference the nodal
+     * rotations of this step (ContributionFrames): the next step of auto's own goes on
+     * from its factor.
      */
     void corotational_step(const std::vector<Vector3> &positions, StepStatistics &statistics);
 
@@ -286,11 +284,6 @@ namespace warpchol::fem
       bool         last_step_changed = false;
       /** Whether the last step was the exact path's (corotational_step()): not auto's own to measure. */
       bool         last_step_fell_back = false;
-      /**
-       * Whether A is the exact path's matrix, in the elements' frames (after
-       * corotational_step()), rather than WCC's in the nodal frames.
-       */
-      bool         matrix_in_element_frames = false;
       /** delayed_top: steps since the top was last refreshed. */
       unsigned int steps_since_top_refresh = 0;
 
@@ -298,7 +291,7 @@ namespace warpchol::fem
       void serialize(Archive &archive)
       {
         archive &step_count &factor_step &last_prepare_seconds &last_step_exact &last_staleness &cycle_length
-          &last_step_changed &last_step_fell_back &matrix_in_element_frames &steps_since_top_refresh;
+          &last_step_changed &last_step_fell_back &steps_since_top_refresh;
       }
     };
     StepHistory history;

@@ -1,0 +1,105 @@
+#include <warpchol/models/contribution_frames.h>
+
+#include <algorithm>
+#include <string>
+
+namespace warpchol::fem
+{
+  ContributionFrames::ContributionFrames(const unsigned int n_elements)
+    : frames(n_elements)
+    , stored(n_elements, 0)
+    , element_rotations(n_elements, Matrix3::Identity())
+  {}
+
+  void ContributionFrames::reset(const std::vector<Matrix3> &rotations, const std::vector<Matrix3> *nodal_rotations)
+  {
+    element_rotations = rotations;
+    std::fill(stored.begin(), stored.end(), 0);
+    reference_pending = nodal_rotations == nullptr;
+    if (nodal_rotations)
+      reference = *nodal_rotations;
+  }
+
+  void ContributionFrames::adopt(std::vector<std::array<Matrix3, 4>> &made_frames)
+  {
+    frames.swap(made_frames);
+    std::fill(stored.begin(), stored.end(), 1);
+    reference.clear();
+    reference_pending = false;
+  }
+
+  void ContributionFrames::update_solve_rotations(const ElasticBody &body, const std::vector<Matrix3> &nodal_rotations)
+  {
+    // The same rotations as the step of the reset would have computed: from its elements'.
+    if (reference_pending)
+      body.compute_nodal_rotations(element_rotations, reference);
+    reference_pending = false;
+    if (reference.empty())
+      {
+        solve = &nodal_rotations;
+        return;
+      }
+    relative.resize(nodal_rotations.size());
+    for (std::size_t v = 0; v < nodal_rotations.size(); ++v)
+      relative[v] = nodal_rotations[v] * reference[v].transpose();
+    solve = &relative;
+  }
+
+  const std::vector<Matrix3> &ContributionFrames::solve_rotations() const
+  {
+    return *solve;
+  }
+
+  std::array<Matrix3, 4> ContributionFrames::of(const unsigned int e) const
+  {
+    if (stored[e])
+      return frames[e];
+    const Matrix3 &rotation = element_rotations[e];
+    return {{rotation, rotation, rotation, rotation}};
+  }
+
+  void ContributionFrames::rerotate(const unsigned int e, const std::array<unsigned int, 4> &vertices,
+                                    const Matrix3 &element_rotation)
+  {
+    for (unsigned int a = 0; a < 4; ++a)
+      frames[e][a] = (*solve)[vertices[a]].transpose() * element_rotation;
+    stored[e] = 1;
+  }
+
+  ElementFrames ContributionFrames::element_frames() const
+  {
+    return ElementFrames::rerotated(frames, stored, element_rotations);
+  }
+
+  void ContributionFrames::save(BinaryWriter &writer) const
+  {
+    writer.section("contribution frames");
+    writer.write(stored);
+    // Only the frames in use: an element not re-rotated since the reset has its rotation.
+    for (std::size_t e = 0; e < stored.size(); ++e)
+      if (stored[e])
+        writer.write(frames[e]);
+    writer.write(element_rotations);
+    writer.write(reference);
+    writer.write(reference_pending);
+  }
+
+  void ContributionFrames::load(BinaryReader &reader)
+  {
+    reader.expect_section("contribution frames");
+    const std::size_t n_elements = stored.size();
+    reader.read(stored);
+    if (stored.size() != n_elements)
+      reader.fail("holds the frames of " + std::to_string(stored.size()) + " elements, the model keeps " +
+                  std::to_string(n_elements));
+    for (std::size_t e = 0; e < n_elements; ++e)
+      if (stored[e])
+        reader.read(frames[e]);
+    reader.read(element_rotations);
+    reader.read(reference);
+    reader.read(reference_pending);
+    if (element_rotations.size() != n_elements)
+      reader.fail("holds the rotations of " + std::to_string(element_rotations.size()) +
+                  " elements, the model keeps " + std::to_string(n_elements));
+  }
+} // namespace warpchol::fem
