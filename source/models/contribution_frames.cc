@@ -18,6 +18,7 @@ namespace warpchol::fem
     reference_pending = nodal_rotations == nullptr;
     if (nodal_rotations)
       reference = *nodal_rotations;
+    relative_due = true;
   }
 
   void ContributionFrames::adopt(std::vector<std::array<Matrix3, 4>> &made_frames)
@@ -26,28 +27,32 @@ namespace warpchol::fem
     std::fill(stored.begin(), stored.end(), 1);
     reference.clear();
     reference_pending = false;
+    relative_due      = true;
   }
 
-  void ContributionFrames::update_solve_rotations(const ElasticBody &body, const std::vector<Matrix3> &nodal_rotations)
+  void ContributionFrames::update_solve_rotations(const ElasticBody &of_body, const std::vector<Matrix3> &rotations)
   {
-    // The same rotations as the step of the reset would have computed: from its elements'.
-    if (reference_pending)
-      body.compute_nodal_rotations(element_rotations, reference);
-    reference_pending = false;
-    if (reference.empty())
-      {
-        solve = &nodal_rotations;
-        return;
-      }
-    relative.resize(nodal_rotations.size());
-    for (std::size_t v = 0; v < nodal_rotations.size(); ++v)
-      relative[v] = nodal_rotations[v] * reference[v].transpose();
-    solve = &relative;
+    body         = &of_body;
+    nodal        = &rotations;
+    relative_due = true;
   }
 
   const std::vector<Matrix3> &ContributionFrames::solve_rotations() const
   {
-    return *solve;
+    // The same rotations as the step of the reset would have computed: from its elements'.
+    if (reference_pending)
+      body->compute_nodal_rotations(element_rotations, reference);
+    reference_pending = false;
+    if (reference.empty())
+      return *nodal;
+    if (relative_due)
+      {
+        relative.resize(nodal->size());
+        for (std::size_t v = 0; v < nodal->size(); ++v)
+          relative[v] = (*nodal)[v] * reference[v].transpose();
+        relative_due = false;
+      }
+    return relative;
   }
 
   std::array<Matrix3, 4> ContributionFrames::of(const unsigned int e) const
@@ -61,8 +66,9 @@ namespace warpchol::fem
   void ContributionFrames::rerotate(const unsigned int e, const std::array<unsigned int, 4> &vertices,
                                     const Matrix3 &element_rotation)
   {
+    const std::vector<Matrix3> &solve = solve_rotations();
     for (unsigned int a = 0; a < 4; ++a)
-      frames[e][a] = (*solve)[vertices[a]].transpose() * element_rotation;
+      frames[e][a] = solve[vertices[a]].transpose() * element_rotation;
     stored[e] = 1;
   }
 

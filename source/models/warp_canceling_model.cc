@@ -427,9 +427,9 @@ namespace warpchol::fem
         stopwatch.restart();
         prepare_factor(velocities, statistics);
       }
-    // A y = S^T rhs with the solve rotations S (ContributionFrames); the exact path's step
-    // solves in the world frame (its S = I).
-    solve_frame = history.last_step_fell_back ? nullptr : &warp_frames.solve_rotations();
+    // A y = S^T rhs with the solve rotations S (ContributionFrames); an exact step's S = I:
+    // it solves in the world frame, as the exact path does.
+    solve_frame = exact_this_step ? nullptr : &warp_frames.solve_rotations();
     history.last_step_changed = change_pending;
     change_pending    = false;
     history.last_prepare_seconds = stopwatch.seconds();
@@ -464,8 +464,8 @@ namespace warpchol::fem
       // exact path's assembly, with no frame per vertex to write.
       system.assemble(ElementFrames::rotated(elastic_state.element_rotations));
       warp_frames.reset(elastic_state.element_rotations, &elastic_state.nodal_rotations);
-      warp_frames.update_solve_rotations(body, elastic_state.nodal_rotations);
-      solve_frame = &warp_frames.solve_rotations();
+      // S = R P^T = I: the exact path's solve, in the world frame.
+      solve_frame = nullptr;
     }
     statistics.elements_rerotated = body.n_elements();
     record_rerotations(true);

@@ -50,8 +50,9 @@ namespace warpchol::fem
     void adopt(std::vector<std::array<Matrix3, 4>> &frames);
 
     /**
-     * S_v = R_v P_v^T from the nodal rotations @p nodal_rotations of this step (@p body's):
-     * what solve_rotations() returns until the next call.
+     * From now on S_v = R_v P_v^T with the nodal rotations @p nodal_rotations of this step
+     * (@p body's; referenced, not copied): what solve_rotations() returns until the next
+     * call. Computed when first asked for: an exact step, solved in the world frame, needs none.
      */
     void update_solve_rotations(const ElasticBody &body, const std::vector<Matrix3> &nodal_rotations);
     /** S of the last update_solve_rotations(): the nodal rotations themselves where P = I. */
@@ -80,11 +81,14 @@ namespace warpchol::fem
     /** Q_e of the last reset(): every frame of an element not re-rotated since. */
     std::vector<Matrix3> element_rotations;
     /** P_v per vertex; empty: P = I. */
-    std::vector<Matrix3> reference;
+    mutable std::vector<Matrix3> reference;
     /** Whether the reference is still to be computed from element_rotations. */
-    bool reference_pending = false;
-    /** S_v = R_v P_v^T, or the nodal rotations themselves where P = I. */
-    std::vector<Matrix3>        relative;
-    const std::vector<Matrix3> *solve = nullptr;
+    mutable bool reference_pending = false;
+    /** The body and nodal rotations of the last update_solve_rotations(). */
+    const ElasticBody          *body  = nullptr;
+    const std::vector<Matrix3> *nodal = nullptr;
+    /** S_v = R_v P_v^T where P is not I, computed when first asked for after an update. */
+    mutable std::vector<Matrix3> relative;
+    mutable bool                 relative_due = false;
   };
 } // namespace warpchol::fem
