@@ -4,7 +4,9 @@
 // assembled with frames R_v^T Q_e (what a refresh beside the steps makes, reference I), to
 // 1e-14 relative; so is it after the solve rotations move on and some elements are
 // re-rotated in both. With no element re-rotated its assembly gives the exact path's very
-// bits; a reference computed later from the element rotations is the one the step had.
+// bits, also once the step's rotations, referenced until then, are kept before the next
+// step overwrites them; a reference computed later from the element rotations is the one
+// the step had.
 
 #include "tests.h"
 
@@ -103,6 +105,19 @@ int main()
       tests::check_below("  A = P A' P^T, relative difference",
                          relative_difference(dense(with_reference.lower()), conjugated(body, nodal, dense(without.lower()))),
                          1e-14);
+      // The step's rotations, referenced, then kept before the next step overwrites them.
+      {
+        std::vector<fem::Matrix3> step_rotations = element_rotations;
+        fem::ContributionFrames   kept(body.n_elements());
+        kept.reset(step_rotations, &nodal);
+        kept.keep_rotations(step_rotations);
+        std::fill(step_rotations.begin(), step_rotations.end(), fem::Matrix3::Zero());
+        fem::SystemMatrix after_overwrite(body, coefficients);
+        after_overwrite.assemble(kept.element_frames());
+        tests::check("  rotations kept before the next step's overwrite them: the same bits",
+                     after_overwrite.lower().values == exact_path.lower().values &&
+                       step_rotations.size() == element_rotations.size());
+      }
 
       // Steps later: the nodal rotations moved; every fifth element re-rotated in both.
       std::vector<fem::Matrix3> moved(body.n_vertices());

@@ -1,3 +1,4 @@
+#include <warpchol/base/exceptions.h>
 #include <warpchol/models/contribution_frames.h>
 
 #include <algorithm>
@@ -13,12 +14,30 @@ namespace warpchol::fem
 
   void ContributionFrames::reset(const std::vector<Matrix3> &rotations, const std::vector<Matrix3> *nodal_rotations)
   {
-    element_rotations = rotations;
+    // Referenced: an exact step keeps them at the cost of an exchange at the next step
+    // (keep_rotations()), not of a copy of every rotation.
+    referenced = &rotations;
     std::fill(stored.begin(), stored.end(), 0);
     reference_pending = nodal_rotations == nullptr;
     if (nodal_rotations)
       reference = *nodal_rotations;
     relative_due = true;
+  }
+
+  void ContributionFrames::keep_rotations(std::vector<Matrix3> &rotations)
+  {
+    if (referenced == nullptr)
+      return;
+    if (referenced != &rotations)
+      throw Error("ContributionFrames::keep_rotations(): not the rotations reset() was given");
+    element_rotations.swap(rotations);
+    rotations.resize(element_rotations.size());
+    referenced = nullptr;
+  }
+
+  const std::vector<Matrix3> &ContributionFrames::rotations() const
+  {
+    return referenced ? *referenced : element_rotations;
   }
 
   void ContributionFrames::adopt(std::vector<std::array<Matrix3, 4>> &made_frames)
@@ -41,7 +60,7 @@ namespace warpchol::fem
   {
     // The same rotations as the step of the reset would have computed: from its elements'.
     if (reference_pending)
-      body->compute_nodal_rotations(element_rotations, reference);
+      body->compute_nodal_rotations(rotations(), reference);
     reference_pending = false;
     if (reference.empty())
       return *nodal;
@@ -59,7 +78,7 @@ namespace warpchol::fem
   {
     if (stored[e])
       return frames[e];
-    const Matrix3 &rotation = element_rotations[e];
+    const Matrix3 &rotation = rotations()[e];
     return {{rotation, rotation, rotation, rotation}};
   }
 
@@ -74,7 +93,7 @@ namespace warpchol::fem
 
   ElementFrames ContributionFrames::element_frames() const
   {
-    return ElementFrames::rerotated(frames, stored, element_rotations);
+    return ElementFrames::rerotated(frames, stored, rotations());
   }
 
   void ContributionFrames::save(BinaryWriter &writer) const
@@ -85,7 +104,7 @@ namespace warpchol::fem
     for (std::size_t e = 0; e < stored.size(); ++e)
       if (stored[e])
         writer.write(frames[e]);
-    writer.write(element_rotations);
+    writer.write(rotations());
     writer.write(reference);
     writer.write(reference_pending);
   }
@@ -101,6 +120,7 @@ namespace warpchol::fem
     for (std::size_t e = 0; e < n_elements; ++e)
       if (stored[e])
         reader.read(frames[e]);
+    referenced = nullptr;
     reader.read(element_rotations);
     reader.read(reference);
     reader.read(reference_pending);

@@ -416,6 +416,8 @@ namespace warpchol::fem
     exact_this_step = false;
 
     Stopwatch stopwatch;
+    // The last exact step's element rotations, before this step's overwrite them.
+    warp_frames.keep_rotations(elastic_state.element_rotations);
     history.last_step_fell_back = may_fall_back && fallback.runs_exact();
     if (history.last_step_fell_back)
       corotational_step(positions, statistics);

@@ -37,11 +37,19 @@ namespace warpchol::fem
     explicit ContributionFrames(unsigned int n_elements);
 
     /**
-     * Every element made with @p element_rotations (copied; T_a = Q_e) and the reference the
-     * nodal rotations of the same step, @p nodal_rotations, or when null computed from
-     * @p element_rotations when a step first needs it (update_solve_rotations()).
+     * Every element made with @p element_rotations (T_a = Q_e) and the reference the nodal
+     * rotations of the same step, @p nodal_rotations (copied), or when null computed from
+     * @p element_rotations when a step first needs it (solve_rotations()).
+     * @p element_rotations is referenced, not copied, until keep_rotations().
      */
     void reset(const std::vector<Matrix3> &element_rotations, const std::vector<Matrix3> *nodal_rotations);
+
+    /**
+     * Before @p element_rotations, what reset() referenced, is overwritten (the next step's
+     * rotations): its values are taken, by exchange (it gets a buffer of as many rotations
+     * to overwrite). Nothing to do if reset() was not called since.
+     */
+    void keep_rotations(std::vector<Matrix3> &element_rotations);
 
     /**
      * Every element made with @p frames (swapped in: a refresh made beside the steps with
@@ -78,8 +86,13 @@ namespace warpchol::fem
     /** The frames of the elements re-rotated since the last reset() (where stored[e]). */
     std::vector<std::array<Matrix3, 4>> frames;
     std::vector<char>                   stored;
-    /** Q_e of the last reset(): every frame of an element not re-rotated since. */
-    std::vector<Matrix3> element_rotations;
+    /**
+     * Q_e of the last reset(): every frame of an element not re-rotated since; those of
+     * reset() itself until keep_rotations() (rotations() says which).
+     */
+    std::vector<Matrix3>        element_rotations;
+    const std::vector<Matrix3> *referenced = nullptr;
+    const std::vector<Matrix3> &rotations() const;
     /** P_v per vertex; empty: P = I. */
     mutable std::vector<Matrix3> reference;
     /** Whether the reference is still to be computed from element_rotations. */
