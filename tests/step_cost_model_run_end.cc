@@ -3,7 +3,9 @@
 // of staleness (CG iterations 2, 3, 4, ...): the rule makes the step exact once the next
 // step would cost more than the least average cycle. With the run's end in view, that step
 // stays iterating while the steps left are too few to repay an exact step, and is exact
-// again when they are many.
+// again when they are many. The iterations a step may spend before it is made exact instead
+// (affordable_iterations()): none known before an exact step and an iteration were
+// measured, then the exact step's seconds over an iteration's, 1 / 0.02 = 50.
 
 #include <warpchol/models/step_strategy.h>
 
@@ -14,11 +16,14 @@ using namespace warpchol;
 int main()
 {
   fem::StepCostModel model;
+  std::cout << "affordable iterations before anything was measured: " << model.affordable_iterations()
+            << " (not known)" << std::endl;
   // One iteration costs 0.02 s; the rest of an iterating step 0.1 s.
   model.record_iterations(cholesky::Refresh::all, 1, 0.02);
   model.record_exact_step(1.0, 0);
   for (unsigned int s = 1; s <= 20; ++s)
     model.record_iterating_step(s, 0.1 + 0.02 * (s + 1), s + 1);
+  std::cout << "affordable iterations: " << model.affordable_iterations() << std::endl;
 
   unsigned int due_at = 0;
   for (unsigned int s = 1; s <= 20 && due_at == 0; ++s)

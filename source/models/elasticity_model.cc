@@ -242,6 +242,11 @@ namespace warpchol::fem
     return true;
   }
 
+  unsigned int ElasticityModel::cg_iteration_limit() const
+  {
+    return strategy.max_cg_iterations;
+  }
+
   ElementFrames ElasticityModel::contribution_frames() const
   {
     return ElementFrames::rest();
@@ -493,7 +498,7 @@ namespace warpchol::fem
             if (!refresh_after_failed_solve(statistics))
               throw MatrixError("preconditioned CG did not reach the tolerance " +
                                 format_number(strategy.cg_tolerance) + " in " +
-                                std::to_string(strategy.max_cg_iterations) + " iterations");
+                                std::to_string(cg_iteration_limit()) + " iterations");
             solve_in_frame(right_hand_side, velocities, statistics);
             return;
           }
@@ -604,7 +609,7 @@ namespace warpchol::fem
     dealii::Vector<double> solution(y.begin(), y.end());
     // |b - B y| <= tolerance |b|: relative to the right-hand side, not to the residual of
     // the initial guess, so that a good guess saves iterations.
-    dealii::SolverControl control(strategy.max_cg_iterations, strategy.cg_tolerance * right_hand_side.l2_norm(),
+    dealii::SolverControl control(cg_iteration_limit(), strategy.cg_tolerance * right_hand_side.l2_norm(),
                                   false, false);
     dealii::SolverCG<dealii::Vector<double>> cg(control);
     const auto record = [&]() {

@@ -118,6 +118,13 @@ namespace warpchol::fem
     return exact_seconds;
   }
 
+  unsigned int StepCostModel::affordable_iterations() const
+  {
+    if (!(exact_seconds > 0) || !(seconds_per_iteration > 0))
+      return 0;
+    return static_cast<unsigned int>(std::min(1e6, std::ceil(exact_seconds / seconds_per_iteration)));
+  }
+
   double StepCostModel::predicted_iterating_seconds(const unsigned int staleness) const
   {
     if (iterating_overhead < 0 || !(seconds_per_iteration > 0))

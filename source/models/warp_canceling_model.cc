@@ -315,12 +315,22 @@ namespace warpchol::fem
 
   bool WarpCancelingModel::refresh_after_failed_solve(StepStatistics &statistics)
   {
+    history.solve_failed = true;
     if (!cholesky_solver.factor_is_exact())
       return ElasticityModel::refresh_after_failed_solve(statistics);
     if (exact_this_step)
       return false;
     exact_step(statistics);
     return true;
+  }
+
+  unsigned int WarpCancelingModel::cg_iteration_limit() const
+  {
+    const unsigned int affordable = cost_model.affordable_iterations();
+    if (strategy.kind == StepStrategy::Kind::automatic && strategy.iterate_on == StepStrategy::Target::corotational &&
+        affordable > 0)
+      return std::min(strategy.max_cg_iterations, affordable);
+    return strategy.max_cg_iterations;
   }
 
   void WarpCancelingModel::save_model_state(BinaryWriter &writer) const
@@ -361,10 +371,12 @@ namespace warpchol::fem
     const Stopwatch whole_step;
     const bool      automatic = strategy.kind == StepStrategy::Kind::automatic;
     // What the last step measured calibrates the cost model, unless it ran beside a
-    // refresh, on fewer threads than the steps in which the model's refreshes run, or was
-    // the exact path's (the fall-back's): the model foresees auto's own steps.
+    // refresh, on fewer threads than the steps in which the model's refreshes run, was
+    // the exact path's (the fall-back's) or failed its solve and was made exact in it: the
+    // model foresees auto's own steps.
     const bool last_beside_refresh = step_thread_count < given_threads;
-    const bool last_measures_own   = history.step_count > 0 && !history.last_step_fell_back;
+    const bool last_measures_own   = history.step_count > 0 && !history.last_step_fell_back && !history.solve_failed;
+    history.solve_failed           = false;
     if (last_measures_own && !last_beside_refresh)
       {
         const double last_seconds = history.last_prepare_seconds + last_solve_seconds;

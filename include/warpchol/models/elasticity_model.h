@@ -448,6 +448,11 @@ namespace warpchol::fem
      * or stale if the factor is not exact.
      */
     virtual bool refresh_after_failed_solve(StepStatistics &statistics);
+    /**
+     * The CG iterations after which this step's solve counts as failed
+     * (refresh_after_failed_solve()): Max CG iterations by default.
+     */
+    virtual unsigned int cg_iteration_limit() const;
 
     /**
      * The frames A's element contributions are made in now: at rest by default (the linear

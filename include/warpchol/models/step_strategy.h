@@ -170,6 +170,12 @@ namespace warpchol::fem
 
     /** The predicted seconds of an exact step (negative before one was measured). */
     double predicted_exact_seconds() const;
+    /**
+     * The CG iterations that cost what an exact step does (0: not known yet). A step that
+     * iterates past them has lost an exact step to iterating; made exact then, it costs
+     * about two (the rule of the ski rental), however far CG would have gone.
+     */
+    unsigned int affordable_iterations() const;
     /** The predicted seconds of an iterating step @p staleness steps after the exact factor (negative if unknown). */
     double predicted_iterating_seconds(unsigned int staleness) const;
 

@@ -187,6 +187,11 @@ namespace warpchol::fem
      * rotations (A is then the exact corotational matrix) and factor it in full.
      */
     bool refresh_after_failed_solve(StepStatistics &statistics) override;
+    /**
+     * auto iterating on the corotational matrix: at most the iterations an exact step costs
+     * (StepCostModel::affordable_iterations()), then an exact step; Max CG iterations otherwise.
+     */
+    unsigned int cg_iteration_limit() const override;
     /** After a step that re-rotated every element: A is the exact corotational matrix. */
     bool factor_solves_target() const override;
     /** Every element in the frames it was last re-rotated with. */
@@ -284,6 +289,11 @@ namespace warpchol::fem
       bool         last_step_changed = false;
       /** Whether the last step was the exact path's (corotational_step()): not auto's own to measure. */
       bool         last_step_fell_back = false;
+      /**
+       * Whether this step's CG failed (past cg_iteration_limit()) and the factor was refreshed
+       * in the solve: its seconds are those of no step the cost model foresees.
+       */
+      bool         solve_failed = false;
       /** delayed_top: steps since the top was last refreshed. */
       unsigned int steps_since_top_refresh = 0;
 
@@ -291,7 +301,7 @@ namespace warpchol::fem
       void serialize(Archive &archive)
       {
         archive &step_count &factor_step &last_prepare_seconds &last_step_exact &last_staleness &cycle_length
-          &last_step_changed &last_step_fell_back &steps_since_top_refresh;
+          &last_step_changed &last_step_fell_back &solve_failed &steps_since_top_refresh;
       }
     };
     StepHistory history;
