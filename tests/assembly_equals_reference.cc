@@ -6,6 +6,7 @@
 // bits of a full assembly with the same frames (so that a partial refactorization sees only
 // the columns that changed); one thread and two give the same bits.
 
+#include "bar_tests.h"
 #include "tests.h"
 
 #include <warpchol/fem/elastic_body.h>
@@ -45,15 +46,10 @@ namespace
   void run(const fem::MassMatrix mass, const std::string &label)
   {
     std::cout << label << " mass:" << std::endl;
-    dealii::Triangulation<3> triangulation;
-    fem::BoxGeometry         box;
-    box.upper_corner = dealii::Point<3>(1, 0.1, 0.15);
-    box.subdivisions = {{10, 2, 3}};
-    fem::create_box(triangulation, box);
     // Fixed vertices at one end, and vertices numbered so that blocks land both ways.
-    std::vector<bool> fixed(triangulation.n_vertices(), false);
-    for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
-      fixed[v] = triangulation.get_vertices()[v][0] < 1e-12;
+    dealii::Triangulation<3> triangulation;
+    const std::vector<bool>  fixed =
+      tests::bar_held_at_one_end(triangulation, dealii::Point<3>(1, 0.1, 0.15), {{10, 2, 3}});
     const fem::ElasticBody body(triangulation, fem::Material{1e5, 0.45, 1000}, mass, fixed);
     fem::SystemCoefficients coefficients = fem::SystemCoefficients::implicit_euler(0.01, 0.1, 0.05);
     coefficients.vertex_diagonal.assign(body.n_vertices(), 0.);

@@ -8,6 +8,7 @@
 // step overwrites them; a reference computed later from the element rotations is the one
 // the step had.
 
+#include "bar_tests.h"
 #include "tests.h"
 
 #include <warpchol/fem/elastic_body.h>
@@ -65,13 +66,8 @@ namespace
 int main()
 {
   dealii::Triangulation<3> triangulation;
-  fem::BoxGeometry         box;
-  box.upper_corner = dealii::Point<3>(1, 0.1, 0.15);
-  box.subdivisions = {{8, 2, 3}};
-  fem::create_box(triangulation, box);
-  std::vector<bool> fixed(triangulation.n_vertices(), false);
-  for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
-    fixed[v] = triangulation.get_vertices()[v][0] < 1e-12;
+  const std::vector<bool>  fixed =
+    tests::bar_held_at_one_end(triangulation, dealii::Point<3>(1, 0.1, 0.15), {{8, 2, 3}});
   for (const auto mass : {fem::MassMatrix::lumped, fem::MassMatrix::consistent})
     {
       std::cout << (mass == fem::MassMatrix::lumped ? "lumped" : "consistent") << " mass:" << std::endl;

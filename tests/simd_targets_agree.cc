@@ -7,6 +7,7 @@
 // forced as WARPCHOL_SIMD_TARGET forces them (simd::use_target()); the list the machine
 // runs is not printed (it differs by CPU), only that the baseline is among them.
 
+#include "bar_tests.h"
 #include "modification_tests.h"
 #include "tests.h"
 
@@ -137,13 +138,8 @@ namespace
 int main()
 {
   dealii::Triangulation<3> triangulation;
-  fem::BoxGeometry         box;
-  box.upper_corner = dealii::Point<3>(1, 0.12, 0.15);
-  box.subdivisions = {{12, 2, 3}};
-  fem::create_box(triangulation, box);
-  std::vector<bool> fixed(triangulation.n_vertices(), false);
-  for (unsigned int v = 0; v < triangulation.n_vertices(); ++v)
-    fixed[v] = triangulation.get_vertices()[v][0] < 1e-12;
+  const std::vector<bool>  fixed =
+    tests::bar_held_at_one_end(triangulation, dealii::Point<3>(1, 0.12, 0.15), {{12, 2, 3}});
   const fem::ElasticBody  body(triangulation, fem::Material{1e5, 0.45, 1000}, fem::MassMatrix::consistent, fixed);
   const sparse::CSCMatrix spd = tests::random_spd(2000, 6, 3);
 
