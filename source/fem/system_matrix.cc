@@ -729,13 +729,24 @@ namespace warpchol::fem::HWY_NAMESPACE
                    const unsigned int first, LaneBlocks &out)
     {
       const PartInputs in = gather_inputs(body, coefficients, elements, count, first);
-      // Entry (k, i) of lanes [first, first + width) of the group.
-      const auto store = [&](const unsigned int k, const unsigned int i, const Part &value) {
-        std::memcpy(reinterpret_cast<double *>(&out.value[k][i]) + first, &value, sizeof value);
+      using Bits = std::int64_t __attribute__((vector_size(8 * width)));
+      // Entry (k, i) of lanes [first, first + width) of the group, but in the lanes where
+      // `kept` is set (all ones), formed by the other pass.
+      Bits       kept{};
+      bool       keeps_some = false;
+      const auto store      = [&](const unsigned int k, const unsigned int i, const Part &value) {
+        double *const lanes_of_entry = reinterpret_cast<double *>(&out.value[k][i]) + first;
+        Part          result         = value;
+        if (keeps_some)
+          {
+            Part current;
+            std::memcpy(&current, lanes_of_entry, sizeof current);
+            result = kept ? current : value;
+          }
+        std::memcpy(lanes_of_entry, &result, sizeof result);
       };
       // Off-diagonal block k from its entries v(i, j) = value[i + 3 j]: a blend per lane,
       // not a branch per element in the scatter.
-      using Bits = std::int64_t __attribute__((vector_size(8 * width)));
       Bits bits;
       for (unsigned int l = 0; l < width; ++l)
         bits[l] = transposed[elements[std::min(first + l, count - 1)]];
@@ -753,107 +764,120 @@ namespace warpchol::fem::HWY_NAMESPACE
             store(k, i + 3 * j, i == j ? lambda_mu_u[i] * u[i] + in.diagonal[k] : lambda_mu_u[i] * u[j]);
       };
       const Part lambda_mu_volume = in.lambda_volume + in.mu_volume;
-      // A group of warped elements none of which has frames of its own is a rotated one: the
-      // same bits as the assembly that gave them their rotations.
+      // Per lane, whether its element is formed in frames of its own (warped) or by its
+      // rotation (rotated, at rest, or warped without frames stored). An element formed by its
+      // rotation gets the very bits of the rotated form whatever the other lanes of its
+      // group: a column re-assembled later changes only where its elements' contributions
+      // did (a change's update has no rounding-level entries to take in).
       const auto has_frames = [&](const unsigned int l) {
-        return frames.frames_stored == nullptr || (*frames.frames_stored)[elements[std::min(first + l, count - 1)]];
+        return frames.kind == ElementFrames::Kind::warped &&
+               (frames.frames_stored == nullptr || (*frames.frames_stored)[elements[std::min(first + l, count - 1)]]);
       };
-      bool rotated_group = frames.kind != ElementFrames::Kind::warped;
-      if (!rotated_group)
-        {
-          rotated_group = true;
-          for (unsigned int l = 0; l < width; ++l)
-            rotated_group = rotated_group && !has_frames(l);
-        }
-      if (rotated_group)
-        {
-          // h_a = R g_a (R = I at rest), and (lambda + mu) V h_a.
-          Part h[4][3], lambda_mu_h[4][3];
-          if (frames.kind == ElementFrames::Kind::rest)
-            std::copy(&in.g[0][0], &in.g[0][0] + 12, &h[0][0]);
-          else
-            {
-              Part r[9];
-              for (unsigned int l = 0; l < width; ++l)
-                {
-                  const Matrix3 &rotation = (*frames.element_rotations)[elements[std::min(first + l, count - 1)]];
-                  for (unsigned int i = 0; i < 9; ++i)
-                    r[i][l] = rotation.data()[i];
-                }
-              for (unsigned int a = 0; a < 4; ++a)
-                for (unsigned int i = 0; i < 3; ++i)
-                  h[a][i] = r[i] * in.g[a][0] + r[i + 3] * in.g[a][1] + r[i + 6] * in.g[a][2];
-            }
-          for (unsigned int a = 0; a < 4; ++a)
-            for (unsigned int i = 0; i < 3; ++i)
-              lambda_mu_h[a][i] = lambda_mu_volume * h[a][i];
-          for (unsigned int k = 0; k < n_blocks; ++k)
-            {
-              const unsigned int a = block_row[k], b = block_column[k];
-              if (a == b)
-                {
-                  store_diagonal(k, lambda_mu_h[a], h[a]);
-                  continue;
-                }
-              // B_ba = B_ab^T is the same formula with a and b exchanged: exchanged in the
-              // lanes where the block lands transposed.
-              const Bits swap = transposed_lanes(k);
-              Part       h_a[3], h_b[3], lambda_h_a[3], mu_h_b[3];
-              for (unsigned int i = 0; i < 3; ++i)
-                {
-                  h_a[i]        = swap ? h[b][i] : h[a][i];
-                  h_b[i]        = swap ? h[a][i] : h[b][i];
-                  lambda_h_a[i] = in.lambda_volume * h_a[i];
-                  mu_h_b[i]     = in.mu_volume * h_b[i];
-                }
-              for (unsigned int j = 0; j < 3; ++j)
-                for (unsigned int i = 0; i < 3; ++i)
-                  {
-                    Part value = lambda_h_a[i] * h_b[j] + mu_h_b[i] * h_a[j];
-                    if (i == j)
-                      value += in.diagonal[k];
-                    store(k, i + 3 * j, value);
-                  }
-            }
-          return;
-        }
-
-      Part t[4][9];
+      Bits own_frames;
+      bool any_own = false, any_rotated = false;
       for (unsigned int l = 0; l < width; ++l)
         {
-          const unsigned int e = elements[std::min(first + l, count - 1)];
-          for (unsigned int a = 0; a < 4; ++a)
-            {
-              const Matrix3 &frame = has_frames(l) ? (*frames.vertex_frames)[e][a] : (*frames.element_rotations)[e];
-              for (unsigned int i = 0; i < 9; ++i)
-                t[a][i][l] = frame.data()[i];
-            }
+          own_frames[l] = has_frames(l) ? -1 : 0;
+          any_own       = any_own || has_frames(l);
+          any_rotated   = any_rotated || !has_frames(l);
         }
-      // u[a][b] = T_a g_b.
-      Part u[4][4][3];
-      for (unsigned int a = 0; a < 4; ++a)
-        for (unsigned int b = 0; b < 4; ++b)
-          for (unsigned int i = 0; i < 3; ++i)
-            u[a][b][i] = t[a][i] * in.g[b][0] + t[a][i + 3] * in.g[b][1] + t[a][i + 6] * in.g[b][2];
-      for (unsigned int k = 0; k < n_blocks; ++k)
-        {
-          const unsigned int a = block_row[k], b = block_column[k];
-          if (a == b)
-            {
-              // T_a T_a^T = I.
-              Part lambda_mu_u[3];
+      const auto form_rotated = [&]() {
+        // h_a = R g_a (R = I at rest), and (lambda + mu) V h_a.
+        Part h[4][3], lambda_mu_h[4][3];
+        if (frames.kind == ElementFrames::Kind::rest)
+          std::copy(&in.g[0][0], &in.g[0][0] + 12, &h[0][0]);
+        else
+          {
+            Part r[9];
+            for (unsigned int l = 0; l < width; ++l)
+              {
+                const Matrix3 &rotation = (*frames.element_rotations)[elements[std::min(first + l, count - 1)]];
+                for (unsigned int i = 0; i < 9; ++i)
+                  r[i][l] = rotation.data()[i];
+              }
+            for (unsigned int a = 0; a < 4; ++a)
               for (unsigned int i = 0; i < 3; ++i)
-                lambda_mu_u[i] = lambda_mu_volume * u[a][a][i];
-              store_diagonal(k, lambda_mu_u, u[a][a]);
-              continue;
-            }
-          Part value[9];
-          for (unsigned int j = 0; j < 3; ++j)
+                h[a][i] = r[i] * in.g[a][0] + r[i + 3] * in.g[a][1] + r[i + 6] * in.g[a][2];
+          }
+        for (unsigned int a = 0; a < 4; ++a)
+          for (unsigned int i = 0; i < 3; ++i)
+            lambda_mu_h[a][i] = lambda_mu_volume * h[a][i];
+        for (unsigned int k = 0; k < n_blocks; ++k)
+          {
+            const unsigned int a = block_row[k], b = block_column[k];
+            if (a == b)
+              {
+                store_diagonal(k, lambda_mu_h[a], h[a]);
+                continue;
+              }
+            // B_ba = B_ab^T is the same formula with a and b exchanged: exchanged in the
+            // lanes where the block lands transposed.
+            const Bits swap = transposed_lanes(k);
+            Part       h_a[3], h_b[3], lambda_h_a[3], mu_h_b[3];
             for (unsigned int i = 0; i < 3; ++i)
-              // The diagonal's coefficient times (T_a T_b^T)(i, j).
-              value[i + 3 * j] = in.lambda_volume * u[a][a][i] * u[b][b][j] + in.mu_volume * u[a][b][i] * u[b][a][j] +
-                                 in.diagonal[k] * (t[a][i] * t[b][j] + t[a][i + 3] * t[b][j + 3] + t[a][i + 6] * t[b][j + 6]);
-          store_off_diagonal(k, value);
+              {
+                h_a[i]        = swap ? h[b][i] : h[a][i];
+                h_b[i]        = swap ? h[a][i] : h[b][i];
+                lambda_h_a[i] = in.lambda_volume * h_a[i];
+                mu_h_b[i]     = in.mu_volume * h_b[i];
+              }
+            for (unsigned int j = 0; j < 3; ++j)
+              for (unsigned int i = 0; i < 3; ++i)
+                {
+                  Part value = lambda_h_a[i] * h_b[j] + mu_h_b[i] * h_a[j];
+                  if (i == j)
+                    value += in.diagonal[k];
+                  store(k, i + 3 * j, value);
+                }
+          }
+      };
+      const auto form_warped = [&]() {
+        Part t[4][9];
+        for (unsigned int l = 0; l < width; ++l)
+          {
+            const unsigned int e = elements[std::min(first + l, count - 1)];
+            for (unsigned int a = 0; a < 4; ++a)
+              {
+                const Matrix3 &frame = has_frames(l) ? (*frames.vertex_frames)[e][a] : (*frames.element_rotations)[e];
+                for (unsigned int i = 0; i < 9; ++i)
+                  t[a][i][l] = frame.data()[i];
+              }
+          }
+        // u[a][b] = T_a g_b.
+        Part u[4][4][3];
+        for (unsigned int a = 0; a < 4; ++a)
+          for (unsigned int b = 0; b < 4; ++b)
+            for (unsigned int i = 0; i < 3; ++i)
+              u[a][b][i] = t[a][i] * in.g[b][0] + t[a][i + 3] * in.g[b][1] + t[a][i + 6] * in.g[b][2];
+        for (unsigned int k = 0; k < n_blocks; ++k)
+          {
+            const unsigned int a = block_row[k], b = block_column[k];
+            if (a == b)
+              {
+                // T_a T_a^T = I.
+                Part lambda_mu_u[3];
+                for (unsigned int i = 0; i < 3; ++i)
+                  lambda_mu_u[i] = lambda_mu_volume * u[a][a][i];
+                store_diagonal(k, lambda_mu_u, u[a][a]);
+                continue;
+              }
+            Part value[9];
+            for (unsigned int j = 0; j < 3; ++j)
+              for (unsigned int i = 0; i < 3; ++i)
+                // The diagonal's coefficient times (T_a T_b^T)(i, j).
+                value[i + 3 * j] =
+                  in.lambda_volume * u[a][a][i] * u[b][b][j] + in.mu_volume * u[a][b][i] * u[b][a][j] +
+                  in.diagonal[k] * (t[a][i] * t[b][j] + t[a][i + 3] * t[b][j + 3] + t[a][i + 6] * t[b][j + 6]);
+            store_off_diagonal(k, value);
+          }
+      };
+      if (any_own)
+        form_warped();
+      if (any_rotated)
+        {
+          kept       = own_frames;
+          keeps_some = any_own;
+          form_rotated();
         }
     }
   } // namespace
