@@ -58,12 +58,17 @@ namespace warpchol::fem
 
   const std::vector<Matrix3> &ContributionFrames::solve_rotations() const
   {
+    if (nodal == nullptr)
+      throw Error("ContributionFrames::solve_rotations() before update_solve_rotations()");
     // The same rotations as the step of the reset would have computed: from its elements'.
     if (reference_pending)
       body->compute_nodal_rotations(rotations(), reference);
     reference_pending = false;
     if (reference.empty())
       return *nodal;
+    if (reference.size() != nodal->size())
+      throw Error("ContributionFrames: a reference of " + std::to_string(reference.size()) +
+                  " vertices for nodal rotations of " + std::to_string(nodal->size()));
     if (relative_due)
       {
         relative.resize(nodal->size());
