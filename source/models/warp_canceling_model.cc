@@ -316,7 +316,11 @@ namespace warpchol::fem
   bool WarpCancelingModel::refresh_after_failed_solve(StepStatistics &statistics)
   {
     history.solve_failed = true;
-    if (!cholesky_solver.factor_is_exact())
+    // auto's CG stopped at an exact step's worth of iterations: the exact step now, not a
+    // refresh of the stale columns first, after which CG would spend as much again.
+    const bool bounded = strategy.kind == StepStrategy::Kind::automatic &&
+                         strategy.iterate_on == StepStrategy::Target::corotational;
+    if (!cholesky_solver.factor_is_exact() && (exact_this_step || !bounded))
       return ElasticityModel::refresh_after_failed_solve(statistics);
     if (exact_this_step)
       return false;

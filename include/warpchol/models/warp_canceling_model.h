@@ -183,8 +183,9 @@ namespace warpchol::fem
      */
     bool matrix_carries_over() const override;
     /**
-     * After CG failed with an exact factor of A: update every element to the current
-     * rotations (A is then the exact corotational matrix) and factor it in full.
+     * After CG failed with an exact factor of A, or with any factor where auto bounds CG
+     * (cg_iteration_limit()): update every element to the current rotations (A is then
+     * the exact corotational matrix) and factor it in full. Otherwise refresh what is stale.
      */
     bool refresh_after_failed_solve(StepStatistics &statistics) override;
     /**
