@@ -100,7 +100,8 @@ int main()
       tests::check("  no element re-rotated: the exact path's bits",
                    with_reference.lower().values == exact_path.lower().values);
       tests::check_below("  A = P A' P^T, relative difference",
-                         relative_difference(dense(with_reference.lower()), conjugated(body, nodal, dense(without.lower()))),
+                         relative_difference(dense(with_reference.lower()),
+                                             conjugated(body, nodal, dense(without.lower()))),
                          1e-14);
       // The step's rotations, referenced, then kept before the next step overwrites them.
       {
@@ -136,7 +137,8 @@ int main()
       with_reference.reassemble(rerotated, referenced.element_frames());
       without.reassemble(rerotated, plain.element_frames());
       tests::check_below("  after re-rotations, A = P A' P^T, relative difference",
-                         relative_difference(dense(with_reference.lower()), conjugated(body, nodal, dense(without.lower()))),
+                         relative_difference(dense(with_reference.lower()),
+                                             conjugated(body, nodal, dense(without.lower()))),
                          1e-14);
       // Elements with frames and without share the SIMD groups differently in a partial and
       // a full assembly: each element's bits must not depend on its group.
