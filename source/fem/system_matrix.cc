@@ -777,9 +777,10 @@ namespace warpchol::fem::HWY_NAMESPACE
       bool any_own = false, any_rotated = false;
       for (unsigned int l = 0; l < width; ++l)
         {
-          own_frames[l] = has_frames(l) ? -1 : 0;
-          any_own       = any_own || has_frames(l);
-          any_rotated   = any_rotated || !has_frames(l);
+          const bool own = has_frames(l);
+          own_frames[l]  = own ? -1 : 0;
+          any_own        = any_own || own;
+          any_rotated    = any_rotated || !own;
         }
       const auto form_rotated = [&]() {
         // h_a = R g_a (R = I at rest), and (lambda + mu) V h_a.
@@ -838,7 +839,7 @@ namespace warpchol::fem::HWY_NAMESPACE
             const unsigned int e = elements[std::min(first + l, count - 1)];
             for (unsigned int a = 0; a < 4; ++a)
               {
-                const Matrix3 &frame = has_frames(l) ? (*frames.vertex_frames)[e][a] : (*frames.element_rotations)[e];
+                const Matrix3 &frame = own_frames[l] ? (*frames.vertex_frames)[e][a] : (*frames.element_rotations)[e];
                 for (unsigned int i = 0; i < 9; ++i)
                   t[a][i][l] = frame.data()[i];
               }

@@ -150,8 +150,7 @@ namespace warpchol::fem
       record.error_estimate.assign(body.n_elements(), 0.0);
     // The background refresh: asked for, or the automatic strategy's with a thread to spare.
     if (strategy.kind == StepStrategy::Kind::background ||
-        (strategy.kind == StepStrategy::Kind::automatic && solver_settings.n_threads > 1 &&
-         strategy.iterate_on == StepStrategy::Target::corotational))
+        (automatic_on_corotational() && solver_settings.n_threads > 1))
       background = std::make_unique<BackgroundRefresh>(body, coefficients, cholesky_solver);
   }
 
@@ -318,9 +317,7 @@ namespace warpchol::fem
     history.solve_failed = true;
     // auto's CG stopped at an exact step's worth of iterations: the exact step now, not a
     // refresh of the stale columns first, after which CG would spend as much again.
-    const bool bounded = strategy.kind == StepStrategy::Kind::automatic &&
-                         strategy.iterate_on == StepStrategy::Target::corotational;
-    if (!cholesky_solver.factor_is_exact() && (exact_this_step || !bounded))
+    if (!cholesky_solver.factor_is_exact() && (exact_this_step || !automatic_on_corotational()))
       return ElasticityModel::refresh_after_failed_solve(statistics);
     if (exact_this_step)
       return false;
@@ -328,11 +325,16 @@ namespace warpchol::fem
     return true;
   }
 
+  bool WarpCancelingModel::automatic_on_corotational() const
+  {
+    return strategy.kind == StepStrategy::Kind::automatic &&
+           strategy.iterate_on == StepStrategy::Target::corotational;
+  }
+
   unsigned int WarpCancelingModel::cg_iteration_limit() const
   {
     const unsigned int affordable = cost_model.affordable_iterations();
-    if (strategy.kind == StepStrategy::Kind::automatic && strategy.iterate_on == StepStrategy::Target::corotational &&
-        affordable > 0)
+    if (automatic_on_corotational() && affordable > 0)
       return std::min(strategy.max_cg_iterations, affordable);
     return strategy.max_cg_iterations;
   }
@@ -401,7 +403,7 @@ namespace warpchol::fem
     // auto against the exact path, on whole steps too. Until an exact step of the
     // fall-back is measured, the smaller of the set-up's factorization (a part of one) and
     // auto's own exact steps (which do more) stands for one.
-    const bool may_fall_back = automatic && strategy.iterate_on == StepStrategy::Target::corotational;
+    const bool may_fall_back = automatic_on_corotational();
     if (history.step_count > 0 && may_fall_back)
       {
         const double factorization = cost_model.setup_factorization_seconds();
@@ -525,7 +527,7 @@ namespace warpchol::fem
     const unsigned int staleness = history.step_count - history.factor_step;
     // With the refreshes beside the steps the factor is made exact there, never here.
     const unsigned int steps_left = run_length >= history.step_count ? run_length - history.step_count + 1 : 0;
-    if (automatic && strategy.iterate_on == StepStrategy::Target::corotational && !refreshes_beside_the_steps() &&
+    if (automatic_on_corotational() && !refreshes_beside_the_steps() &&
         cost_model.exact_step_is_due(staleness, steps_left))
       {
         // Iterating on would cost more than the least average of a cycle that starts now.

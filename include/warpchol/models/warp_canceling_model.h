@@ -202,6 +202,12 @@ namespace warpchol::fem
     void load_model_state(BinaryReader &reader) override;
 
   private:
+    /**
+     * auto iterating on the corotational matrix: where its steps may be exact, fall back to
+     * the exact path's, refresh beside the steps and bound CG by an exact step.
+     */
+    bool automatic_on_corotational() const;
+
     /** The elements whose error estimate exceeds the threshold, in increasing order. */
     std::vector<unsigned int> elements_to_rerotate(const std::vector<Vector3> &velocities);
 
