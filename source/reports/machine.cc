@@ -13,16 +13,28 @@ namespace warpchol::app
 {
   std::string cpu_name()
   {
+    // A virtual machine often shows a generic name ("AMD EPYC"): the family and model tell
+    // the generations apart (AMD 25: Zen 3 and 4, 26: Zen 5; Intel 6, model 207: Emerald
+    // Rapids).
     std::ifstream cpuinfo("/proc/cpuinfo");
-    std::string   line;
-    while (std::getline(cpuinfo, line))
+    std::string   line, name, family, model;
+    const auto    value = [&line]() {
+      const auto colon = line.find(':');
+      const auto start = colon == std::string::npos ? colon : line.find_first_not_of(" \t", colon + 1);
+      return start == std::string::npos ? std::string() : line.substr(start);
+    };
+    while (std::getline(cpuinfo, line) && line.find_first_not_of(" \t") != std::string::npos)
       if (line.rfind("model name", 0) == 0)
-        {
-          const auto colon = line.find(':');
-          if (colon != std::string::npos)
-            return line.substr(line.find_first_not_of(" \t", colon + 1));
-        }
-    return "unknown CPU";
+        name = value();
+      else if (line.rfind("cpu family", 0) == 0)
+        family = value();
+      else if (line.rfind("model", 0) == 0 && line.find_first_of(" \t") == 5)
+        model = value();
+    if (name.empty())
+      return "unknown CPU";
+    if (!family.empty() && !model.empty())
+      name += " (family " + family + ", model " + model + ")";
+    return name;
   }
 
   std::string simd_target(const simd::Family family)

@@ -12,7 +12,7 @@
  */
 namespace warpchol::app
 {
-  /** The CPU's model name (/proc/cpuinfo), or "unknown CPU". */
+  /** The CPU's model name with its family and model (/proc/cpuinfo), or "unknown CPU". */
   std::string cpu_name();
 
   /**
