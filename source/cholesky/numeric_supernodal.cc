@@ -883,14 +883,19 @@ namespace warpchol::cholesky
       data.round(symbolic, s, 0);
   }
 
+  void SupernodalFactor::allocate(const SupernodalSymbolic &symbolic)
+  {
+    if (static_cast<Index>(implementation->values.size()) != symbolic.n_stored_values())
+      initialize(symbolic, implementation->copy);
+  }
+
   double SupernodalFactor::factorize(const SupernodalSymbolic &symbolic,
                                      const sparse::CSCMatrix  &lower,
                                      const std::vector<Index> &supernodes,
                                      const std::vector<Index> &start_offsets,
                                      const unsigned int        n_threads)
   {
-    if (static_cast<Index>(implementation->values.size()) != symbolic.n_stored_values())
-      initialize(symbolic, implementation->copy);
+    allocate(symbolic);
     for (Workspace &workspace : implementation->workspaces)
       workspace.flops = 0;
     if (static_cast<Index>(implementation->seconds_per_flop.size()) != symbolic.n_supernodes())

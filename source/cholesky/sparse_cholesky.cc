@@ -223,6 +223,10 @@ namespace warpchol::cholesky
   {
     if (!analyzed)
       analyze(matrix);
+    // The factor's memory first, outside the factorization's time: the cost models take
+    // that time for what a factorization costs, every later one in memory already touched.
+    if (solver_settings.method == FactorizationMethod::supernodal)
+      supernodal_factor.allocate(supernodal_structure);
     const Stopwatch stopwatch;
     load_or_drop_factor(permuted_matrix, matrix, values, factor_valid);
     pending_columns.clear();

@@ -80,6 +80,14 @@ namespace warpchol::cholesky
      */
     void clear(PreconditionerPrecision copy = PreconditionerPrecision::full);
 
+    /**
+     * Allocate the values for @p symbolic unless they are: what factorize() does first. A
+     * caller that times factorize() calls it before, so that the time is the arithmetic's,
+     * not the first touch of the factor's memory (which a virtual machine's page faults can
+     * make several times the arithmetic).
+     */
+    void allocate(const SupernodalSymbolic &symbolic);
+
     /** Bytes of the values held now (and of the preconditioner's copy). */
     std::size_t memory_bytes() const;
 
