@@ -2,6 +2,7 @@
 #include <warpchol/base/format.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/models/elasticity_model.h>
+#include <warpchol/models/forecast_solver_control.h>
 #include <warpchol/models/model_type.h>
 
 #include <deal.II/lac/solver_cg.h>
@@ -245,6 +246,11 @@ namespace warpchol::fem
   unsigned int ElasticityModel::cg_iteration_limit() const
   {
     return strategy.max_cg_iterations;
+  }
+
+  bool ElasticityModel::cg_gives_up_on_forecast() const
+  {
+    return false;
   }
 
   ElementFrames ElasticityModel::contribution_frames() const
@@ -609,8 +615,10 @@ namespace warpchol::fem
     dealii::Vector<double> solution(y.begin(), y.end());
     // |b - B y| <= tolerance |b|: relative to the right-hand side, not to the residual of
     // the initial guess, so that a good guess saves iterations.
-    dealii::SolverControl control(cg_iteration_limit(), strategy.cg_tolerance * right_hand_side.l2_norm(),
-                                  false, false);
+    const double          tolerance = strategy.cg_tolerance * right_hand_side.l2_norm();
+    dealii::SolverControl plain_control(cg_iteration_limit(), tolerance, false, false);
+    ForecastSolverControl forecast_control(cg_iteration_limit(), tolerance);
+    dealii::SolverControl &control = cg_gives_up_on_forecast() ? forecast_control : plain_control;
     dealii::SolverCG<dealii::Vector<double>> cg(control);
     const auto record = [&]() {
       last_cg_iterations = control.last_step();

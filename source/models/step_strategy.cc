@@ -98,9 +98,10 @@ namespace warpchol::fem
       blend(iterating_overhead, std::max(seconds - iterations * seconds_per_iteration, 1e-9));
   }
 
-  void StepCostModel::record_setup_factorization(const double seconds)
+  void StepCostModel::record_setup(const double step_seconds, const double factorization_seconds)
   {
-    setup_factorization = seconds;
+    setup_exact_seconds = step_seconds;
+    setup_factorization = factorization_seconds;
   }
 
   double StepCostModel::setup_factorization_seconds() const
@@ -115,14 +116,15 @@ namespace warpchol::fem
 
   double StepCostModel::predicted_exact_seconds() const
   {
-    return exact_seconds;
+    return exact_seconds > 0 ? exact_seconds : setup_exact_seconds;
   }
 
   unsigned int StepCostModel::affordable_iterations() const
   {
-    if (!(exact_seconds > 0) || !(seconds_per_iteration > 0))
+    const double exact = predicted_exact_seconds();
+    if (!(exact > 0) || !(seconds_per_iteration > 0))
       return 0;
-    return static_cast<unsigned int>(std::min(1e6, std::ceil(exact_seconds / seconds_per_iteration)));
+    return static_cast<unsigned int>(std::min(1e6, std::ceil(exact / seconds_per_iteration)));
   }
 
   double StepCostModel::predicted_iterating_seconds(const unsigned int staleness) const
@@ -138,7 +140,8 @@ namespace warpchol::fem
 
   bool StepCostModel::exact_step_is_due(const unsigned int staleness, const unsigned int steps_left) const
   {
-    if (exact_seconds < 0)
+    const double exact = predicted_exact_seconds();
+    if (exact < 0)
       return true;
     if (predicted_iterating_seconds(staleness) < 0)
       return false;
@@ -150,7 +153,7 @@ namespace warpchol::fem
     for (unsigned int s = 1; s <= longest_staleness; ++s)
       cost[s - 1] = largest = std::max(largest, std::max(predicted_iterating_seconds(s), 0.));
     // The least average cost of a cycle that starts with an exact step.
-    double cycle = exact_seconds, least_average = exact_seconds;
+    double cycle = exact, least_average = exact;
     for (unsigned int length = 2; length <= longest_staleness; ++length)
       {
         cycle += cost[length - 2];
@@ -163,7 +166,7 @@ namespace warpchol::fem
       return true;
     // Near the run's end a cycle cannot run its course: an exact step now, then the steps
     // after it, against iterating on at the staleness reached.
-    double exact_now = exact_seconds, iterate_on = 0;
+    double exact_now = exact, iterate_on = 0;
     for (unsigned int k = 0; k < steps_left; ++k)
       {
         exact_now += k > 0 ? cost_at(k) : 0.;
@@ -174,16 +177,16 @@ namespace warpchol::fem
 
   void StepCostModel::save(BinaryWriter &writer) const
   {
-    for (const double value : {setup_factorization, seconds_per_iteration, iterations_after_all,
-                               iterations_after_top, last_iterations, exact_seconds, iterating_overhead})
+    for (const double value : {setup_factorization, seconds_per_iteration, iterations_after_all, iterations_after_top,
+                               last_iterations, exact_seconds, setup_exact_seconds, iterating_overhead})
       writer.write(value);
     writer.write(iterations_at);
   }
 
   void StepCostModel::load(BinaryReader &reader)
   {
-    for (double *value : {&setup_factorization, &seconds_per_iteration, &iterations_after_all,
-                          &iterations_after_top, &last_iterations, &exact_seconds, &iterating_overhead})
+    for (double *value : {&setup_factorization, &seconds_per_iteration, &iterations_after_all, &iterations_after_top,
+                          &last_iterations, &exact_seconds, &setup_exact_seconds, &iterating_overhead})
       reader.read(*value);
     reader.read(iterations_at);
     if (iterations_at.size() != longest_staleness)

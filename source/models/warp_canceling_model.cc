@@ -140,8 +140,8 @@ namespace warpchol::fem
     if (strategy.kind == StepStrategy::Kind::automatic)
       {
         const auto &factor_statistics = cholesky_solver.statistics();
-        cost_model.record_exact_step(setup_seconds() - factor_statistics.analyze_seconds, 0);
-        cost_model.record_setup_factorization(factor_statistics.factorize_seconds);
+        cost_model.record_setup(setup_seconds() - factor_statistics.analyze_seconds,
+                                factor_statistics.factorize_seconds);
       }
     solve_frame = &elastic_state.nodal_rotations;
     // Estimates exist only between the two limits (0: all re-rotated, inf: none); at rest
@@ -337,6 +337,11 @@ namespace warpchol::fem
     if (automatic_on_corotational() && affordable > 0)
       return std::min(strategy.max_cg_iterations, affordable);
     return strategy.max_cg_iterations;
+  }
+
+  bool WarpCancelingModel::cg_gives_up_on_forecast() const
+  {
+    return automatic_on_corotational() && cost_model.affordable_iterations() > 0;
   }
 
   void WarpCancelingModel::save_model_state(BinaryWriter &writer) const

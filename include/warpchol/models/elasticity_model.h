@@ -453,6 +453,11 @@ namespace warpchol::fem
      * (refresh_after_failed_solve()): Max CG iterations by default.
      */
     virtual unsigned int cg_iteration_limit() const;
+    /**
+     * Whether this step's CG also gives up as soon as its convergence forecasts the limit
+     * passed (ForecastSolverControl): false by default.
+     */
+    virtual bool cg_gives_up_on_forecast() const;
 
     /**
      * The frames A's element contributions are made in now: at rest by default (the linear

@@ -156,10 +156,15 @@ namespace warpchol::fem
     /** The predicted seconds of a step whose refresh @p refresh costs @p refresh_seconds, then iterates. */
     double predicted_seconds(cholesky::Refresh refresh, double refresh_seconds) const;
 
-    /** The set-up's factorization of the rest matrix took @p seconds (the whole factorize(), values loaded). */
-    void record_setup_factorization(double seconds);
     /**
-     * What record_setup_factorization() recorded (negative before): the fall-back's stand-in
+     * The set-up's assembly and factorization of the rest matrix took @p step_seconds, its
+     * factorization @p factorization_seconds (the whole factorize(), values loaded). The
+     * first stands for an exact step until one is measured, which replaces it: the set-up
+     * touches its memory first and runs slower than the exact steps after it.
+     */
+    void record_setup(double step_seconds, double factorization_seconds);
+    /**
+     * The set-up's factorization (record_setup(); negative before): the fall-back's stand-in
      * for the exact path's step until it measures one (ExactFallback), a part of such a step.
      * A measurement, not a rate: the solver learns the rates (SparseCholesky::cost_model()),
      * and at its rate, which the exact steps' warm factorizations lower, a factorization
@@ -168,7 +173,7 @@ namespace warpchol::fem
      */
     double setup_factorization_seconds() const;
 
-    /** The predicted seconds of an exact step (negative before one was measured). */
+    /** The predicted seconds of an exact step: the set-up's before one was measured (negative before either). */
     double predicted_exact_seconds() const;
     /**
      * The CG iterations that cost what an exact step does (0: not known yet). A step that
@@ -209,7 +214,9 @@ namespace warpchol::fem
     double iterations_after_all  = 0;
     double iterations_after_top  = -1;
     double last_iterations       = 0;
+    /** The exact steps measured (negative: none yet), and the set-up's stand-in for them. */
     double exact_seconds         = -1;
+    double setup_exact_seconds   = -1;
     /** o: the seconds of an iterating step but its CG iterations. */
     double iterating_overhead    = -1;
     /** i(s) for s = 1 .. longest_staleness at [s - 1]; negative where not measured. */

@@ -193,6 +193,8 @@ namespace warpchol::fem
      * (StepCostModel::affordable_iterations()), then an exact step; Max CG iterations otherwise.
      */
     unsigned int cg_iteration_limit() const override;
+    /** Where auto bounds CG by an exact step: a solve that will not make it is cut short. */
+    bool cg_gives_up_on_forecast() const override;
     /** After a step that re-rotated every element: A is the exact corotational matrix. */
     bool factor_solves_target() const override;
     /** Every element in the frames it was last re-rotated with. */
