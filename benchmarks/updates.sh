@@ -49,7 +49,7 @@ done
 mv "$out/runs.txt.tmp" "$out/runs.txt"
 # The table: milliseconds, the flops of the update and of the partial refactorization;
 # the update on each target forced, against CHOLMOD in its own run.
-awk -v cpu="$(grep -m1 'model name' /proc/cpuinfo | cut -d: -f2 | sed 's/^ //')" -v targets="$targets" '
+awk -v cpu="$(echo "$machine" | sed 's/^machine: \(.*\), SIMD target.*/\1/')" -v targets="$targets" '
   function field(name,   i, kv) { for (i = 1; i <= NF; ++i) { split($i, kv, "="); if (kv[1] == name) return kv[2] } return "" }
   BEGIN {
     n_targets = split(targets, forced, " ")
