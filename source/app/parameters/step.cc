@@ -92,7 +92,7 @@ namespace warpchol::app
       prm.declare_entry("Max CG iterations", "100", Patterns::Integer(1, 100000),
                         "A solve that needs more refreshes the whole factor and starts again "
                         "(auto on the corotational matrix: at most the iterations an exact "
-                        "step costs, then an exact step)");
+                        "step costs, fewer if CG's rate forecasts more, then an exact step)");
       prm.declare_entry("Refresh interval", "10", Patterns::Integer(1, 1000000),
                         "delayed_top: the top is refreshed at least every this many steps");
       prm.declare_entry("Refresh iterations", "8", Patterns::Integer(1, 100000),
