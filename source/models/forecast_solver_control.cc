@@ -18,7 +18,8 @@ namespace warpchol::fem
       }
     residuals.push_back(check_value);
     const State state = dealii::SolverControl::check(step, check_value);
-    if (state != iterate || step < first_forecast || step + 1 != residuals.size())
+    // No forecast without a tolerance to reach, or without the iterations it reads.
+    if (state != iterate || step < first_forecast || step + 1 != residuals.size() || !(tolerance() > 0))
       return state;
     const unsigned int recent = std::max(4u, step / 2);
     const double       rate   = std::pow(check_value / residuals[step - recent], 1. / recent);
