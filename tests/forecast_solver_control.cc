@@ -98,7 +98,8 @@ int main()
     SolverControl              plain(100, tolerance, false, false);
     fem::ForecastSolverControl forecast(100, tolerance);
     dealii::Vector<double>     x_plain, x_forecast;
-    const bool                 plain_converged = solve(plain, x_plain), forecast_converged = solve(forecast, x_forecast);
+    const bool                 plain_converged    = solve(plain, x_plain);
+    const bool                 forecast_converged = solve(forecast, x_forecast);
     x_forecast -= x_plain;
     std::cout << "CG, condition 10, limit 100: plain " << plain.last_step() << " iterations, forecast "
               << forecast.last_step() << std::endl;
