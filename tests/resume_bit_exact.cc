@@ -194,7 +194,11 @@ int main(int, char **argv)
   // The program that writes the checkpoint runs OpenBLAS's kernels for this CPU
   // (restarting itself to choose them): so must the runs here that it is compared with.
   warpchol::cholesky::blas::restart_with_blas_kernels_for_this_cpu(argv);
-  check_scene("partial", "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n", "", true);
+  // Its re-rotations' update or partial refactorization is a close call on some machines:
+  // chosen at fixed rates, not by measured times (which a loaded machine changes after the
+  // resume, and the two methods round apart).
+  const std::string fixed_rates = "subsection Solver\n  set Change method = flops\nend\n";
+  check_scene("partial", "  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n", fixed_rates, true);
   check_scene("below_top",
               "  set Type = warp_canceling\n  set Rerotation threshold = 0.1\n  set Strategy = delayed_top\n"
               "  set Refresh interval = 7\n",
@@ -241,7 +245,8 @@ int main(int, char **argv)
   tests::write_file("none.prm", scene("  set Type = linear\n", "", 40));
   std::filesystem::remove_all("results/none");
   tests::expect_error("no checkpoint", [&]() { resume("none.prm"); });
-  tests::write_file("partial.prm", scene("  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n", "", 40, true));
+  tests::write_file("partial.prm",
+                    scene("  set Type = warp_canceling\n  set Rerotation threshold = 0.3\n", fixed_rates, 40, true));
   // Where a checkpoint cut short is caught depends on its layout: the message says so.
   std::filesystem::resize_file("results/partial/checkpoint.bin", 5000);
   std::string cut_short_message;
