@@ -616,8 +616,9 @@ namespace warpchol::fem
     // |b - B y| <= tolerance |b|: relative to the right-hand side, not to the residual of
     // the initial guess, so that a good guess saves iterations.
     const double          tolerance = strategy.cg_tolerance * right_hand_side.l2_norm();
-    dealii::SolverControl plain_control(cg_iteration_limit(), tolerance, false, false);
-    ForecastSolverControl forecast_control(cg_iteration_limit(), tolerance);
+    const unsigned int    limit     = cg_iteration_limit();
+    dealii::SolverControl plain_control(limit, tolerance, false, false);
+    ForecastSolverControl forecast_control(limit, tolerance);
     dealii::SolverControl &control = cg_gives_up_on_forecast() ? forecast_control : plain_control;
     dealii::SolverCG<dealii::Vector<double>> cg(control);
     const auto record = [&]() {

@@ -333,13 +333,17 @@ namespace warpchol::fem
 
   unsigned int WarpCancelingModel::cg_iteration_limit() const
   {
-    const unsigned int affordable = cost_model.affordable_iterations();
-    if (automatic_on_corotational() && affordable > 0)
-      return std::min(strategy.max_cg_iterations, affordable);
+    if (cg_bounded_by_exact_step())
+      return std::min(strategy.max_cg_iterations, cost_model.affordable_iterations());
     return strategy.max_cg_iterations;
   }
 
   bool WarpCancelingModel::cg_gives_up_on_forecast() const
+  {
+    return cg_bounded_by_exact_step();
+  }
+
+  bool WarpCancelingModel::cg_bounded_by_exact_step() const
   {
     return automatic_on_corotational() && cost_model.affordable_iterations() > 0;
   }

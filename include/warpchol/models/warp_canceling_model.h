@@ -209,6 +209,8 @@ namespace warpchol::fem
      * the exact path's, refresh beside the steps and bound CG by an exact step.
      */
     bool automatic_on_corotational() const;
+    /** Whether auto bounds this step's CG by the iterations an exact step costs (once known). */
+    bool cg_bounded_by_exact_step() const;
 
     /** The elements whose error estimate exceeds the threshold, in increasing order. */
     std::vector<unsigned int> elements_to_rerotate(const std::vector<Vector3> &velocities);
