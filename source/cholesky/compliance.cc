@@ -319,11 +319,8 @@ namespace warpchol::cholesky
   {
     check_constraints(symbolic, values, ht);
     solve = path_structure(symbolic, ht);
-    std::vector<float> panels;
-    solve_panels(symbolic, values, ht, solve, panels);
-    std::vector<double> w = product_of_panels(symbolic, solve, panels);
-    solve.panels.assign(panels.begin(), panels.end());
-    return w;
+    solve_panels(symbolic, values, ht, solve, solve.single_panels);
+    return product_of_panels(symbolic, solve, solve.single_panels);
   }
 
   namespace
@@ -334,11 +331,22 @@ namespace warpchol::cholesky
       Index layer = -1, column = -1;
     };
 
+    /** The panels of @p solve in the precision Scalar (PathForwardSolve::single_panels for float). */
+    template <typename Scalar>
+    std::vector<Scalar> &panels_of(PathForwardSolve &solve)
+    {
+      if constexpr (std::is_same_v<Scalar, float>)
+        return solve.single_panels;
+      else
+        return solve.panels;
+    }
+
     /**
      * The layers of @p columns merged into one: Y on the paths of the unknowns at the
      * places in use, each column copied from its layer. A column's path is that of its
      * one nonzero: the same supernodes in either.
      */
+    template <typename Scalar>
     void merge_layers(const SupernodalSymbolic &symbolic, KeptInverseColumns &columns)
     {
       const Index              n_places = static_cast<Index>(columns.rows.size());
@@ -356,10 +364,11 @@ namespace warpchol::cholesky
         if (columns.rows[p] >= 0)
           used.push_back(p);
       PathForwardSolve merged = path_structure(symbolic, unit_columns(symbolic.n, columns.rows, used));
-      merged.panels.resize(merged.panel_start.back());
+      std::vector<Scalar> &merged_panels = panels_of<Scalar>(merged);
+      merged_panels.resize(merged.panel_start.back());
       // Per supernode, where each of its constraints' rows comes from; then the panel
       // column by column, so that reads and writes both run down the rows.
-      std::vector<const double *> from;
+      std::vector<const Scalar *> from;
       std::vector<Index>          from_ld;
       for (std::size_t k = 0; k < merged.supernodes.size(); ++k)
         {
@@ -370,13 +379,13 @@ namespace warpchol::cholesky
           from_ld.resize(kc);
           for (Index a = 0; a < kc; ++a)
             {
-              const ColumnPlace       where  = place[used[merged.constraints[merged.constraint_start[k] + a]]];
-              const PathForwardSolve &source = columns.layers[where.layer];
-              const Index             ks     = at[where.layer][s];
-              from[a]    = source.panels.data() + source.panel_start[ks] + local_row(source, ks, where.column);
+              const ColumnPlace where  = place[used[merged.constraints[merged.constraint_start[k] + a]]];
+              PathForwardSolve &source = columns.layers[where.layer];
+              const Index       ks     = at[where.layer][s];
+              from[a] = panels_of<Scalar>(source).data() + source.panel_start[ks] + local_row(source, ks, where.column);
               from_ld[a] = source.constraint_start[ks + 1] - source.constraint_start[ks];
             }
-          double *to = merged.panels.data() + merged.panel_start[k];
+          Scalar *to = merged_panels.data() + merged.panel_start[k];
           for (Index c = 0; c < nc; ++c)
             for (Index a = 0; a < kc; ++a)
               to[a + static_cast<std::size_t>(c) * kc] = from[a][static_cast<std::size_t>(c) * from_ld[a]];
@@ -388,9 +397,10 @@ namespace warpchol::cholesky
     /**
      * The rows of G at the places @p fresh of the unknowns solved as @p solved (in its
      * column order): among themselves from @p solved alone, and with each kept column
-     * supernode by supernode (their panel rows times the layer's panel, dgemm), mirrored
-     * into their columns.
+     * supernode by supernode (their panel rows times the layer's panel, gemm), mirrored
+     * into their columns; in the precision Scalar that the panels are kept in.
      */
+    template <typename Scalar>
     void add_fresh_rows_of_gram(const SupernodalSymbolic &symbolic, const std::vector<Index> &fresh,
                                 PathForwardSolve &solved, KeptInverseColumns &columns)
     {
@@ -399,15 +409,15 @@ namespace warpchol::cholesky
       for (const Index i : fresh)
         for (std::size_t j = 0; j < ld; ++j)
           gram[i + j * ld] = 0.;
-      const std::vector<double> among = compliance_from_paths(symbolic, solved);
+      const std::vector<double> among = product_of_panels(symbolic, solved, panels_of<Scalar>(solved));
       for (std::size_t b = 0; b < fresh.size(); ++b)
         for (std::size_t a = 0; a < fresh.size(); ++a)
           gram[fresh[a] + fresh[b] * ld] = among[a + b * fresh.size()];
       const std::vector<Index> solved_at = positions_of(symbolic, solved);
-      std::vector<double>      product;
+      std::vector<Scalar>      product;
       for (std::size_t l = 0; l < columns.layers.size(); ++l)
         {
-          const PathForwardSolve   &layer     = columns.layers[l];
+          PathForwardSolve         &layer     = columns.layers[l];
           const std::vector<Index> &positions = columns.layer_positions[l];
           for (std::size_t k = 0; k < layer.supernodes.size(); ++k)
             {
@@ -418,10 +428,10 @@ namespace warpchol::cholesky
               const Index kf = solved.constraint_start[ks + 1] - solved.constraint_start[ks];
               const Index kc = layer.constraint_start[k + 1] - layer.constraint_start[k];
               product.resize(static_cast<std::size_t>(kf) * kc);
-              blas::gemm_nt(static_cast<int>(kf), static_cast<int>(kc), static_cast<int>(nc), 1.,
-                            solved.panels.data() + solved.panel_start[ks], static_cast<int>(kf),
-                            layer.panels.data() + layer.panel_start[k], static_cast<int>(kc), 0., product.data(),
-                            static_cast<int>(kf));
+              blas::gemm_nt(static_cast<int>(kf), static_cast<int>(kc), static_cast<int>(nc), Scalar(1),
+                            panels_of<Scalar>(solved).data() + solved.panel_start[ks], static_cast<int>(kf),
+                            panels_of<Scalar>(layer).data() + layer.panel_start[k], static_cast<int>(kc), Scalar(0),
+                            product.data(), static_cast<int>(kf));
               const Index *own_fresh = solved.constraints.data() + solved.constraint_start[ks];
               const Index *own_kept  = layer.constraints.data() + layer.constraint_start[k];
               for (Index b = 0; b < kc; ++b)
@@ -611,14 +621,27 @@ namespace warpchol::cholesky
     for (std::size_t f = 0; f < fresh.size(); ++f)
       fresh_places[f] = columns.places[fresh[f]];
     PathForwardSolve solved = forward_solve_on_paths(symbolic, values, unit);
-    add_fresh_rows_of_gram(symbolic, fresh_places, solved, columns);
+    if (columns.single_precision)
+      {
+        // Kept as the renewal keeps its columns: G's new rows are then checked as the rest.
+        solved.single_panels.assign(solved.panels.begin(), solved.panels.end());
+        std::vector<double>().swap(solved.panels);
+        add_fresh_rows_of_gram<float>(symbolic, fresh_places, solved, columns);
+      }
+    else
+      add_fresh_rows_of_gram<double>(symbolic, fresh_places, solved, columns);
     stored_columns += fresh.size();
     columns.layer_positions.push_back(std::move(fresh_places));
     columns.layers.push_back(std::move(solved));
     // Merged once the dropped columns outnumber the kept ones, or the layers grow many.
     constexpr std::size_t most_layers = 16;
     if (stored_columns > 2 * static_cast<std::size_t>(m) || columns.layers.size() > most_layers)
-      merge_layers(symbolic, columns);
+      {
+        if (columns.single_precision)
+          merge_layers<float>(symbolic, columns);
+        else
+          merge_layers<double>(symbolic, columns);
+      }
   }
 
   std::vector<double> compliance_by_full_solves(const SupernodalSymbolic &symbolic,

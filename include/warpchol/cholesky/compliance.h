@@ -70,6 +70,12 @@ namespace warpchol::cholesky
      */
     std::vector<std::size_t> panel_start;
     std::vector<double>      panels;
+    /**
+     * The panels in single precision instead, laid out the same
+     * (compliance_on_paths_in_single_precision()): one of the two is empty. Half the bytes
+     * for the products that read them again (KeptInverseColumns).
+     */
+    std::vector<float> single_panels;
     /** Flops of the forward solve and of the product (dtrsm, dgemm, dsyrk as counted by their sizes). */
     double solve_flops   = 0;
     double product_flops = 0;
@@ -89,9 +95,10 @@ namespace warpchol::cholesky
   /**
    * forward_solve_on_paths() into @p solve and compliance_from_paths() in single
    * precision: the path supernodes' values rounded to float, then strsm, sgemm and ssyrk
-   * at about twice the double kernels' rate. W and Y (returned in double) are then those
-   * of the factor to about 1e-6 relative: for a W that is checked against the direct
-   * solve anyway (a lagged one, KeptInverseColumns::outlive_factor_changes).
+   * at about twice the double kernels' rate. W (returned in double) and Y (kept in
+   * single precision, PathForwardSolve::single_panels) are then those of the factor to
+   * about 1e-6 relative: for a W that is checked against the direct solve anyway (a lagged
+   * one, KeptInverseColumns::outlive_factor_changes).
    */
   std::vector<double> compliance_on_paths_in_single_precision(const SupernodalSymbolic &symbolic,
                                                               const std::vector<double> &values,
@@ -127,7 +134,8 @@ namespace warpchol::cholesky
      * Whether the kept columns were renewed in single precision
      * (compliance_on_paths_in_single_precision(), as every renewal of columns that outlive
      * the factor's changes is): G is then A^-1 on S to about 1e-6 relative, and a caller
-     * checks the W it makes as it checks a lagged one.
+     * checks the W it makes as it checks a lagged one. Y is then kept in single precision,
+     * new columns too (solved in double, then rounded), and their rows of G multiplied so.
      */
     bool single_precision = false;
     /** The changes of the factor since the oldest kept column was solved (0: all are the factor's as it is). */
