@@ -4,8 +4,11 @@
 // an exact step fall back (a probe of two exact steps while only the estimate is known,
 // then a stretch whose retry costs 1 % of it), the stretch doubles while the own steps
 // keep losing and starts from their loss again once they won; own steps that pay never
-// fall back, a tie within the margin does not (its probes come at doubling intervals), nor
-// one own step held up among steps that pay; a probe that measured the exact step on a slow
+// fall back (those that cost more than half the estimate first measure the exact step by
+// a probe), a tie within the margin does not (its probes come at doubling intervals), nor
+// one own step held up among steps that pay, nor one dear window after a cheap one; own
+// steps that lose within their spread are judged on a longer window; a retry whose step
+// gives up its solve ends at once; a probe that measured the exact step on a slow
 // stretch of the machine is measured again soon; over runs of 1000 and 10000 steps that
 // lose by 30 % throughout, the steps before the first fall-back and the retries cost under
 // 1 % (2 % over 100 steps).
@@ -83,23 +86,61 @@ namespace
                  feed(mild, mild.stretch_length(), 1.25, 1.0) == mild.stretch_length() &&
                    feed(mild, 96, 0.5, 1.0) == 0);
     feed(mild, 8, 1.25, 1.0);
-    std::cout << "  a loss after a win: a stretch of " << mild.stretch_length() << " again (not doubled)"
-              << std::endl;
+    std::cout << "  a loss after a win: a stretch of " << mild.stretch_length()
+              << " (from the loss of the two windows; not doubled)" << std::endl;
     fem::ExactFallback small;
     small.set_exact_estimate(0.5);
     feed(small, 6, 1.05, 1.0);
     std::cout << "  own steps that lose by 5 % (a window of 8 to tell): a stretch of " << small.stretch_length()
               << std::endl;
 
+    fem::ExactFallback clearly_paying;
+    clearly_paying.set_exact_estimate(0.5);
+    tests::check("  own steps under half the estimate: 200 steps, none exact",
+                 feed(clearly_paying, 200, 0.2, 1.0) == 0 && clearly_paying.fallbacks() == 0);
     fem::ExactFallback paying;
     paying.set_exact_estimate(0.5);
-    tests::check("  own steps cheaper than the estimate: 200 steps, none exact",
-                 feed(paying, 200, 0.4, 1.0) == 0 && paying.fallbacks() == 0);
+    tests::check("  own steps cheaper than the estimate, not half of it: a probe measures the exact step, "
+                 "then none in 200 steps",
+                 feed(paying, 200, 0.4, 1.0) == fem::ExactFallback::probe && paying.exact_step_seconds() == 1.0 &&
+                   paying.fallbacks() == 0);
     fem::ExactFallback held_up;
     held_up.set_exact_estimate(0.5);
     feed(held_up, 10, 0.1, 1.0);
-    tests::check("  one own step held up (as long as 4 exact ones) among own steps that pay: none exact",
-                 feed(held_up, 1, 2.0, 1.0) == 0 && feed(held_up, 100, 0.1, 1.0) == 0 && held_up.exact_steps() == 0);
+    tests::check("  one own step held up (as long as 4 exact ones) among own steps that pay: no stretch",
+                 feed(held_up, 1, 2.0, 1.0) == 0 && feed(held_up, 100, 0.1, 1.0) <= fem::ExactFallback::probe &&
+                   held_up.fallbacks() == 0);
+
+    // Own steps of a stale factor spread widely (cheap ones, a dear one): a window is
+    // judged with the one before it, and against the standard error of their mean.
+    fem::ExactFallback dear_window;
+    dear_window.set_exact_estimate(0.5);
+    feed(dear_window, 6, 0.8, 1.0);  // the probe (steps 5, 6) measures 1.0
+    feed(dear_window, 16, 0.8, 1.0); // two windows that win
+    tests::check("  own steps at 0.8, then a window of eight at 1.08: no stretch (with the window before, they win)",
+                 feed(dear_window, 8, 1.08, 1.0) == 0 && !dear_window.runs_exact());
+    tests::check("  a second window at 1.08: a stretch",
+                 feed(dear_window, 8, 1.08, 1.0) == 0 && dear_window.runs_exact() && dear_window.fallbacks() == 1);
+    fem::ExactFallback wide_loss;
+    wide_loss.set_exact_estimate(0.5);
+    unsigned int own_steps = 0;
+    for (; own_steps < 100 && wide_loss.fallbacks() == 0; ++own_steps)
+      feed(wide_loss, 1, own_steps % 2 == 0 ? 0.85 : 1.25, 1.0);
+    std::cout << "  own steps that lose by 5 % within their spread (0.85 and 1.25 in turn): a stretch after "
+              << own_steps << " steps" << std::endl;
+    tests::check("  within a probe, two windows and the longest window",
+                 own_steps <= fem::ExactFallback::probe + fem::ExactFallback::longest_window +
+                                2 * fem::ExactFallback::window);
+
+    // A retry whose step gave up its solve for an exact step: another stretch at once.
+    fem::ExactFallback failing;
+    failing.set_exact_estimate(0.5);
+    feed(failing, 6, 1.25, 1.0);
+    feed(failing, failing.stretch_length(), 1.25, 1.0);
+    const unsigned int first_stretch = failing.stretch_length();
+    failing.record_step(1.9, true);
+    tests::check("  a retry whose first step gave up its solve: a stretch again at once, twice as long",
+                 failing.runs_exact() && failing.fallbacks() == 2 && failing.stretch_length() == 2 * first_stretch);
     fem::ExactFallback tie;
     tie.set_exact_estimate(0.5);
     // A probe once the estimate is lost (steps 5, 6), then after 16, 32 and 64 own steps.

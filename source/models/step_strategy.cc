@@ -315,9 +315,9 @@ namespace warpchol::fem
     return fallback_count;
   }
 
-  bool ExactFallback::own_steps_lose(const double seconds, const double reference) const
+  bool ExactFallback::own_steps_lose(const double seconds, const double error, const double reference) const
   {
-    return reference > 0 && seconds > (1 + margin) * reference;
+    return reference > 0 && seconds - error > (1 + margin) * reference;
   }
 
   void ExactFallback::start_stretch()
@@ -337,6 +337,10 @@ namespace warpchol::fem
     probe_interval        = 0;
     own_steps_since_probe = 0;
     after_stretch = false;
+    // The own steps after it are judged on their own.
+    earlier_steps   = 0;
+    earlier_seconds = 0;
+    earlier_squares = 0;
     ++fallback_count;
   }
 
@@ -352,7 +356,7 @@ namespace warpchol::fem
     own_steps_since_probe = 0;
   }
 
-  void ExactFallback::record_step(const double seconds)
+  void ExactFallback::record_step(const double seconds, const bool solve_failed)
   {
     const bool step_was_exact = exact;
     if (step_was_exact)
@@ -360,6 +364,7 @@ namespace warpchol::fem
     if (++steps < first_counted_step)
       return;
     phase_seconds += seconds;
+    phase_squares += seconds * seconds;
     ++phase_steps;
     if (step_was_exact)
       {
@@ -368,13 +373,14 @@ namespace warpchol::fem
         // The run of exact steps is over: its mean is what the exact path costs now.
         exact_seconds = phase_seconds / phase_steps;
         phase_seconds = 0;
+        phase_squares = 0;
         phase_steps   = 0;
         if (probing)
           {
             // The probe measured the reference: a stretch if the own steps lose to it, else
             // they go on, and a probe again after a while (schedule_probe()).
             probing = false;
-            if (own_steps_lose(own_seconds, exact_seconds))
+            if (own_steps_lose(own_seconds, own_error, exact_seconds))
               start_stretch();
             else
               {
@@ -398,16 +404,35 @@ namespace warpchol::fem
         excess = std::max(0., excess + seconds - (1 + margin) * reference);
         losing_steps += seconds > (1 + margin) * reference;
       }
-    const bool lost_an_exact_step = reference > 0 && excess > reference && losing_steps >= 2;
+    // A retry after a stretch whose step gave up its solve for an exact one has lost more
+    // than an exact step by itself, and no machine's hiccup does that: over at once.
+    const bool retry_failed       = after_stretch && solve_failed;
+    const bool lost_an_exact_step = reference > 0 && ((excess > reference && losing_steps >= 2) || retry_failed);
     if (phase_steps < window && !lost_an_exact_step)
       return;
-    own_seconds                  = phase_seconds / phase_steps;
+    // The mean of the window and of the one before it (unless a stretch came between),
+    // and its standard error; past longest_window the mean alone decides.
+    const double n        = phase_steps + earlier_steps;
+    const double mean     = (phase_seconds + earlier_seconds) / n;
+    const double variance = n > 1 ? std::max(0., phase_squares + earlier_squares - n * mean * mean) / (n - 1) : 0.;
+    const double error    = phase_steps < longest_window ? std::sqrt(variance / n) : 0.;
+    // Against an estimate: a probe unless they clearly win, by what it may overstate.
+    const bool loses = measured ? own_steps_lose(mean, error, reference) : estimate_doubt * mean > reference;
+    // A loss within the window's spread: more steps tell.
+    if (measured && !lost_an_exact_step && !loses && mean > (1 + margin) * reference)
+      return;
+    own_seconds                  = mean;
+    own_error                    = error;
     const unsigned int in_window = phase_steps;
+    earlier_steps                = phase_steps;
+    earlier_seconds              = phase_seconds;
+    earlier_squares              = phase_squares;
     phase_seconds                = 0;
+    phase_squares                = 0;
     phase_steps                  = 0;
     losing_steps                 = 0;
     bool probe_due               = false;
-    if (!lost_an_exact_step && !own_steps_lose(own_seconds, reference))
+    if (!lost_an_exact_step && !loses)
       {
         // The own steps won (again): a later fall-back starts from its own loss. The exact
         // path, once measured, is measured again from time to time (schedule_probe()).
@@ -443,7 +468,12 @@ namespace warpchol::fem
     writer.write(probing);
     writer.write(stretch);
     writer.write(after_stretch);
+    writer.write(phase_squares);
+    writer.write(earlier_steps);
+    writer.write(earlier_seconds);
+    writer.write(earlier_squares);
     writer.write(own_seconds);
+    writer.write(own_error);
     writer.write(excess);
     writer.write(losing_steps);
     writer.write(exact_seconds);
@@ -464,7 +494,12 @@ namespace warpchol::fem
     reader.read(probing);
     reader.read(stretch);
     reader.read(after_stretch);
+    reader.read(phase_squares);
+    reader.read(earlier_steps);
+    reader.read(earlier_seconds);
+    reader.read(earlier_squares);
     reader.read(own_seconds);
+    reader.read(own_error);
     reader.read(excess);
     reader.read(losing_steps);
     reader.read(exact_seconds);

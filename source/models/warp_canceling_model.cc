@@ -390,7 +390,8 @@ namespace warpchol::fem
     // the exact path's (the fall-back's) or failed its solve and was made exact in it: the
     // model foresees auto's own steps.
     const bool last_beside_refresh = step_thread_count < given_threads;
-    const bool last_measures_own   = history.step_count > 0 && !history.last_step_fell_back && !history.solve_failed;
+    const bool last_solve_failed   = history.solve_failed;
+    const bool last_measures_own   = history.step_count > 0 && !history.last_step_fell_back && !last_solve_failed;
     history.solve_failed           = false;
     if (last_measures_own && !last_beside_refresh)
       {
@@ -419,7 +420,7 @@ namespace warpchol::fem
         const double own_exact     = cost_model.predicted_exact_seconds();
         fallback.set_exact_estimate(factorization > 0 && own_exact > 0 ? std::min(factorization, own_exact) :
                                                                           std::max(factorization, own_exact));
-        fallback.record_step(last_step_prepare_seconds + last_solve_seconds);
+        fallback.record_step(last_step_prepare_seconds + last_solve_seconds, last_solve_failed);
       }
     // The step runs on the threads the integrator gave it: so do the solver and the assembly.
     const unsigned int limited = step_threads();

@@ -286,7 +286,13 @@ namespace warpchol::fem
    * both measured in the same run. The steps are the exact path's for a stretch, and
    * nothing more (no nodal rotation, no error estimate, no WCC frame, no cost model:
    * WarpCancelingModel::corotational_step()), as soon as
-   * - a window of own steps cost more than (1 + margin) times an exact step on average, or
+   * - a window of own steps and the one before it (unless a stretch came between) cost
+   *   more than (1 + margin) times an exact step on average, by more than the standard
+   *   error of their mean (own steps of a stale factor spread widely, a few dear ones
+   *   among cheap ones, and one dear window of eight among cheap ones is no loss: a loss
+   *   within the spread lets the window go on, up to longest_window steps, whose mean
+   *   then decides),
+   * - an own step of the first window after a stretch gave up its solve for an exact one, or
    * - what they cost over (1 + margin) times an exact step, summed over the steps since
    *   that sum last fell to zero (a CUSUM), exceeds one exact step: a loss that passes
    *   one step's cost ends the window at once, however early in it.
@@ -302,10 +308,11 @@ namespace warpchol::fem
    * again.
    *
    * Before the exact path's step was measured, an estimate stands for it (the model's: the
-   * smaller of a full factorization at the measured flop rate and auto's own exact steps,
-   * which do more). Own steps that lose to it run a probe of a few exact steps, which
-   * measures the reference; the stretch follows if they still lose, the own steps go on
-   * if they do not. While they win against a measured exact step, a probe measures it
+   * smaller of the set-up's factorization and auto's own exact steps, which do more). The
+   * set-up touches its memory first, and may cost far more than a later exact step: own
+   * steps that do not cost less than 1 / estimate_doubt of it run a probe of a few exact
+   * steps, which measures the reference; the stretch follows if they lose to it, the own
+   * steps go on if they do not. While they win against a measured exact step, a probe measures it
    * again after an interval whose probe costs retry_budget of it, at least
    * shortest_stretch, doubling while they keep winning: one exact step measured on a
    * slow stretch of the machine does not keep the own steps on for the rest of the run.
@@ -324,9 +331,10 @@ namespace warpchol::fem
 
     /**
      * The step that runs_exact() was asked about cost @p seconds (its whole work: element
-     * pass, refresh, solve): an exact one of the fall-back, or one of the strategy's own.
+     * pass, refresh, solve): an exact one of the fall-back, or one of the strategy's own,
+     * which @p solve_failed if its CG gave up for an exact step.
      */
-    void record_step(double seconds);
+    void record_step(double seconds, bool solve_failed = false);
 
     /** The mean seconds of the fall-back's last run of exact steps (negative: none yet). */
     double exact_step_seconds() const;
@@ -342,8 +350,13 @@ namespace warpchol::fem
     void save(BinaryWriter &writer) const;
     void load(BinaryReader &reader);
 
-    /** Steps of a window of own steps; the first steps of a run (set-up, calibration) are not counted. */
-    static constexpr unsigned int window = 8, first_counted_step = 3;
+    /**
+     * Steps of a window of own steps, and of one whose loss is within its spread at the
+     * most; the first steps of a run (set-up, calibration) are not counted.
+     */
+    static constexpr unsigned int window = 8, longest_window = 32, first_counted_step = 3;
+    /** How many times an exact step the estimate may cost (the set-up's first touch of its memory). */
+    static constexpr double estimate_doubt = 2;
     /** The exact steps of a probe, and the stretches at the least and the most. */
     static constexpr unsigned int probe = 2, shortest_stretch = 16, longest_stretch = 1024;
     /** Own steps must cost more than this share over an exact one to fall back. */
@@ -352,8 +365,11 @@ namespace warpchol::fem
     static constexpr double retry_budget = 0.01;
 
   private:
-    /** Whether own steps that cost @p seconds on average lose to the reference. */
-    bool own_steps_lose(double seconds, double reference) const;
+    /**
+     * Whether own steps that cost @p seconds on average, with the standard error
+     * @p error, lose to the reference: by more than the margin and the error.
+     */
+    bool own_steps_lose(double seconds, double error, double reference) const;
     /** Run exact steps for a stretch, its length from the own steps' loss. */
     void start_stretch();
     /** The own steps won against a measured exact step: when to measure it again (probe_interval). */
@@ -364,6 +380,12 @@ namespace warpchol::fem
     /** Steps and seconds of the current window or run of exact steps. */
     unsigned int phase_steps    = 0;
     double       phase_seconds  = 0;
+    /** The sum of the squares of the own steps' seconds in the current window. */
+    double       phase_squares  = 0;
+    /** The window of own steps before the current one, since the last stretch (0 steps: none). */
+    unsigned int earlier_steps   = 0;
+    double       earlier_seconds = 0;
+    double       earlier_squares = 0;
     /** The length of the current run of exact steps, and whether it is a probe. */
     unsigned int phase_length   = 0;
     bool         probing        = false;
@@ -372,6 +394,8 @@ namespace warpchol::fem
     bool         after_stretch  = false;
     /** The mean of the last window of own steps (ended by its length or the CUSUM). */
     double       own_seconds    = -1;
+    /** The standard error of that mean. */
+    double       own_error      = 0;
     /** The own steps' CUSUM of seconds over (1 + margin) exact steps. */
     double       excess         = 0;
     /** The own steps of the current window that cost more than (1 + margin) exact steps. */
