@@ -411,11 +411,14 @@ namespace warpchol::fem
     if (phase_steps < window && !lost_an_exact_step)
       return;
     // The mean of the window and of the one before it (unless a stretch came between),
-    // and its standard error; past longest_window the mean alone decides.
-    const double n        = phase_steps + earlier_steps;
-    const double mean     = (phase_seconds + earlier_seconds) / n;
-    const double variance = n > 1 ? std::max(0., phase_squares + earlier_squares - n * mean * mean) / (n - 1) : 0.;
-    const double error    = phase_steps < longest_window ? std::sqrt(variance / n) : 0.;
+    // and its standard error; past longest_window the mean alone decides. A window the
+    // CUSUM ended has lost an exact step already: its own steps' mean, nothing to weigh.
+    const bool   pooled   = !lost_an_exact_step;
+    const double n        = phase_steps + (pooled ? earlier_steps : 0);
+    const double mean     = (phase_seconds + (pooled ? earlier_seconds : 0.)) / n;
+    const double squares  = phase_squares + (pooled ? earlier_squares : 0.);
+    const double variance = n > 1 ? std::max(0., squares - n * mean * mean) / (n - 1) : 0.;
+    const double error    = pooled && phase_steps < longest_window ? std::sqrt(variance / n) : 0.;
     // Against an estimate: a probe unless they clearly win, by what it may overstate.
     const bool loses = measured ? own_steps_lose(mean, error, reference) : estimate_doubt * mean > reference;
     // A loss within the window's spread: more steps tell.
