@@ -1,9 +1,10 @@
 #!/bin/sh
 # auto against the exact path where no fast strategy pays (issue 36): overloaded slender
-# bodies, generated (solid rods, tubes and square bars of several aspect ratios, at
-# Young's moduli far too low to carry their weight) and real (SOFA's 21:1 PDMS cylinder of
-# meshes/; SOFA's cylinder and finer liver of ../shared/data/meshes, which the repository does
-# not hold, in their files' numbering, where that folder exists), and the study's
+# bodies, generated (solid rods, tubes and square bars of several aspect ratios, a thin
+# plate and a torus, at Young's moduli far too low to carry their weight) and real (SOFA's
+# 21:1 PDMS cylinder of meshes/; SOFA's cylinder, livers and low-resolution torus of
+# ../shared/data/meshes, which the repository does not hold, in their files' numbering,
+# where that folder exists), and the study's
 # overloaded bodies (parameters/*_overloaded.prm). Each scene runs with WCC's exact step
 # (threshold 0: what auto's own exact steps cost) and with auto at thresholds 0.3, 1 and
 # inf, each with the exact path (the corotational model) beside it, step by step in the
@@ -12,7 +13,7 @@
 # speed-up over the exact path beside it, as ranges over REPEAT rounds of all scenes, in a
 # Markdown table (OUT/table.md, copied to TABLE; the runs' summaries and parameter files in
 # OUT/runs/, the scenes' in OUT/scenes/).
-#   sh benchmarks/auto_vs_exact.sh   (after sh .ci/setup; about 40 minutes with REPEAT=3)
+#   sh benchmarks/auto_vs_exact.sh   (after sh .ci/setup; about 35 minutes with REPEAT=3)
 # Environment: BUILD (default build), OUT (default output/auto_vs_exact), TABLE (default
 # doc/auto_vs_exact/table.md), REPEAT (default
 # 3), CORE (the core to pin to, default 0), SCENES (default: all below), SHARED (default
@@ -66,13 +67,15 @@ end
 EOF
 }
 
-# Held where the coordinate along axis $1 (x or z) is <= 0, or (top) where y >= 0.5.
+# Held where the coordinate along axis $1 (x or z) is <= 0, (top) where y >= 0.5, or in
+# the box LOWER:UPPER ($1 = "box:x0, y0, z0:x1, y1, z1").
 held_at() {
   lower="-9, -9, -9"
   case $1 in
     x) upper="1e-6, 9, 9" ;;
     z) upper="9, 9, 1e-6" ;;
     top) lower="-9, 0.5, -9" upper="9, 9, 9" ;;
+    box:*) lower=$(echo "$1" | cut -d: -f2) upper=$(echo "$1" | cut -d: -f3) ;;
   esac
   printf 'subsection Fixed vertices\n  set Region           = box\n  set Box lower corner = %s\n  set Box upper corner = %s\nend\n' "$lower" "$upper"
 }
@@ -100,22 +103,54 @@ tube() {
   } > "$out/scenes/tube$1_E$2.prm"
 }
 
-# bar ASPECT E: deal.II's box, a 5 mm square section ASPECT times as long along x, held at x = 0.
+# bar ASPECT E [CELLS]: deal.II's box, a 5 mm square section ASPECT times as long along x,
+# held at x = 0; CELLS across the section (3: named barASPECT_EE, else barASPECT_CELLS_EE),
+# CELLS per section width along x.
 bar() {
+  cells=${3:-3}
+  name="bar$1_E$2"
+  [ "$cells" = 3 ] || name="bar$1_${cells}_E$2"
   {
     printf 'subsection Mesh\n  set Source = box\n  set Box lower corner = 0, 0, 0\n'
-    printf '  set Box upper corner = %s, 0.005, 0.005\n  set Box subdivisions = %s, 3, 3\nend\n' \
-      "$(echo "0.005 * $1" | bc -l)" $(($1 * 3))
+    printf '  set Box upper corner = %s, 0.005, 0.005\n  set Box subdivisions = %s, %s, %s\nend\n' \
+      "$(echo "0.005 * $1" | bc -l)" $(($1 * cells)) "$cells" "$cells"
     common "$2"
     held_at x
-  } > "$out/scenes/bar$1_E$2.prm"
+  } > "$out/scenes/$name.prm"
 }
 
-# mesh NAME FILE E WHERE: a mesh file as it is, in its numbering, held as held_at WHERE says.
+# plate SIDE E: deal.II's box, a square plate SIDE cm wide and 5 mm thick (one cell), held
+# along its edge at x = 0, sagging.
+plate() {
+  {
+    printf 'subsection Mesh\n  set Source = box\n  set Box lower corner = 0, 0, 0\n'
+    printf '  set Box upper corner = %s, 0.005, %s\n  set Box subdivisions = %s, 1, %s\nend\n' \
+      "$(echo "0.01 * $1" | bc -l)" "$(echo "0.01 * $1" | bc -l)" $(($1 * 2)) $(($1 * 2))
+    common "$2"
+    held_at x
+  } > "$out/scenes/plate$1_E$2.prm"
+}
+
+# torus E: deal.II's torus (radii 0.3 and 0.1 m), held by a patch of its side (x >= 0.35).
+torus() {
+  {
+    printf 'subsection Mesh\n  set Source = torus\n  set Torus major radius = 0.3\n  set Torus minor radius = 0.1\n'
+    printf '  set Torus toroidal cells = 16\n  set Torus refinements = 1\nend\n'
+    common "$1"
+    held_at "box:0.35, -9, -9:9, 9, 9"
+  } > "$out/scenes/torus_E$1.prm"
+}
+
+# mesh NAME FILE E WHERE [MASS]: a mesh file as it is, in its numbering, held as held_at
+# WHERE says; with MASS, that total mass (kg) instead of the density.
 mesh() {
   {
     printf 'subsection Mesh\n  set Source = file\n  set File   = %s\nend\n' "$2"
-    common "$3"
+    if [ -n "${5:-}" ]; then
+      common "$3" | sed "s/  set Density  *= 1000/  set Total mass      = $5/"
+    else
+      common "$3"
+    fi
     held_at "$4"
   } > "$out/scenes/$1.prm"
 }
@@ -130,6 +165,10 @@ rod 40 1e4
 tube 8 1e3
 tube 15 1e3
 bar 30 1e3
+bar 50 1e3 2
+tube 25 3e2
+plate 20 3e2
+torus 3e2
 # SOFA's PDMS cylinder (meshes/README.md): 21:1, radius 4.25 mm, along z from z = 0; at
 # E 10 kPa it is parameters/cylinder_overloaded.prm.
 mesh pdms_cylinder_E1e3 "$root/meshes/sofa_cylinder_pdms_12724.vtk" 1e3 z
@@ -138,6 +177,12 @@ mesh pdms_cylinder_E1e3 "$root/meshes/sofa_cylinder_pdms_12724.vtk" 1e3 z
   mesh sofa_cylinder_E3e2 "$(cd "$shared/meshes" && pwd)/sofa_cylinder.msh" 3e2 z
 [ -f "$shared/meshes/sofa_liver2.msh" ] &&
   mesh sofa_liver2_E30 "$(cd "$shared/meshes" && pwd)/sofa_liver2.msh" 30 top
+# SOFA's classic liver (E 30 Pa, 1 kg, held at its top) and its low-resolution torus (the
+# torus fall benchmark's E 50 Pa and 20 kg, held by a patch of its side), the smallest bodies.
+[ -f "$shared/meshes/sofa_liver.v22.msh" ] &&
+  mesh sofa_liver_E30 "$(cd "$shared/meshes" && pwd)/sofa_liver.v22.msh" 30 "box:-99, 4.7, -99:99, 99, 99" 1
+[ -f "$shared/meshes/sofa_torus_low_res.v22.msh" ] &&
+  mesh sofa_torus_E50 "$(cd "$shared/meshes" && pwd)/sofa_torus_low_res.v22.msh" 50 "box:2, -99, -99:99, 99, 99" 20
 
 # The study's overloaded bodies and the PDMS cylinder's, as parameters/ has them.
 scenes=${SCENES:-"$(cd "$out/scenes" && ls *.prm | sed 's/\.prm$//' | tr '\n' ' ')beam_overloaded plate_overloaded tube_overloaded cylinder_overloaded"}
