@@ -295,7 +295,8 @@ namespace warpchol::fem
    * - an own step of the first window after a stretch gave up its solve for an exact one, or
    * - what they cost over (1 + margin) times an exact step, summed over the steps since
    *   that sum last fell to zero (a CUSUM), exceeds one exact step: a loss that passes
-   *   one step's cost ends the window at once, however early in it.
+   *   one step's cost ends the window at once, however early in it, and the window is
+   *   then judged on its own steps (it has lost already: no spread to weigh).
    * Then the own steps get a window again.
    *
    * How long a stretch. Own steps that lose by a share l of an exact step end their next
