@@ -24,6 +24,9 @@ root=$(pwd)
 build=${BUILD:-build}
 out=${OUT:-output/auto_vs_exact}
 repeat=${REPEAT:-3}
+case $repeat in
+  '' | *[!0-9]* | 0) echo "auto_vs_exact.sh: REPEAT=$repeat is not a number of rounds (1 or more)" >&2; exit 1 ;;
+esac
 core=${CORE:-0}
 shared=${SHARED:-../shared/data}
 mkdir -p "$out/scenes"
