@@ -86,8 +86,8 @@ namespace
                  feed(mild, mild.stretch_length(), 1.25, 1.0) == mild.stretch_length() &&
                    feed(mild, 96, 0.5, 1.0) == 0);
     feed(mild, 8, 1.25, 1.0);
-    std::cout << "  a loss after a win: a stretch of " << mild.stretch_length()
-              << " again (not doubled)" << std::endl;
+    std::cout << "  a loss after a win: a stretch of " << mild.stretch_length() << " again (not doubled)"
+              << std::endl;
     fem::ExactFallback small;
     small.set_exact_estimate(0.5);
     feed(small, 6, 1.05, 1.0);

@@ -422,7 +422,7 @@ namespace warpchol::fem
     // Against an estimate: a probe unless they clearly win, by what it may overstate.
     const bool loses = measured ? own_steps_lose(mean, error, reference) : estimate_doubt * mean > reference;
     // A loss within the window's spread: more steps tell.
-    if (measured && !lost_an_exact_step && !loses && mean > (1 + margin) * reference)
+    if (measured && !lost_an_exact_step && !loses && own_steps_lose(mean, 0., reference))
       return;
     own_seconds                  = mean;
     own_error                    = error;
