@@ -60,7 +60,7 @@ namespace warpchol::app
      * written with name Model/Rerotation threshold and Bodies/Rerotation thresholds (once
      * Update threshold(s)), which a resume compares entry by entry.
      */
-    constexpr const char *checkpoint_format = "warpchol checkpoint 11";
+    constexpr const char *checkpoint_format = "warpchol checkpoint 12";
 
     /** "Model/Type" of the entry "Model/Type = corotational". */
     std::string entry_name(const std::string &entry)

@@ -55,13 +55,22 @@ namespace warpchol::fem
     {
       average = average > 0 ? (1 - smoothing) * average + smoothing * value : value;
     }
+
+    /** blend() for a time: noise only adds time, so one under half the average replaces it. */
+    void blend_seconds(double &average, const double value)
+    {
+      if (value < 0.5 * average)
+        average = value;
+      else
+        blend(average, value);
+    }
   } // namespace
 
   void StepCostModel::record_iterations(const cholesky::Refresh refresh, const unsigned int iterations,
                                         const double seconds)
   {
     if (iterations > 0)
-      blend(seconds_per_iteration, seconds / iterations);
+      blend_seconds(seconds_per_iteration, seconds / iterations);
     if (refresh == cholesky::Refresh::all)
       blend(iterations_after_all, iterations);
     else if (refresh == cholesky::Refresh::below_top)
@@ -76,7 +85,7 @@ namespace warpchol::fem
 
   void StepCostModel::record_exact_step(const double seconds, const unsigned int cycle_length)
   {
-    blend(exact_seconds, seconds);
+    blend_seconds(exact_seconds, seconds);
     // The steps past the cycle's end were not seen this time: what was measured there may
     // be old (a step after a cut iterates more). Relax it toward the last one seen, so that
     // a later cycle goes further and measures it again.
@@ -95,7 +104,19 @@ namespace warpchol::fem
       return;
     blend(iterations_at[std::min(staleness, longest_staleness) - 1], iterations);
     if (seconds_per_iteration > 0)
-      blend(iterating_overhead, std::max(seconds - iterations * seconds_per_iteration, 1e-9));
+      blend_seconds(iterating_overhead, std::max(seconds - iterations * seconds_per_iteration, 1e-9));
+  }
+
+  void StepCostModel::record_own_step(const bool exact)
+  {
+    if (exact)
+      ++exact_steps_in_a_row;
+    else
+      {
+        if (exact_steps_in_a_row >= iterating_probe_interval)
+          iterating_probe_interval = std::min(2 * iterating_probe_interval, longest_probe_interval);
+        exact_steps_in_a_row = 0;
+      }
   }
 
   void StepCostModel::record_setup(const double step_seconds, const double factorization_seconds)
@@ -145,6 +166,8 @@ namespace warpchol::fem
       return true;
     if (predicted_iterating_seconds(staleness) < 0)
       return false;
+    if (staleness == 1 && exact_steps_in_a_row >= iterating_probe_interval)
+      return false;
     // The rule holds for costs that do not fall with the staleness; the measured ones may
     // (a step right after an exact one that needed an iteration more than its successors):
     // the rule reads their running maximum, or it could refresh forever.
@@ -181,6 +204,8 @@ namespace warpchol::fem
                                last_iterations, exact_seconds, setup_exact_seconds, iterating_overhead})
       writer.write(value);
     writer.write(iterations_at);
+    writer.write(exact_steps_in_a_row);
+    writer.write(iterating_probe_interval);
   }
 
   void StepCostModel::load(BinaryReader &reader)
@@ -191,6 +216,10 @@ namespace warpchol::fem
     reader.read(iterations_at);
     if (iterations_at.size() != longest_staleness)
       reader.fail("the cost model's step costs have the wrong length (corrupt)");
+    reader.read(exact_steps_in_a_row);
+    reader.read(iterating_probe_interval);
+    if (iterating_probe_interval < shortest_probe_interval || iterating_probe_interval > longest_probe_interval)
+      reader.fail("the cost model's probe interval is out of range (corrupt)");
   }
 
   RefreshPlacement::Where RefreshPlacement::current() const

@@ -404,6 +404,8 @@ namespace warpchol::fem
           // an incision, where they do not spare the next cut's refresh.
           cost_model.record_iterating_step(history.last_staleness, last_seconds, last_cg_iterations);
       }
+    if (history.step_count > 0 && !history.last_step_fell_back)
+      cost_model.record_own_step(history.last_step_exact);
     if (last_cg_iterations > 0 && !last_beside_refresh)
       cost_model.record_iterations(last_refresh, last_cg_iterations, last_cg_seconds);
     // auto with a refresh beside the steps: where its refreshes go is measured on whole

@@ -135,6 +135,14 @@ namespace warpchol::fem
    * step later in the cycle, or noise, would otherwise make it refresh every step). When
    * c(s + 1) exceeds C the rule runs the exact step: never slower than exact, as far as
    * the measurements foresee.
+   *
+   * The machine only ever adds time to a step (a step held up by another process, the
+   * first touches of a run's memory): a time under half its average replaces the average
+   * instead of blending into it. And exact steps back to back measure no iterating step: a
+   * model that overrates iterating, from one held-up step, would never learn better. After
+   * iterating_probe_interval of them in a row, the next step iterates (a probe); the
+   * interval doubles with each probe, so that where exact steps are right the probes cost
+   * a share of the run that halves each time.
    */
   class StepCostModel
   {
@@ -152,6 +160,11 @@ namespace warpchol::fem
      * and @p iterations of CG.
      */
     void record_iterating_step(unsigned int staleness, double seconds, unsigned int iterations);
+    /**
+     * A step of auto's own ran, @p exact or iterating (measured or not: one whose solve
+     * failed and was made exact still iterated): counts the exact steps back to back.
+     */
+    void record_own_step(bool exact);
 
     /** The predicted seconds of a step whose refresh @p refresh costs @p refresh_seconds, then iterates. */
     double predicted_seconds(cholesky::Refresh refresh, double refresh_seconds) const;
@@ -208,6 +221,8 @@ namespace warpchol::fem
   private:
     /** Staleness past this is counted as this. */
     static constexpr unsigned int longest_staleness = 64;
+    /** Exact steps back to back before an iterating probe, at first and at the most. */
+    static constexpr unsigned int shortest_probe_interval = 8, longest_probe_interval = 1024;
 
     double setup_factorization   = -1;
     double seconds_per_iteration = 0;
@@ -221,6 +236,9 @@ namespace warpchol::fem
     double iterating_overhead    = -1;
     /** i(s) for s = 1 .. longest_staleness at [s - 1]; negative where not measured. */
     std::vector<double> iterations_at = std::vector<double>(longest_staleness, -1.);
+    /** Exact steps back to back since the last iterating step, and the probes' interval. */
+    unsigned int exact_steps_in_a_row     = 0;
+    unsigned int iterating_probe_interval = shortest_probe_interval;
   };
 
   /**
