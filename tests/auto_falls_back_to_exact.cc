@@ -9,7 +9,8 @@
 // one own step held up among steps that pay, nor one dear window after a cheap one; own
 // steps that lose within their spread are judged on a longer window; a retry whose step
 // gives up its solve ends at once; a probe that measured the exact step on a slow
-// stretch of the machine is measured again soon; over runs of 1000 and 10000 steps that
+// stretch of the machine is measured again soon, and a stretch whose exact steps cost as
+// much as the own steps that lost (the machine slowed down) ends early; over runs of 1000 and 10000 steps that
 // lose by 30 % throughout, the steps before the first fall-back and the retries cost under
 // 1 % (2 % over 100 steps).
 //
@@ -159,6 +160,26 @@ namespace
     tests::check("  a probe measured on a slow stretch: measured again and a stretch within 30 steps",
                  misled_exact == fem::ExactFallback::probe && misled.fallbacks() == 0 &&
                    feed(misled, 30, 1.1, 1.0) > fem::ExactFallback::probe && misled.fallbacks() == 1);
+    // The converse: own steps (0.6) win against a measured exact step (1.0), then the
+    // machine slows down by half; a window of own steps at 1.2 loses to the 1.0 measured
+    // before, and a stretch starts whose first window of exact steps costs 2.0: a slow
+    // spell, not a loss, and the own steps come back.
+    fem::ExactFallback slow_spell;
+    slow_spell.set_exact_estimate(0.5);
+    feed(slow_spell, 30, 0.6, 1.0);
+    unsigned int slow_steps = 0;
+    for (; slow_steps < 40 && !slow_spell.runs_exact(); ++slow_steps)
+      feed(slow_spell, 1, 1.2, 2.0);
+    const unsigned int slow_stretch = slow_spell.stretch_length();
+    tests::check("  a slow spell of the machine: a stretch, which ends after its first window",
+                 slow_spell.fallbacks() == 1 && slow_stretch > fem::ExactFallback::window &&
+                   feed(slow_spell, fem::ExactFallback::window, 1.2, 2.0) == fem::ExactFallback::window &&
+                   !slow_spell.runs_exact() && slow_spell.stretches_ended() == 1);
+    tests::check("  the own steps go on once it is over: 100 steps, no stretch",
+                 feed(slow_spell, 100, 0.6, 1.0) <= fem::ExactFallback::probe && slow_spell.fallbacks() == 1);
+    tests::check("  a stretch after a real loss runs its length",
+                 losing.stretches_ended() == 0 && mild.stretches_ended() == 0);
+
     fem::ExactFallback winning;
     winning.set_exact_estimate(0.5);
     feed(winning, 6, 1.0, 2.0); // the probe: steps 5, 6

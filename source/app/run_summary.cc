@@ -169,8 +169,13 @@ namespace warpchol::app
         out << "; refreshes beside the steps (one thread less for them) in " << beside << " of "
             << beside + report.steps_refreshing_in << " steps";
       if (strategy.kind == fem::StepStrategy::Kind::automatic && report.exact_fallback_steps > 0)
-        out << "; exact in " << report.exact_fallback_steps << " steps where its own had cost more ("
-            << report.fallbacks << " times)";
+        {
+          out << "; exact in " << report.exact_fallback_steps << " steps where its own had cost more ("
+              << report.fallbacks << " times";
+          if (report.fallbacks_ended > 0)
+            out << ", " << report.fallbacks_ended << " ended early: the machine had slowed down";
+          out << ")";
+        }
       out << "\n";
     }
 

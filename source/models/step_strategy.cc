@@ -344,6 +344,11 @@ namespace warpchol::fem
     return fallback_count;
   }
 
+  unsigned int ExactFallback::stretches_ended() const
+  {
+    return stretches_ended_early;
+  }
+
   bool ExactFallback::own_steps_lose(const double seconds, const double error, const double reference) const
   {
     return reference > 0 && seconds - error > (1 + margin) * reference;
@@ -397,6 +402,20 @@ namespace warpchol::fem
     ++phase_steps;
     if (step_was_exact)
       {
+        // A window of the stretch that costs as much as the own steps that lost: the
+        // machine slowed down, not the strategy; the own steps come back.
+        if (!probing && phase_steps == window && phase_steps < phase_length &&
+            !own_steps_lose(own_seconds, 0., phase_seconds / phase_steps))
+          {
+            exact_seconds = phase_seconds / phase_steps;
+            phase_seconds = 0;
+            phase_squares = 0;
+            phase_steps   = 0;
+            exact         = false;
+            stretch       = 0;
+            ++stretches_ended_early;
+            return;
+          }
         if (phase_steps < phase_length)
           return;
         // The run of exact steps is over: its mean is what the exact path costs now.
@@ -514,6 +533,7 @@ namespace warpchol::fem
     writer.write(fallback_count);
     writer.write(probe_interval);
     writer.write(own_steps_since_probe);
+    writer.write(stretches_ended_early);
   }
 
   void ExactFallback::load(BinaryReader &reader)
@@ -540,5 +560,6 @@ namespace warpchol::fem
     reader.read(fallback_count);
     reader.read(probe_interval);
     reader.read(own_steps_since_probe);
+    reader.read(stretches_ended_early);
   }
 } // namespace warpchol::fem

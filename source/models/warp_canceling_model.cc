@@ -213,6 +213,7 @@ namespace warpchol::fem
     report.steps_refreshing_in     = placement.steps_in(RefreshPlacement::Where::in_the_steps);
     report.exact_fallback_steps    = fallback.exact_steps();
     report.fallbacks               = fallback.fallbacks();
+    report.fallbacks_ended         = fallback.stretches_ended();
     return report;
   }
 

@@ -279,6 +279,8 @@ namespace warpchol::fem
       /** auto: the steps it ran exact where its own had cost more, and how many times it fell back. */
       unsigned int exact_fallback_steps = 0;
       unsigned int fallbacks            = 0;
+      /** Of those, the stretches that ended early: their exact steps cost as much as the own ones (a slow spell). */
+      unsigned int fallbacks_ended      = 0;
     };
     virtual StrategyReport strategy_report() const;
 

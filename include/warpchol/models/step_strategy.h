@@ -335,6 +335,9 @@ namespace warpchol::fem
    * again after an interval whose probe costs retry_budget of it, at least
    * shortest_stretch, doubling while they keep winning: one exact step measured on a
    * slow stretch of the machine does not keep the own steps on for the rest of the run.
+   * Nor does the converse keep the exact path on: a stretch whose first window of exact
+   * steps costs as much as the own steps that lost (their mean within the margin, their
+   * spread aside) measured a slow spell of the machine, not a loss, and ends there.
    */
   class ExactFallback
   {
@@ -365,6 +368,8 @@ namespace warpchol::fem
     /** Steps run exact by the fall-back (probes included), and how many stretches it ran. */
     unsigned int exact_steps() const;
     unsigned int fallbacks() const;
+    /** How many of those stretches ended after their first window (the machine had slowed down). */
+    unsigned int stretches_ended() const;
 
     void save(BinaryWriter &writer) const;
     void load(BinaryReader &reader);
@@ -428,5 +433,7 @@ namespace warpchol::fem
     /** Own steps between a won comparison and the next probe (0: none due), and those run since. */
     unsigned int probe_interval        = 0;
     unsigned int own_steps_since_probe = 0;
+    /** Stretches ended after a window whose exact steps cost as much as the own steps that lost. */
+    unsigned int stretches_ended_early = 0;
   };
 } // namespace warpchol::fem
