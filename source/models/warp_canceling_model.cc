@@ -388,8 +388,8 @@ namespace warpchol::fem
     const bool      automatic = strategy.kind == StepStrategy::Kind::automatic;
     // What the last step measured calibrates the cost model, unless it ran beside a
     // refresh, on fewer threads than the steps in which the model's refreshes run, was
-    // the exact path's (the fall-back's) or failed its solve and was made exact in it: the
-    // model foresees auto's own steps.
+    // the exact path's (the fall-back's: below, as an exact step only) or failed its solve
+    // and was made exact in it: the model foresees auto's own steps.
     const bool last_beside_refresh = step_thread_count < given_threads;
     const bool last_solve_failed   = history.solve_failed;
     const bool last_measures_own   = history.step_count > 0 && !history.last_step_fell_back && !last_solve_failed;
@@ -405,6 +405,11 @@ namespace warpchol::fem
           // an incision, where they do not spare the next cut's refresh.
           cost_model.record_iterating_step(history.last_staleness, last_seconds, last_cg_iterations);
       }
+    // A step of the fall-back is an exact step, measured as auto's own are (the element
+    // pass aside): without it a model that the set-up's cold factorization made rate exact
+    // steps dear would never run one of its own, however dear its iterating steps.
+    if (history.step_count > 0 && history.last_step_fell_back && !last_beside_refresh)
+      cost_model.record_exact_step(history.last_prepare_seconds + last_solve_seconds, 0);
     if (history.step_count > 0 && !history.last_step_fell_back)
       cost_model.record_own_step(history.last_step_exact);
     if (last_cg_iterations > 0 && !last_beside_refresh)
@@ -450,8 +455,12 @@ namespace warpchol::fem
     // The last exact step's element rotations, before this step's overwrite them.
     warp_frames.keep_rotations(elastic_state.element_rotations);
     history.last_step_fell_back = may_fall_back && fallback.runs_exact();
+    double element_pass_seconds = 0;
     if (history.last_step_fell_back)
-      corotational_step(positions, statistics);
+      {
+        corotational_step(positions, statistics);
+        element_pass_seconds = statistics.stages.seconds(stage::rotations);
+      }
     else
       {
         evaluate_elastic_state(positions, ElasticBody::Rotations::elements_and_vertices, statistics);
@@ -465,7 +474,7 @@ namespace warpchol::fem
     solve_frame = exact_this_step ? nullptr : &warp_frames.solve_rotations();
     history.last_step_changed = change_pending;
     change_pending    = false;
-    history.last_prepare_seconds = stopwatch.seconds();
+    history.last_prepare_seconds = stopwatch.seconds() - element_pass_seconds;
     // The cycle an exact step ends: how stale the factor had grown before it.
     history.cycle_length         = exact_this_step ? history.last_staleness : history.cycle_length;
     history.last_step_exact      = exact_this_step;
