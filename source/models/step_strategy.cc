@@ -403,20 +403,10 @@ namespace warpchol::fem
     if (step_was_exact)
       {
         // A window of the stretch that costs as much as the own steps that lost: the
-        // machine slowed down, not the strategy; the own steps come back.
-        if (!probing && phase_steps == window && phase_steps < phase_length &&
-            !own_steps_lose(own_seconds, 0., phase_seconds / phase_steps))
-          {
-            exact_seconds = phase_seconds / phase_steps;
-            phase_seconds = 0;
-            phase_squares = 0;
-            phase_steps   = 0;
-            exact         = false;
-            stretch       = 0;
-            ++stretches_ended_early;
-            return;
-          }
-        if (phase_steps < phase_length)
+        // machine slowed down, not the strategy; the stretch ends there.
+        const bool slow_spell = !probing && phase_steps == window && phase_steps < phase_length &&
+                                !own_steps_lose(own_seconds, 0., phase_seconds / phase_steps);
+        if (phase_steps < phase_length && !slow_spell)
           return;
         // The run of exact steps is over: its mean is what the exact path costs now.
         exact_seconds = phase_seconds / phase_steps;
@@ -437,9 +427,16 @@ namespace warpchol::fem
               }
             return;
           }
-        // A stretch is over: the strategy's own steps get a window again.
-        exact         = false;
-        after_stretch = true;
+        // A stretch is over: the strategy's own steps get a window again; after a slow
+        // spell as after a win (a later loss starts from its own length).
+        exact = false;
+        if (slow_spell)
+          {
+            stretch = 0;
+            ++stretches_ended_early;
+          }
+        else
+          after_stretch = true;
         return;
       }
     // What the own steps lost to the exact path since they last did not (a CUSUM): steps
