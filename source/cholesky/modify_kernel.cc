@@ -286,11 +286,12 @@ namespace warpchol::cholesky::HWY_NAMESPACE
        *
        * apply_to_groups() carries a group's K columns of W in registers: on 16 registers
        * that leaves one group, whose chain of dependent operations from one reflector to
-       * the next is longer than the reflector's work. Here reflector by reflector goes over
-       * all groups of the block, two at a time (each coefficient read once for both), so
-       * that the groups' independent chains overlap; the next reflector's dot product is
-       * formed from the columns just modified, as they are stored. The block's columns of W
-       * are copied to a buffer of fixed stride, so that every address is a constant offset.
+       * the next is longer than the reflector's work. Here two reflectors at a time go over
+       * all groups of the block, two groups side by side (each coefficient read once for
+       * both), so that the groups' independent chains overlap; each group's W is read and
+       * written once per two reflectors, and the next reflector's dot product is formed from
+       * the columns just modified. The block's columns of W are copied to a buffer of fixed
+       * stride, so that every address is a constant offset.
        */
       void apply_to_block(double *rows, const Index ld, const Index w_row, const Index n_groups, const Index j_begin,
                           const Index j_end) const
@@ -310,75 +311,119 @@ namespace warpchol::cholesky::HWY_NAMESPACE
               carried[t] = load(stored + t * block_rows + g * target_lanes);
             dots[g] = dot(load(rows + j_begin * ld + g * target_lanes), carried, coefficients + j_begin * stride + 1 + K);
           }
-        for (Index j = j_begin; j < j_end; ++j)
+        for (Index j = j_begin; j < j_end;)
           {
-            if (j + prefetch_columns < j_end)
+            // Two reflectors a pass where two remain: a pass reads and writes W once.
+            const Index run = std::min<Index>(2, j_end - j);
+            for (Index k = j + prefetch_columns; k < std::min(j + run + prefetch_columns, j_end); ++k)
               {
-                const double *ahead = rows + (j + prefetch_columns) * ld;
-                for (Index k = 0; k < n_rows; k += 8)
-                  __builtin_prefetch(ahead + k, 1);
+                const double *ahead = rows + k * ld;
+                for (Index i = 0; i < n_rows; i += 8)
+                  __builtin_prefetch(ahead + i, 1);
                 __builtin_prefetch(ahead + n_rows - 1, 1);
               }
             const Coefficient *r      = coefficients + j * stride;
-            const Coefficient *next   = j + 1 < j_end ? r + stride : nullptr;
             double            *column = rows + j * ld;
             Index              g      = 0;
-            for (; g + 2 <= n_groups; g += 2)
-              apply_to_stored_groups<2>(column + g * target_lanes, ld, stored + g * target_lanes, dots + g, r, next);
-            if (g < n_groups)
-              apply_to_stored_groups<1>(column + g * target_lanes, ld, stored + g * target_lanes, dots + g, r, next);
+            if (run == 2)
+              {
+                const Coefficient *after = j + 2 < j_end ? r + 2 * stride : nullptr;
+                for (; g + 2 <= n_groups; g += 2)
+                  apply_two_to_stored_groups<2>(column + g * target_lanes, ld, stored + g * target_lanes, dots + g, r,
+                                                after);
+                if (g < n_groups)
+                  apply_two_to_stored_groups<1>(column + g * target_lanes, ld, stored + g * target_lanes, dots + g, r,
+                                                after);
+              }
+            else
+              {
+                for (; g + 2 <= n_groups; g += 2)
+                  apply_last_to_stored_groups<2>(column + g * target_lanes, stored + g * target_lanes, dots + g, r);
+                if (g < n_groups)
+                  apply_last_to_stored_groups<1>(column + g * target_lanes, stored + g * target_lanes, dots + g, r);
+              }
+            j += run;
           }
         for (int t = 0; t < K; ++t)
           std::copy(stored + t * block_rows, stored + t * block_rows + n_rows, w_block + t * w_stride);
       }
 
+      /** Term t of dot()'s sum: even terms to @p even, odd ones to @p odd (the first of them sets it). */
+      static void add_term(const int t, Lanes &even, Lanes &odd, const Lanes &moved, const Coefficient &scaled)
+      {
+        if (t % 2 == 0 || K == 1)
+          even += moved * scaled;
+        else if (t == 1)
+          odd = moved * scaled;
+        else
+          odd += moved * scaled;
+      }
+
       /**
-       * Reflector @p r on P groups side by side (their entries of its column at @p column,
-       * of W at @p w_rows with stride block_rows, their dot products for it in @p dots);
-       * then, if @p next, their dot products for the next reflector, in the order of dot().
+       * The last reflector of apply_to_block(), @p r, on P groups side by side: their entries
+       * of its column at @p column, of W at @p w_rows (stride block_rows), their dot
+       * products for it in @p dots.
        */
       template <int P>
-      static void apply_to_stored_groups(double *column, const Index ld, double *w_rows, Lanes *dots,
-                                         const Coefficient *r, const Coefficient *next)
+      static void apply_last_to_stored_groups(double *column, double *w_rows, const Lanes *dots, const Coefficient *r)
       {
         for (int p = 0; p < P; ++p)
           store(column + p * target_lanes, r[0] * dots[p] - load(column + p * target_lanes));
-        if (!next)
-          {
-#pragma GCC unroll 16
-            for (int t = 0; t < K; ++t)
-              {
-                const Coefficient v = r[1 + t];
-                for (int p = 0; p < P; ++p)
-                  {
-                    double *entry = w_rows + t * block_rows + p * target_lanes;
-                    store(entry, load(entry) - dots[p] * v);
-                  }
-              }
-            return;
-          }
-        Lanes even[P], odd[P];
-        for (int p = 0; p < P; ++p)
-          even[p] = load(column + ld + p * target_lanes);
 #pragma GCC unroll 16
         for (int t = 0; t < K; ++t)
-          {
-            const Coefficient v = r[1 + t], scaled = next[1 + K + t];
-            for (int p = 0; p < P; ++p)
-              {
-                double     *entry = w_rows + t * block_rows + p * target_lanes;
-                const Lanes moved = load(entry) - dots[p] * v;
-                store(entry, moved);
-                if (t % 2 == 0 || K == 1)
-                  even[p] += moved * scaled;
-                else if (t == 1)
-                  odd[p] = moved * scaled;
-                else
-                  odd[p] += moved * scaled;
-              }
-          }
+          for (int p = 0; p < P; ++p)
+            {
+              double *entry = w_rows + t * block_rows + p * target_lanes;
+              store(entry, load(entry) - dots[p] * r[1 + t]);
+            }
+      }
+
+      /**
+       * Reflector @p r and the one after it on P groups side by side (their entries of r's
+       * column at @p column, of W at @p w_rows with stride block_rows, their dot products
+       * for r in @p dots), W held in registers from one to the other; then, if @p after,
+       * their dot products for it. Each dot product is formed from the columns of W just
+       * moved, in the order of dot().
+       */
+      template <int P>
+      static void apply_two_to_stored_groups(double *column, const Index ld, double *w_rows, Lanes *dots,
+                                             const Coefficient *r, const Coefficient *after)
+      {
+        const Coefficient *second = r + stride;
+        Lanes              old[P], even[P], odd[P], moved[P][K];
         for (int p = 0; p < P; ++p)
-          dots[p] = K == 1 ? even[p] : even[p] + odd[p];
+          {
+            store(column + p * target_lanes, r[0] * dots[p] - load(column + p * target_lanes));
+            old[p]  = load(column + ld + p * target_lanes);
+            even[p] = old[p];
+          }
+#pragma GCC unroll 16
+        for (int t = 0; t < K; ++t)
+          for (int p = 0; p < P; ++p)
+            {
+              moved[p][t] = load(w_rows + t * block_rows + p * target_lanes) - dots[p] * r[1 + t];
+              add_term(t, even[p], odd[p], moved[p][t], second[1 + K + t]);
+            }
+        for (int p = 0; p < P; ++p)
+          {
+            dots[p] = K == 1 ? even[p] : even[p] + odd[p];
+            store(column + ld + p * target_lanes, second[0] * dots[p] - old[p]);
+          }
+        if (after)
+          for (int p = 0; p < P; ++p)
+            even[p] = load(column + 2 * ld + p * target_lanes);
+#pragma GCC unroll 16
+        for (int t = 0; t < K; ++t)
+          for (int p = 0; p < P; ++p)
+            {
+              const Lanes twice = moved[p][t] - dots[p] * second[1 + t];
+              store(w_rows + t * block_rows + p * target_lanes, twice);
+              if (after)
+                add_term(t, even[p], odd[p], twice, after[1 + K + t]);
+            }
+        if (after)
+          for (int p = 0; p < P; ++p)
+            dots[p] = K == 1 ? even[p] : even[p] + odd[p];
       }
 
       /** Apply the reflectors [j_begin, j_end) to the whole groups of rows [row_begin, row_end) in place. */
