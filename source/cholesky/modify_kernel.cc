@@ -188,26 +188,48 @@ namespace warpchol::cholesky::HWY_NAMESPACE
        */
       static constexpr int groups = std::clamp((vector_registers - 2) / (K + 2), 1, 8);
 
-      /** s = l + w . S v for one reflector, in two interleaved sums (the same order everywhere). */
+      /**
+       * Interleaved partial sums of a dot product w . S v: term t goes to sum t % partial_sums.
+       * Its chain of dependent operations is the longest path from one reflector to the
+       * next where a group's W stays in registers over the run (apply_to_groups()): from
+       * eight columns on, four chains of a quarter of it. Where W is kept in memory
+       * (apply_to_block()), groups overlap one another's chains, and two sums leave the
+       * registers to W.
+       */
+      static constexpr int partial_sums = K == 1 ? 1 : (K >= 8 && !w_in_memory) ? 4 : 2;
+
+      /** Term t of a dot product, into @p sums (the first term of each sum but the first sets it). */
+      template <typename Value, typename Scaled>
+      static void add_term(const int t, Value *sums, const Value &moved, const Scaled &scaled)
+      {
+        const int k = t % partial_sums;
+        if (k == 0 || t >= partial_sums)
+          sums[k] += moved * scaled;
+        else
+          sums[k] = moved * scaled;
+      }
+
+      /** The dot product of @p sums, whose first started from the entry of L (the same order everywhere). */
+      template <typename Value>
+      static Value sum_of(const Value *sums)
+      {
+        if constexpr (partial_sums == 1)
+          return sums[0];
+        else if constexpr (partial_sums == 2)
+          return sums[0] + sums[1];
+        else
+          return (sums[0] + sums[1]) + (sums[2] + sums[3]);
+      }
+
+      /** s = l + w . S v for one reflector. */
       template <typename Value, typename Scaled>
       static Value dot(const Value &old, const Value *carried, const Scaled *scaled)
       {
-        Value even = old;
-        if constexpr (K == 1)
-          return even + carried[0] * scaled[0];
-        else
-          {
-            Value odd = carried[1] * scaled[1];
-            even += carried[0] * scaled[0];
-            for (int t = 2; t + 1 < K; t += 2)
-              {
-                even += carried[t] * scaled[t];
-                odd += carried[t + 1] * scaled[t + 1];
-              }
-            if constexpr (K % 2 == 1)
-              even += carried[K - 1] * scaled[K - 1];
-            return even + odd;
-          }
+        Value sums[partial_sums];
+        sums[0] = old;
+        for (int t = 0; t < K; ++t)
+          add_term(t, sums, carried[t], scaled[t]);
+        return sum_of(sums);
       }
 
       /**
@@ -348,17 +370,6 @@ namespace warpchol::cholesky::HWY_NAMESPACE
           std::copy(stored + t * block_rows, stored + t * block_rows + n_rows, w_block + t * w_stride);
       }
 
-      /** Term t of dot()'s sum: even terms to @p even, odd ones to @p odd (the first of them sets it). */
-      static void add_term(const int t, Lanes &even, Lanes &odd, const Lanes &moved, const Coefficient &scaled)
-      {
-        if (t % 2 == 0 || K == 1)
-          even += moved * scaled;
-        else if (t == 1)
-          odd = moved * scaled;
-        else
-          odd += moved * scaled;
-      }
-
       /**
        * The last reflector of apply_to_block(), @p r, on P groups side by side: their entries
        * of its column at @p column, of W at @p w_rows (stride block_rows), their dot
@@ -390,28 +401,28 @@ namespace warpchol::cholesky::HWY_NAMESPACE
                                              const Coefficient *r, const Coefficient *after)
       {
         const Coefficient *second = r + stride;
-        Lanes              old[P], even[P], odd[P], moved[P][K];
+        Lanes              old[P], sums[P][partial_sums], moved[P][K];
         for (int p = 0; p < P; ++p)
           {
             store(column + p * target_lanes, r[0] * dots[p] - load(column + p * target_lanes));
-            old[p]  = load(column + ld + p * target_lanes);
-            even[p] = old[p];
+            old[p]     = load(column + ld + p * target_lanes);
+            sums[p][0] = old[p];
           }
 #pragma GCC unroll 16
         for (int t = 0; t < K; ++t)
           for (int p = 0; p < P; ++p)
             {
               moved[p][t] = load(w_rows + t * block_rows + p * target_lanes) - dots[p] * r[1 + t];
-              add_term(t, even[p], odd[p], moved[p][t], second[1 + K + t]);
+              add_term(t, sums[p], moved[p][t], second[1 + K + t]);
             }
         for (int p = 0; p < P; ++p)
           {
-            dots[p] = K == 1 ? even[p] : even[p] + odd[p];
+            dots[p] = sum_of(sums[p]);
             store(column + ld + p * target_lanes, second[0] * dots[p] - old[p]);
           }
         if (after)
           for (int p = 0; p < P; ++p)
-            even[p] = load(column + 2 * ld + p * target_lanes);
+            sums[p][0] = load(column + 2 * ld + p * target_lanes);
 #pragma GCC unroll 16
         for (int t = 0; t < K; ++t)
           for (int p = 0; p < P; ++p)
@@ -419,11 +430,11 @@ namespace warpchol::cholesky::HWY_NAMESPACE
               const Lanes twice = moved[p][t] - dots[p] * second[1 + t];
               store(w_rows + t * block_rows + p * target_lanes, twice);
               if (after)
-                add_term(t, even[p], odd[p], twice, after[1 + K + t]);
+                add_term(t, sums[p], twice, after[1 + K + t]);
             }
         if (after)
           for (int p = 0; p < P; ++p)
-            dots[p] = K == 1 ? even[p] : even[p] + odd[p];
+            dots[p] = sum_of(sums[p]);
       }
 
       /** Apply the reflectors [j_begin, j_end) to the whole groups of rows [row_begin, row_end) in place. */
