@@ -41,10 +41,14 @@ namespace warpchol::cholesky::HWY_NAMESPACE
     constexpr bool w_in_memory = vector_registers < 32;
 
     /**
-     * Columns of W carried in registers at a time: the registers but four (a group's row
-     * of L, its sum and the dot product's second sum, and one for the compiler).
+     * Columns of W a chunk takes: each chunk is one pass over the supernodes' columns. Where
+     * W is carried in registers, the registers but four (a group's row of L, its sum and
+     * the dot product's second sum, and one for the compiler). AVX2 keeps W in memory past
+     * three columns (apply_to_block()) and takes the most, which saves passes over L; on
+     * two lanes, the longer chunks were not faster.
      */
-    constexpr Index target_chunk_columns = std::min<Index>(chunk_columns, vector_registers - 4);
+    constexpr Index target_chunk_columns =
+      w_in_memory && target_lanes >= 4 ? chunk_columns : std::min<Index>(chunk_columns, vector_registers - 4);
 
     using Lanes = double __attribute__((vector_size(sizeof(double) * target_lanes)));
 
