@@ -131,6 +131,17 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       std::memcpy(p, &v, sizeof v);
     }
 
+    /**
+     * Ask for the @p n entries from @p entries to be brought in for writing: the columns
+     * of a large supernode lie pages apart, where the hardware's prefetchers do not follow.
+     */
+    void prefetch_for_writing(const double *entries, const Index n)
+    {
+      for (Index i = 0; i < n; i += 8)
+        __builtin_prefetch(entries + i, 1);
+      __builtin_prefetch(entries + n - 1, 1);
+    }
+
     /** Lane k holds k: which rows of a group a reflector may change. */
     Lanes lane_numbers()
     {
@@ -265,15 +276,9 @@ namespace warpchol::cholesky::HWY_NAMESPACE
           }
         for (Index j = j_begin; j < j_end; ++j)
           {
-            // The group's entries some columns ahead: the columns of a large supernode lie
-            // pages apart, where the hardware's prefetchers do not follow.
+            // The group's entries some columns ahead.
             if (j + prefetch_columns < j_end)
-              {
-                const double *ahead = rows + (j + prefetch_columns) * ld;
-                for (Index k = 0; k < G * target_lanes; k += 8)
-                  __builtin_prefetch(ahead + k, 1);
-                __builtin_prefetch(ahead + G * target_lanes - 1, 1);
-              }
+              prefetch_for_writing(rows + (j + prefetch_columns) * ld, G * target_lanes);
             const Coefficient *r = reflectors + j * stride;
             Lanes              s[G];
             for (int g = 0; g < G; ++g)
@@ -342,12 +347,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
             // Two reflectors a pass where two remain: a pass reads and writes W once.
             const Index run = std::min<Index>(2, j_end - j);
             for (Index k = j + prefetch_columns; k < std::min(j + run + prefetch_columns, j_end); ++k)
-              {
-                const double *ahead = rows + k * ld;
-                for (Index i = 0; i < n_rows; i += 8)
-                  __builtin_prefetch(ahead + i, 1);
-                __builtin_prefetch(ahead + n_rows - 1, 1);
-              }
+              prefetch_for_writing(rows + k * ld, n_rows);
             const Coefficient *r      = coefficients + j * stride;
             double            *column = rows + j * ld;
             Index              g      = 0;
