@@ -5,8 +5,9 @@
 // then a stretch whose retry costs 1 % of it), the stretch doubles while the own steps
 // keep losing and starts from their loss again once they won; own steps that pay never
 // fall back (those that cost more than half the estimate first measure the exact step by
-// a probe), a tie within the margin does not (its probes come at doubling intervals), nor
-// one own step held up among steps that pay, nor one dear window after a cheap one; own
+// a probe), and own steps that refreshed a cut's columns do not weigh; a tie within the
+// margin does not fall back (its probes come at doubling intervals), nor one own step
+// held up among steps that pay, nor one dear window after a cheap one; own
 // steps that lose within their spread are judged on a longer window; a retry whose step
 // gives up its solve ends at once; a probe that measured the exact step on a slow
 // stretch of the machine is measured again soon, and a stretch whose exact steps cost as
@@ -111,6 +112,27 @@ namespace
     tests::check("  one own step held up (as long as 4 exact ones) among own steps that pay: no stretch",
                  feed(held_up, 1, 2.0, 1.0) == 0 && feed(held_up, 100, 0.1, 1.0) <= fem::ExactFallback::probe &&
                    held_up.fallbacks() == 0);
+
+    // An incision: own steps that refresh a cut's columns cost more than half the estimate
+    // (a probe, if they were weighed), among own steps that pay. The exact path's
+    // factorization absorbs a cut for nothing, and the cut's chooser took the cheapest
+    // refresh: those steps are not weighed.
+    const auto incision = [](const bool paid_for_a_change) {
+      fem::ExactFallback fallback;
+      fallback.set_exact_estimate(0.5);
+      unsigned int exact = feed(fallback, 10, 0.2, 1.0);
+      for (unsigned int step = 0; step < 18; ++step)
+        {
+          exact += fallback.runs_exact();
+          fallback.record_step(fallback.runs_exact() ? 1.0 : 0.8, false, paid_for_a_change);
+        }
+      return exact + feed(fallback, 100, 0.2, 1.0);
+    };
+    tests::check("  18 own steps that refresh a cut's columns (0.8) among own steps at 0.2: none exact",
+                 incision(true) == 0);
+    const unsigned int weighed = incision(false);
+    std::cout << "  the same steps weighed as the strategy's own: " << weighed << " exact (probes)" << std::endl;
+    tests::check("  at least a probe", weighed >= fem::ExactFallback::probe);
 
     // Own steps of a stale factor spread widely (cheap ones, a dear one): a window is
     // judged with the one before it, and against the standard error of their mean.

@@ -390,12 +390,12 @@ namespace warpchol::fem
     own_steps_since_probe = 0;
   }
 
-  void ExactFallback::record_step(const double seconds, const bool solve_failed)
+  void ExactFallback::record_step(const double seconds, const bool solve_failed, const bool paid_for_a_change)
   {
     const bool step_was_exact = exact;
     if (step_was_exact)
       ++exact_count;
-    if (++steps < first_counted_step)
+    if (++steps < first_counted_step || (paid_for_a_change && !step_was_exact))
       return;
     phase_seconds += seconds;
     phase_squares += seconds * seconds;

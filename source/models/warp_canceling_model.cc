@@ -428,7 +428,9 @@ namespace warpchol::fem
         const double own_exact     = cost_model.predicted_exact_seconds();
         fallback.set_exact_estimate(factorization > 0 && own_exact > 0 ? std::min(factorization, own_exact) :
                                                                           std::max(factorization, own_exact));
-        fallback.record_step(last_step_prepare_seconds + last_solve_seconds, last_solve_failed);
+        fallback.record_step(last_step_prepare_seconds + last_solve_seconds,
+                             last_solve_failed,
+                             history.last_step_changed);
       }
     // The step runs on the threads the integrator gave it: so do the solver and the assembly.
     const unsigned int limited = step_threads();

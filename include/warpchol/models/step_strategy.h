@@ -354,9 +354,12 @@ namespace warpchol::fem
     /**
      * The step that runs_exact() was asked about cost @p seconds (its whole work: element
      * pass, refresh, solve): an exact one of the fall-back, or one of the strategy's own,
-     * which @p solve_failed if its CG gave up for an exact step.
+     * which @p solve_failed if its CG gave up for an exact step. An own step that
+     * @p paid_for_a_change (a cut's or a grasp's columns refreshed) is not weighed: the
+     * exact path's factorization absorbs a change for nothing, and the change's own
+     * chooser already took the cheapest of update, partial and full refactorization.
      */
-    void record_step(double seconds, bool solve_failed = false);
+    void record_step(double seconds, bool solve_failed = false, bool paid_for_a_change = false);
 
     /** The mean seconds of the fall-back's last run of exact steps (negative: none yet). */
     double exact_step_seconds() const;
