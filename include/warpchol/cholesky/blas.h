@@ -57,13 +57,13 @@ namespace warpchol::cholesky::blas
   void gemm(bool transpose_a, bool transpose_b, int m, int n, int k, double alpha, const double *a,
             int lda, const double *b, int ldb, double beta, double *c, int ldc);
 
-  /** C = alpha A B^T + beta C, A m x k, B n x k ("N","T"). */
   /**
    * The machine's dgemm rate in GFLOP/s on this thread: the best of a few products of
    * 1000x1000 matrices (2 n^3 flops each), the ceiling of every supernodal factorization.
    */
   double measure_dgemm_gflops();
 
+  /** C = alpha A B^T + beta C, A m x k, B n x k ("N","T"). */
   void gemm_nt(int m, int n, int k, double alpha, const double *a, int lda, const double *b,
                int ldb, double beta, double *c, int ldc);
 
