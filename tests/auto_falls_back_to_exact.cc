@@ -38,11 +38,12 @@ using namespace warpchol;
 namespace
 {
   /**
-   * Feed @p fallback @p n steps: exact ones cost @p exact_seconds, its own @p own_seconds;
-   * how many ran exact, and their total cost added to @p total (if given).
+   * Feed @p fallback @p n steps: exact ones cost @p exact_seconds, its own @p own_seconds
+   * (which @p paid_for_a_change, if so); how many ran exact, and their total cost added to
+   * @p total (if given).
    */
   unsigned int feed(fem::ExactFallback &fallback, const unsigned int n, const double own_seconds,
-                    const double exact_seconds, double *total = nullptr)
+                    const double exact_seconds, double *total = nullptr, const bool paid_for_a_change = false)
   {
     unsigned int exact = 0;
     for (unsigned int step = 0; step < n; ++step)
@@ -52,7 +53,7 @@ namespace
         exact += runs_exact;
         if (total)
           *total += seconds;
-        fallback.record_step(seconds);
+        fallback.record_step(seconds, false, paid_for_a_change);
       }
     return exact;
   }
@@ -120,13 +121,9 @@ namespace
     const auto incision = [](const bool paid_for_a_change) {
       fem::ExactFallback fallback;
       fallback.set_exact_estimate(0.5);
-      unsigned int exact = feed(fallback, 10, 0.2, 1.0);
-      for (unsigned int step = 0; step < 18; ++step)
-        {
-          exact += fallback.runs_exact();
-          fallback.record_step(fallback.runs_exact() ? 1.0 : 0.8, false, paid_for_a_change);
-        }
-      return exact + feed(fallback, 100, 0.2, 1.0);
+      const unsigned int before = feed(fallback, 10, 0.2, 1.0);
+      const unsigned int during = feed(fallback, 18, 0.8, 1.0, nullptr, paid_for_a_change);
+      return before + during + feed(fallback, 100, 0.2, 1.0);
     };
     tests::check("  18 own steps that refresh a cut's columns (0.8) among own steps at 0.2: none exact",
                  incision(true) == 0);
