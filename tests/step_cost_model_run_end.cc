@@ -6,6 +6,9 @@
 // again when they are many. The iterations a step may spend before it is made exact instead
 // (affordable_iterations()): none known before an exact step and an iteration were
 // measured, then the exact step's seconds over an iteration's, 1 / 0.02 = 50.
+// Steps that also paid for a cut's refresh (record_iterations_at(): their iterations, not
+// their seconds) make the exact step due where the same iterations did; their seconds,
+// counted as iterating ones, would have made it due earlier.
 
 #include <warpchol/models/step_strategy.h>
 
@@ -51,4 +54,27 @@ int main()
   tests::check("  exact where it repays itself by the end, and only there",
                least_steps_left > 1 && exact_now < iterate_on && model.exact_step_is_due(due_at, 64));
   tests::check("  never exact where the rule alone says not", !model.exact_step_is_due(due_at - 1, 64));
+
+  // The same cycle, but from staleness 2 on every step also refreshed a cut's columns, at
+  // 0.5 s a step on top of its iterations.
+  const auto cut_model = [](const bool seconds_counted) {
+    fem::StepCostModel cut;
+    cut.record_iterations(cholesky::Refresh::all, 1, 0.02);
+    cut.record_exact_step(1.0, 0);
+    cut.record_iterating_step(1, 0.1 + 0.02 * 2, 2);
+    for (unsigned int s = 2; s <= 20; ++s)
+      if (seconds_counted)
+        cut.record_iterating_step(s, 0.5 + 0.1 + 0.02 * (s + 1), s + 1);
+      else
+        cut.record_iterations_at(s, s + 1);
+    unsigned int due = 0;
+    for (unsigned int s = 1; s <= 20 && due == 0; ++s)
+      if (cut.exact_step_is_due(s))
+        due = s;
+    return due;
+  };
+  const unsigned int cut_due = cut_model(false), cut_due_counted = cut_model(true);
+  std::cout << "through an incision: exact due at staleness " << cut_due << " from the iterations, at "
+            << cut_due_counted << " had the cut's seconds been counted" << std::endl;
+  tests::check("  the iterations alone give the same rule", cut_due == due_at && cut_due_counted < due_at);
 }

@@ -102,9 +102,15 @@ namespace warpchol::fem
   {
     if (staleness == 0)
       return;
-    blend(iterations_at[std::min(staleness, longest_staleness) - 1], iterations);
+    record_iterations_at(staleness, iterations);
     if (seconds_per_iteration > 0)
       blend_seconds(iterating_overhead, std::max(seconds - iterations * seconds_per_iteration, 1e-9));
+  }
+
+  void StepCostModel::record_iterations_at(const unsigned int staleness, const unsigned int iterations)
+  {
+    if (staleness > 0)
+      blend(iterations_at[std::min(staleness, longest_staleness) - 1], iterations);
   }
 
   void StepCostModel::record_own_step(const bool exact)

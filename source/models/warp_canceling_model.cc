@@ -400,10 +400,13 @@ namespace warpchol::fem
         if (history.last_step_exact)
           cost_model.record_exact_step(last_seconds, history.cycle_length);
         else if (!history.last_step_changed)
-          // A step that refreshed a cut's columns paid for the cut, not for the staleness
-          // of its factor: counted, it would make exact steps look due in the middle of
-          // an incision, where they do not spare the next cut's refresh.
           cost_model.record_iterating_step(history.last_staleness, last_seconds, last_cg_iterations);
+        else
+          // A step that refreshed a cut's columns paid for the cut too: its seconds would
+          // make exact steps look due in the middle of an incision. Its iterations are the
+          // staleness's (the cut is in the factor), and where a flap swings away from the
+          // factor's rotations they tell that an exact step pays in the incision's middle.
+          cost_model.record_iterations_at(history.last_staleness, last_cg_iterations);
       }
     // A step of the fall-back is an exact step, measured as auto's own are (the element
     // pass aside): without it a model that the set-up's cold factorization made rate exact

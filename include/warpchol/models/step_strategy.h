@@ -161,6 +161,11 @@ namespace warpchol::fem
      */
     void record_iterating_step(unsigned int staleness, double seconds, unsigned int iterations);
     /**
+     * A step @p staleness steps after the last exact factor iterated @p iterations times,
+     * and its seconds paid for more than iterating (a cut's refresh): the iterations only.
+     */
+    void record_iterations_at(unsigned int staleness, unsigned int iterations);
+    /**
      * A step of auto's own ran, @p exact or iterating (measured or not: one whose solve
      * failed and was made exact still iterated): counts the exact steps back to back.
      */
