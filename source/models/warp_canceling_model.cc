@@ -402,10 +402,11 @@ namespace warpchol::fem
         else if (!history.last_step_changed)
           cost_model.record_iterating_step(history.last_staleness, last_seconds, last_cg_iterations);
         else
-          // A step that refreshed a cut's columns paid for the cut too: its seconds would
-          // make exact steps look due in the middle of an incision. Its iterations are the
-          // staleness's (the cut is in the factor), and where a flap swings away from the
-          // factor's rotations they tell that an exact step pays in the incision's middle.
+          // A step that refreshed a cut's or a grasp's columns paid for that too: its
+          // seconds would make exact steps look due in the middle of an incision. Its
+          // iterations are the staleness's (the change is in the factor), and where a flap
+          // swings away from the factor's rotations they tell that an exact step pays in
+          // the incision's middle.
           cost_model.record_iterations_at(history.last_staleness, last_cg_iterations);
       }
     // A step of the fall-back is an exact step, measured as auto's own are (the element

@@ -162,7 +162,8 @@ namespace warpchol::fem
     void record_iterating_step(unsigned int staleness, double seconds, unsigned int iterations);
     /**
      * A step @p staleness steps after the last exact factor iterated @p iterations times,
-     * and its seconds paid for more than iterating (a cut's refresh): the iterations only.
+     * and its seconds paid for more than iterating (a cut's or a grasp's refresh): the
+     * iterations only.
      */
     void record_iterations_at(unsigned int staleness, unsigned int iterations);
     /**
