@@ -16,6 +16,18 @@
 
 using namespace warpchol;
 
+namespace
+{
+  /** The first staleness up to 20 at which @p model makes the step exact (0: none). */
+  unsigned int first_due(const fem::StepCostModel &model)
+  {
+    for (unsigned int s = 1; s <= 20; ++s)
+      if (model.exact_step_is_due(s))
+        return s;
+    return 0;
+  }
+} // namespace
+
 int main()
 {
   fem::StepCostModel model;
@@ -28,10 +40,7 @@ int main()
     model.record_iterating_step(s, 0.1 + 0.02 * (s + 1), s + 1);
   std::cout << "affordable iterations: " << model.affordable_iterations() << std::endl;
 
-  unsigned int due_at = 0;
-  for (unsigned int s = 1; s <= 20 && due_at == 0; ++s)
-    if (model.exact_step_is_due(s))
-      due_at = s;
+  const unsigned int due_at = first_due(model);
   std::cout << "the run's end unknown: an exact step is due at staleness " << due_at << std::endl;
   tests::check("  not before, and within the measured cycle", due_at > 1 && due_at < 20 &&
                                                                   !model.exact_step_is_due(due_at - 1));
@@ -67,11 +76,7 @@ int main()
         cut.record_iterating_step(s, 0.5 + 0.1 + 0.02 * (s + 1), s + 1);
       else
         cut.record_iterations_at(s, s + 1);
-    unsigned int due = 0;
-    for (unsigned int s = 1; s <= 20 && due == 0; ++s)
-      if (cut.exact_step_is_due(s))
-        due = s;
-    return due;
+    return first_due(cut);
   };
   const unsigned int cut_due = cut_model(false), cut_due_counted = cut_model(true);
   std::cout << "through an incision: exact due at staleness " << cut_due << " from the iterations, at "
