@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 
 #include <warpchol/base/simd.h>
@@ -97,6 +98,7 @@ namespace warpchol::cholesky
 #undef HWY_TARGET_INCLUDE
 #define HWY_TARGET_INCLUDE "cholesky/scaled_solve.cc"
 #include <hwy/foreach_target.h>
+#include <hwy/cache_control.h>
 #include <hwy/highway.h>
 
 HWY_BEFORE_NAMESPACE();
@@ -131,6 +133,19 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       for (int k = 0; k < B; ++k)
         for (int i = 0; i < tile; i += lanes)
           hn::StoreU(load(d, l + k * tile + i), d, first[k] + i);
+    }
+
+    /**
+     * A hint to bring into the cache the B x tile entries that start @p entries_below entries
+     * before @p from (an address computed as an integer: it may lie before the copy).
+     */
+    template <int B, typename Stored>
+    inline void prefetch_tile(const Stored *from, const Index entries_below)
+    {
+      const std::uintptr_t start =
+        reinterpret_cast<std::uintptr_t>(from) - static_cast<std::uintptr_t>(entries_below) * sizeof(Stored);
+      for (std::uintptr_t byte = 0; byte < B * tile * sizeof(Stored); byte += 64)
+        hwy::Prefetch(reinterpret_cast<const char *>(start + byte));
     }
 
     /** The largest |value| of @p count doubles. */
@@ -290,6 +305,13 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       for (int k = 0; k < B; ++k)
         sum[k] = hn::Zero(d);
       const Index n_tiles = block_tiles(nr, j0);
+      // The pass walks the copy downwards, block by block, which the hardware's prefetchers
+      // do not follow: each tile asks for the one as far below it as this block is long,
+      // which is in the block solved next (or the previous supernode's last), and the first
+      // tile asks for the one more tile that block may have.
+      const Index entries = B * n_tiles * tile;
+      prefetch_tile<B>(l, entries + B * tile);
+      prefetch_tile<B>(l, entries);
       // The first tile without the block's own rows (zeros of x in their lanes); the
       // rows past nr are zeros of L.
       for (int i = 0; i < tile; i += lanes)
@@ -302,6 +324,7 @@ namespace warpchol::cholesky::HWY_NAMESPACE
       for (Index t0 = 1; t0 < n_tiles; ++t0)
         {
           const Stored *tile_values = l + t0 * B * tile;
+          prefetch_tile<B>(tile_values, entries);
           const float  *x_rows      = work + j0 + t0 * tile;
           for (int i = 0; i < tile; i += lanes)
             {
