@@ -2,7 +2,8 @@
 # Every SIMD kernel on every target this CPU runs (issue 36), one thread, in one table per
 # input: the solver's kernels (warpchol-solver-kernels: the update and downdate at ranks 1
 # to 64 beside CHOLMOD's cholmod_updown, the 16- and 32-bit preconditioner solves, the
-# double solve, the supernodal factorization) on the matrices of benchmarks/updates.sh, and
+# double solve, the supernodal factorization) on the matrices of benchmarks/updates.sh;
+# Gauss-Seidel on a kept W, whose product W lambda is a kernel (warpchol-contact-kernels);
 # the element kernels (warpchol-kernels: ns per tet) on the study's scenes and SOFA's
 # meshes. Each row gives its family's default target's time over the fastest target's,
 # marked "slow" past 1.15. Writes doc/targets/kernels.md.
@@ -45,6 +46,10 @@ report="$out/kernels.md.tmp"
     echo
     taskset -c 0 "$build/warpchol-solver-kernels" $matrices/$matrix.mtx --repeat "$repeat"
   done
+  echo
+  echo "## The contact kernel (ms)"
+  echo
+  taskset -c 0 "$build/warpchol-contact-kernels" --only gauss-seidel
   echo
   echo "## The element kernels (ns per tet)"
   for scene in $scenes; do

@@ -5,16 +5,19 @@
 // Gauss-Seidel with the friction cone re-solved on a kept W (the haptic loop's cost).
 //
 //   warpchol-contact-kernels [--mesh meshes/sofa_liver.msh] [--refinements 2]
-//                            [--rows 50,200,800] [--repeat 3]
+//                            [--rows 50,200,800] [--repeat 3] [--only w|gauss-seidel]
 //
 // Rows come three per surface vertex (a normal and two tangents), on the vertices nearest
 // a point of the surface (a patch: a probe, a table) and on vertices spread at random over
 // the surface. Prints the machine, then a Markdown table: m, placement, supernodes on the
-// paths, milliseconds of both ways, their ratio and their largest difference.
+// paths, milliseconds of both ways, their ratio and their largest difference; then
+// Gauss-Seidel's milliseconds on every SIMD target this CPU runs (its product W lambda is
+// an element-family kernel), the default target's over the fastest.
 
 #include <warpchol/app/command_line.h>
 #include <warpchol/reports/machine.h>
 #include <warpchol/base/format.h>
+#include <warpchol/base/simd.h>
 #include <warpchol/base/stopwatch.h>
 #include <warpchol/cholesky/blas.h>
 #include <warpchol/cholesky/sparse_cholesky.h>
@@ -38,7 +41,9 @@ using namespace warpchol;
 
 namespace
 {
-  const std::string usage = "usage: warpchol-contact-kernels [--mesh FILE] [--refinements R] [--rows M1,M2,...] [--repeat N]";
+  const std::string usage =
+    "usage: warpchol-contact-kernels [--mesh FILE] [--refinements R] [--rows M1,M2,...] [--repeat N] "
+    "[--only w|gauss-seidel]";
 
   struct Options
   {
@@ -46,6 +51,8 @@ namespace
     unsigned int       refinements = 2;
     std::vector<Index> rows        = {50, 200, 800};
     int                repeat      = 3;
+    /** "w" or "gauss-seidel": time that part alone (empty: both). */
+    std::string only;
   };
 
   Options parse_command_line(const int argc, char **argv)
@@ -61,6 +68,12 @@ namespace
           options.refinements = static_cast<unsigned int>(line.integer_of(argument, 0, 4));
         else if (argument == "--repeat")
           options.repeat = static_cast<int>(line.integer_of(argument, 1, 1000));
+        else if (argument == "--only")
+          {
+            options.only = line.value_of(argument);
+            if (options.only != "w" && options.only != "gauss-seidel")
+              throw InputError("--only: '" + options.only + "' is neither w nor gauss-seidel");
+          }
         else if (argument == "--rows")
           {
             options.rows.clear();
@@ -150,14 +163,40 @@ namespace
     fem::GaussSeidelSettings gauss_seidel;
     gauss_seidel.tolerance      = 1e-9;
     gauss_seidel.max_iterations = 1000;
-    fem::GaussSeidelResult result;
-    const double seconds = best_seconds(20, [&] {
-      lambda.clear();
-      result = fem::solve_friction_cone(w, free_velocity, friction, gauss_seidel, lambda);
-    });
-    std::cout << "\nGauss-Seidel on a kept W of " << m << " rows (a patch, friction 0.5, tolerance 1e-9 m/s): "
-              << format_number(1e3 * seconds, 4) << " ms, " << result.iterations << " iterations, residual "
-              << format_number(result.residual, 3) << " m/s\n";
+    // Its product W lambda is a SIMD kernel of the element family: timed on every target.
+    const std::vector<std::string> targets = simd::available_targets();
+    std::vector<double>            seconds;
+    fem::GaussSeidelResult         result;
+    for (const std::string &target : targets)
+      {
+        simd::use_target(target);
+        seconds.push_back(best_seconds(20, [&] {
+          lambda.clear();
+          result = fem::solve_friction_cone(w, free_velocity, friction, gauss_seidel, lambda);
+        }));
+      }
+    simd::use_target("default");
+    const std::string default_target  = simd::current_target(simd::Family::element);
+    const double      fastest         = *std::min_element(seconds.begin(), seconds.end());
+    double            default_seconds = fastest;
+    std::cout << "Gauss-Seidel on a kept W of " << m << " rows (a patch, friction 0.5, tolerance 1e-9 m/s; "
+              << result.iterations << " iterations, residual " << format_number(result.residual, 3)
+              << " m/s), ms on each target:\n\n| kernel |";
+    for (const std::string &target : targets)
+      std::cout << " " << target << " |";
+    std::cout << " default / fastest |\n|---|";
+    for (std::size_t t = 0; t < targets.size(); ++t)
+      std::cout << "---:|";
+    std::cout << "---:|\n| Gauss-Seidel re-solve |";
+    for (std::size_t t = 0; t < targets.size(); ++t)
+      {
+        std::cout << " " << format_number(1e3 * seconds[t], 3) << " |";
+        if (targets[t] == default_target)
+          default_seconds = seconds[t];
+      }
+    const double ratio = default_seconds / fastest;
+    std::cout << " " << format_number(ratio, 3) << (ratio > 1.15 ? " slow" : "") << " |\n\nthe default target ("
+              << default_target << "): " << format_number(1e3 * default_seconds, 4) << " ms\n";
   }
 
   void run(const Options &options)
@@ -188,7 +227,9 @@ namespace
     for (const fem::Vector3 &x : body.rest_positions())
       centre += x / body.n_vertices();
     // The patch holds Gauss-Seidel's contacts too, whatever --rows asks.
-    const Index max_rows = std::max(*std::max_element(options.rows.begin(), options.rows.end()), kept_w_rows);
+    const Index max_rows = options.only == "gauss-seidel" ?
+                             kept_w_rows :
+                             std::max(*std::max_element(options.rows.begin(), options.rows.end()), kept_w_rows);
     const auto  n_vertices = static_cast<std::size_t>((max_rows + 2) / 3);
     if (n_vertices > surface.size())
       throw InputError("--rows: " + std::to_string(max_rows) + " rows (at least Gauss-Seidel's " +
@@ -207,37 +248,41 @@ namespace
     patch.resize(n_vertices);
     spread.resize(n_vertices);
 
-    std::cout << "| m | rows on | supernodes on the paths | flops paths / SOFA's | paths (ms) | SOFA's way (ms) | ratio | max difference / max W |\n"
-              << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
-    for (const auto &[placement, vertices] : {std::pair{"a patch", patch}, std::pair{"spread", spread}})
+    if (options.only != "gauss-seidel")
       {
-        const sparse::CSCMatrix all = fem::ContactConstraints::constraint_columns(body, contacts_on(vertices, body, centre), nullptr);
-        for (const Index m : options.rows)
+        std::cout << "| m | rows on | supernodes on the paths | flops paths / SOFA's | paths (ms) | SOFA's way (ms) | ratio | max difference / max W |\n"
+                  << "|---:|---|---:|---:|---:|---:|---:|---:|\n";
+        for (const auto &[placement, vertices] : {std::pair{"a patch", patch}, std::pair{"spread", spread}})
           {
-            const sparse::CSCMatrix ht = first_columns(all, m);
-            std::vector<double>     by_paths, by_full_solves;
-            cholesky::ComplianceStatistics paths_cost, full_cost;
-            const double paths_seconds = best_seconds(options.repeat, [&] {
-              by_paths = solver.compliance(ht, cholesky::ComplianceMethod::paths, &paths_cost);
-            });
-            const double full_seconds  = best_seconds(std::max(1, options.repeat / 3), [&] {
-              by_full_solves = solver.compliance(ht, cholesky::ComplianceMethod::full_solves, &full_cost);
-            });
-            double largest = 0, difference = 0;
-            for (std::size_t k = 0; k < by_paths.size(); ++k)
+            const sparse::CSCMatrix all = fem::ContactConstraints::constraint_columns(body, contacts_on(vertices, body, centre), nullptr);
+            for (const Index m : options.rows)
               {
-                largest    = std::max(largest, std::abs(by_full_solves[k]));
-                difference = std::max(difference, std::abs(by_paths[k] - by_full_solves[k]));
+                const sparse::CSCMatrix ht = first_columns(all, m);
+                std::vector<double>     by_paths, by_full_solves;
+                cholesky::ComplianceStatistics paths_cost, full_cost;
+                const double paths_seconds = best_seconds(options.repeat, [&] {
+                  by_paths = solver.compliance(ht, cholesky::ComplianceMethod::paths, &paths_cost);
+                });
+                const double full_seconds  = best_seconds(std::max(1, options.repeat / 3), [&] {
+                  by_full_solves = solver.compliance(ht, cholesky::ComplianceMethod::full_solves, &full_cost);
+                });
+                double largest = 0, difference = 0;
+                for (std::size_t k = 0; k < by_paths.size(); ++k)
+                  {
+                    largest    = std::max(largest, std::abs(by_full_solves[k]));
+                    difference = std::max(difference, std::abs(by_paths[k] - by_full_solves[k]));
+                  }
+                std::cout << "| " << m << " | " << placement << " | "
+                          << format_number(100. * paths_cost.supernodes_visited / solver.statistics().n_supernodes, 3)
+                          << " % | " << format_number(paths_cost.flops / full_cost.flops, 3) << " | " << format_number(1e3 * paths_seconds, 4) << " | " << format_number(1e3 * full_seconds, 4)
+                          << " | " << format_number(full_seconds / paths_seconds, 3) << " | "
+                          << format_number(difference / largest, 2) << " |\n";
               }
- std::cout << "| " << m << " | " << placement << " | "
-                      << format_number(100. * paths_cost.supernodes_visited / solver.statistics().n_supernodes, 3)
-                      << " % | " << format_number(paths_cost.flops / full_cost.flops, 3) << " | " << format_number(1e3 * paths_seconds, 4) << " | " << format_number(1e3 * full_seconds, 4)
-                      << " | " << format_number(full_seconds / paths_seconds, 3) << " | "
-                      << format_number(difference / largest, 2) << " |\n";
           }
+        std::cout << "\n";
       }
-
-    time_gauss_seidel_on_kept_w(solver, body, patch, centre);
+    if (options.only != "w")
+      time_gauss_seidel_on_kept_w(solver, body, patch, centre);
   }
 } // namespace
 

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "compliance_product_kernel.h"
+
 namespace warpchol::fem
 {
   namespace
@@ -146,11 +148,8 @@ namespace warpchol::fem
       return;
     // Three columns of W (or of G) times the change, fused into one pass over the state.
     const auto add_columns = [this](const double *columns, const std::size_t length, const Vector3 &times) {
-      const double *c0 = columns, *c1 = columns + length, *c2 = columns + 2 * length;
-      const double  t0 = times[0], t1 = times[1], t2 = times[2];
-      double       *y  = state.data();
-      for (std::size_t i = 0; i < length; ++i)
-        y[i] += c0[i] * t0 + c1[i] * t1 + c2[i] * t2;
+      const double t[3] = {times[0], times[1], times[2]};
+      add_three_columns(columns, length, t, state.data());
     };
     if (compliance.gram == nullptr)
       {
