@@ -10,7 +10,7 @@
  * The SIMD target of warpchol's own kernels, chosen at run time.
  *
  * The kernels (polar decompositions, the fused element pass, the assembly of A, the
- * corotated product, the update kernel, the single-precision solve) are compiled once per
+ * corotated product, the update kernel, the solves, contact's W lambda) are compiled once per
  * target with Google Highway's foreach_target, and each call goes to its family's default
  * target (Family), unless one is forced: by use_target(), or by the environment variable
  * WARPCHOL_SIMD_TARGET (read at the first kernel call), as the sanitizer stage forces the
@@ -26,8 +26,8 @@ namespace warpchol::simd
    * The families of kernels. Each family runs the chosen target; left to the default, each
    * takes its own default target, the fastest on the machines measured
    * (warpchol-solver-kernels and warpchol-kernels on every target, benchmarks/targets.sh):
-   * - element: the rotations, the fused element pass, the corotated product and the
-   *   reduced-precision solves, AVX2 where the CPU has it (as fast as AVX-512 or faster,
+   * - element: the rotations, the fused element pass, the corotated product, the solves
+   *   and Gauss-Seidel's product W lambda (contact), AVX2 where the CPU has it (as fast as AVX-512 or faster,
    *   whose clock some CPUs lower), else the best;
    * - assembly: the assembly of A and its re-assembly, the best (widest) target: its
    *   blocks formed and scattered on AVX-512 ran 1.05-1.20x faster than on AVX2 on an
