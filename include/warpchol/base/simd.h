@@ -10,9 +10,9 @@
  * The SIMD target of warpchol's own kernels, chosen at run time.
  *
  * The kernels (polar decompositions, the fused element pass, the assembly of A, the
- * corotated product, the update kernel, the solves, contact's W lambda) are compiled once per
- * target with Google Highway's foreach_target, and each call goes to its family's default
- * target (Family), unless one is forced: by use_target(), or by the environment variable
+ * corotated product, the update kernel, the solves, contact's W lambda) are compiled once
+ * per target with Google Highway's foreach_target, and each call goes to its family's
+ * default target (Family), unless one is forced: by use_target(), or by the environment variable
  * WARPCHOL_SIMD_TARGET (read at the first kernel call), as the sanitizer stage forces the
  * baseline. A target's name: "avx512", "avx2", "sse4", "baseline" on x86-64 (Highway's own
  * name, lower case, elsewhere).
@@ -27,8 +27,8 @@ namespace warpchol::simd
    * takes its own default target, the fastest on the machines measured
    * (warpchol-solver-kernels and warpchol-kernels on every target, benchmarks/targets.sh):
    * - element: the rotations, the fused element pass, the corotated product, the solves
-   *   and Gauss-Seidel's product W lambda (contact), AVX2 where the CPU has it (as fast as AVX-512 or faster,
-   *   whose clock some CPUs lower), else the best;
+   *   and Gauss-Seidel's product W lambda (contact), AVX2 where the CPU has it (as fast as
+   *   AVX-512 or faster, whose clock some CPUs lower), else the best;
    * - assembly: the assembly of A and its re-assembly, the best (widest) target: its
    *   blocks formed and scattered on AVX-512 ran 1.05-1.20x faster than on AVX2 on an
    *   AMD Zen 4 and an Intel Xeon of model 207, within 1.05x on a Sapphire Rapids;
