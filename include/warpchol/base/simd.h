@@ -12,9 +12,10 @@
  * The kernels (polar decompositions, the fused element pass, the assembly of A, the
  * corotated product, the update kernel, the solves, contact's W lambda) are compiled once
  * per target with Google Highway's foreach_target, and each call goes to its family's
- * default target (Family), unless one is forced: by use_target(), or by the environment variable
- * WARPCHOL_SIMD_TARGET (read at the first kernel call), as the sanitizer stage forces the
- * baseline. A target's name: "avx512", "avx2", "sse4", "baseline" on x86-64 (Highway's own
+ * default target (Family), unless one is forced: by use_target(), or by the environment
+ * variable WARPCHOL_SIMD_TARGET (read at the first kernel call), as the sanitizer stage
+ * forces the baseline. A target's name: "avx512", "avx2", "sse4", "baseline" on x86-64
+ * (Highway's own
  * name, lower case, elsewhere).
  */
 namespace warpchol::simd
