@@ -15,8 +15,7 @@
  * default target (Family), unless one is forced: by use_target(), or by the environment
  * variable WARPCHOL_SIMD_TARGET (read at the first kernel call), as the sanitizer stage
  * forces the baseline. A target's name: "avx512", "avx2", "sse4", "baseline" on x86-64
- * (Highway's own
- * name, lower case, elsewhere).
+ * (Highway's own name, lower case, elsewhere).
  */
 namespace warpchol::simd
 {
