@@ -195,7 +195,7 @@ namespace
           default_seconds = seconds[t];
       }
     const double ratio = default_seconds / fastest;
-    std::cout << " " << format_number(ratio, 3) << (ratio > 1.15 ? " slow" : "") << " |\n\nthe default target ("
+    std::cout << " " << format_number(ratio, 3) << (ratio > app::slow_default_ratio ? " slow" : "") << " |\n\nthe default target ("
               << default_target << "): " << format_number(1e3 * default_seconds, 4) << " ms\n";
   }
 

@@ -49,9 +49,6 @@ namespace
   /** Timed runs of a kernel in a row, after an untimed one, per repetition. */
   constexpr int runs_in_a_row = 3;
 
-  /** A default/fastest ratio past this marks the kernel (issue 36's goal). */
-  constexpr double slow_ratio = 1.15;
-
   struct Options
   {
     std::string              matrix_file;
@@ -216,7 +213,7 @@ namespace
           if (has_default)
             {
               const double ratio = default_seconds / fastest;
-              std::cout << " " << format_number(ratio, 3) << (ratio > slow_ratio ? " slow" : "") << " |";
+              std::cout << " " << format_number(ratio, 3) << (ratio > app::slow_default_ratio ? " slow" : "") << " |";
             }
           else
             std::cout << " - |";

@@ -1,4 +1,5 @@
 #include <warpchol/reports/kernel_timing.h>
+#include <warpchol/reports/machine.h>
 #include <warpchol/base/format.h>
 #include <warpchol/base/simd.h>
 #include <warpchol/base/stopwatch.h>
@@ -139,7 +140,7 @@ namespace warpchol::app
             const std::string &target = row.family == simd::Family::assembly ? defaults.assembly : defaults.element;
             const double       ratio  = column_of(target)->second.*row.member / fastest;
             out << "  " << std::setw(8) << target << " " << std::setw(5) << format_number(ratio, 3)
-                << (ratio > 1.15 ? " slow" : "");
+                << (ratio > slow_default_ratio ? " slow" : "");
           }
         out << "\n";
       }

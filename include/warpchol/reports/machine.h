@@ -22,6 +22,12 @@ namespace warpchol::app
   std::string simd_target(simd::Family family = simd::Family::element);
 
   /**
+   * The per-target tables mark "slow" a kernel whose family's default target takes more
+   * than this times the fastest target's time (issue 36's goal).
+   */
+  constexpr double slow_default_ratio = 1.15;
+
+  /**
    * The read bandwidth of one thread in GB/s: the best of a few sums over 256 MiB, far
    * more than any cache holds (the bound of the memory-bound solves).
    */
