@@ -556,8 +556,12 @@ namespace warpchol::cholesky::HWY_NAMESPACE
             for (int t = 0; t < K; ++t)
               w[t * ldw + j] = 0.;
             Index i = j + 1;
+            // The next column's rows are asked for as this one's are walked: the walks
+            // then run as one stream, as down a packed factor's columns.
+            double *const next = j + 1 < nc ? column + nr : column;
             for (; i + target_lanes <= nr; i += target_lanes)
               {
+                __builtin_prefetch(next + i, 1);
                 Lanes carried[K];
                 for (int t = 0; t < K; ++t)
                   carried[t] = load(w + t * ldw + i);
