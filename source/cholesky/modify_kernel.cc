@@ -56,8 +56,9 @@ namespace warpchol::cholesky::HWY_NAMESPACE
      * The most columns of W that ChunkKernel::run_by_columns() takes, on the targets that
      * keep W in memory. At rank 1 an update reads and writes each entry of L on its paths
      * once, with a few operations each: memory decides, and a walk down each column whole,
-     * which the hardware prefetchers follow, moves L faster than blocks of rows across the
-     * columns, pieces of a few cache lines a column apart. From two columns on, the walk
+     * which the hardware prefetchers follow (and which asks for the next column as it goes),
+     * moves L faster than blocks of rows across the columns, pieces of a few cache lines a
+     * column apart. From two columns on, the walk
      * reads and writes each column's rows of W from the second-level cache, and the blocks
      * are faster.
      */
