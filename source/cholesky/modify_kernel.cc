@@ -58,9 +58,8 @@ namespace warpchol::cholesky::HWY_NAMESPACE
      * once, with a few operations each: memory decides, and a walk down each column whole,
      * which the hardware prefetchers follow (and which asks for the next column as it goes),
      * moves L faster than blocks of rows across the columns, pieces of a few cache lines a
-     * column apart. From two columns on, the walk
-     * reads and writes each column's rows of W from the second-level cache, and the blocks
-     * are faster.
+     * column apart. From two columns on, the walk reads and writes each column's rows of W
+     * from the second-level cache, and the blocks are faster.
      */
     constexpr int most_columns_by_columns = w_in_memory ? 1 : 0;
 
